@@ -1,0 +1,64 @@
+"""Exceptions of trikedyn.
+
+User mistakes (a bad file, field or value) raise a subclass of :class:`InputError`. Its message is one
+line that names *what* is wrong and *where* (file, line, field); the CLI prints it and exits with code 2,
+without a traceback. Any other exception is a bug and may show a traceback.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "TrikedynError",
+    "InputError",
+    "ParameterError",
+    "LogFormatError",
+    "SimulationError",
+]
+
+
+class TrikedynError(Exception):
+    """Base class of every error raised on purpose by trikedyn."""
+
+
+class InputError(TrikedynError, ValueError):
+    """A user's input is wrong: a file, a field or a value.
+
+    Parameters
+    ----------
+    message : str
+        What is wrong and what is expected, in one line.
+    where : str, optional
+        The file, line or field that is wrong; it prefixes the message as ``where: message``.
+    """
+
+    def __init__(self, message: str, where: str | None = None):
+        self.where = where
+        self.reason = message
+        text = f"{where}: {message}" if where else message
+        super().__init__(" ".join(text.split("\n")))
+
+
+class ParameterError(InputError):
+    """A parameter set or a parameter value is unknown, missing or out of range."""
+
+
+class LogFormatError(InputError):
+    """A measurement log cannot be read: format, encoding, columns, time or values."""
+
+
+class SimulationError(TrikedynError):
+    """A simulation stopped: NaN, runaway penetration, rollover or a step too large.
+
+    Parameters
+    ----------
+    message : str
+        The reason.
+    time_s : float, optional
+        Simulated time [s] at which the run stopped.
+    """
+
+    def __init__(self, message: str, time_s: float | None = None):
+        self.time_s = time_s
+        self.reason = message
+        text = f"at t = {time_s:.4f} s: {message}" if time_s is not None else message
+        super().__init__(text)

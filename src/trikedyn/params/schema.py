@@ -1,0 +1,293 @@
+"""The vehicle parameter schema: validated, with units in the names, bounds and no unknown keys.
+
+A parameter set describes one vehicle in trikedyn's axes (ISO 8855: x forward, y left, z up; origin on
+the ground below the centre of the rear axle). The wheel layout is data: a list of wheels, each with
+its position, its suspension (by name) and whether it is steered, driven and braked, so that a tadpole
+trike is a different parameter set, not different code.
+
+Masses follow the paper's bookkeeping (section 2.1): ``curb_kg`` is the vehicle as weighed (the paper's
+total mass M = 508 kg), ``driver_kg`` the driver aboard, and the centre of gravity and the inertia
+tensor are those of vehicle plus driver, ready to drive, without freight. The model splits that whole
+into its bodies (chassis, steering head, fork slider, swing arms, wheels), so the chassis' own mass
+and CG are derived, never entered twice.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+__all__ = [
+    "MassSpec",
+    "SteeringSpec",
+    "SuspensionSpec",
+    "WheelSpec",
+    "TyreSpec",
+    "DriveSpec",
+    "AeroSpec",
+    "PointSpec",
+    "BodySpec",
+    "VehicleParameters",
+]
+
+
+class _Spec(BaseModel):
+    """Base of every schema section: frozen, unknown keys rejected."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+
+
+class MassSpec(_Spec):
+    """Masses, centre of gravity and inertia of the vehicle with its driver, without freight."""
+
+    curb_kg: float = Field(gt=0, le=5000, description="vehicle as weighed, wheels included, no driver [kg]")
+    body_kg: float | None = Field(
+        default=None, gt=0, le=5000, description="curb mass less the wheels (paper's M_B) [kg]"
+    )
+    driver_kg: float = Field(default=0.0, ge=0, le=300, description="driver aboard [kg]")
+    payload_kg: float = Field(default=0.0, ge=0, le=5000, description="freight aboard, in CG and inertia [kg]")
+    cg_x_m: float = Field(ge=-5, le=10, description="CG of vehicle + driver, ahead of the rear axle [m]")
+    cg_y_m: float = Field(ge=-2, le=2, description="CG of vehicle + driver, left of the centre line [m]")
+    cg_z_m: float = Field(gt=0, le=3, description="CG of vehicle + driver, above the ground [m]")
+    roll_inertia_kgm2: float = Field(gt=0, le=1e5, description="Ixx of vehicle + driver about the CG")
+    pitch_inertia_kgm2: float = Field(gt=0, le=1e5, description="Iyy of vehicle + driver about the CG")
+    yaw_inertia_kgm2: float = Field(gt=0, le=1e5, description="Izz of vehicle + driver about the CG")
+    roll_yaw_product_kgm2: float = Field(default=0.0, ge=-1e4, le=1e4, description="Ixz = int x z dm")
+    roll_pitch_product_kgm2: float = Field(default=0.0, ge=-1e4, le=1e4, description="Ixy = int x y dm")
+    pitch_yaw_product_kgm2: float = Field(default=0.0, ge=-1e4, le=1e4, description="Iyz = int y z dm")
+
+    @property
+    def total_kg(self) -> float:
+        """Vehicle, driver and payload [kg]."""
+        return self.curb_kg + self.driver_kg + self.payload_kg
+
+    @property
+    def cg_m(self) -> tuple[float, float, float]:
+        """Centre of gravity (x, y, z) [m]."""
+        return (self.cg_x_m, self.cg_y_m, self.cg_z_m)
+
+    @property
+    def inertia_tensor_kgm2(self) -> list[list[float]]:
+        """Inertia tensor about the CG [kg m^2]; off-diagonals are minus the products of inertia."""
+        ixy, ixz, iyz = self.roll_pitch_product_kgm2, self.roll_yaw_product_kgm2, self.pitch_yaw_product_kgm2
+        return [
+            [self.roll_inertia_kgm2, -ixy, -ixz],
+            [-ixy, self.pitch_inertia_kgm2, -iyz],
+            [-ixz, -iyz, self.yaw_inertia_kgm2],
+        ]
+
+    @model_validator(mode="after")
+    def _realisable_inertia(self):
+        ixx, iyy, izz = self.roll_inertia_kgm2, self.pitch_inertia_kgm2, self.yaw_inertia_kgm2
+        if ixx + iyy < izz or iyy + izz < ixx or ixx + izz < iyy:
+            raise ValueError(
+                f"inertias ({ixx:g}, {iyy:g}, {izz:g}) kg m^2 break the triangle inequality "
+                "(no rigid body has them)"
+            )
+        return self
+
+    @model_validator(mode="after")
+    def _body_below_curb(self):
+        if self.body_kg is not None and self.body_kg >= self.curb_kg:
+            raise ValueError(f"body_kg ({self.body_kg:g}) must be less than curb_kg ({self.curb_kg:g})")
+        return self
+
+
+class SteeringSpec(_Spec):
+    """Steering head: the revolute about the inclined steering axis, driven by a servo."""
+
+    axis_angle_deg: float = Field(ge=0, le=45, description="steering axis behind the vertical (rake) [deg]")
+    trail_m: float = Field(ge=-0.2, le=0.4, description="mechanical trail on the ground [m]")
+    head_mass_kg: float = Field(gt=0, le=100, description="bars, upper fork, lamp: turns with the steer")
+    head_inertia_kgm2: float = Field(gt=0, le=50, description="head inertia about the steering axis")
+    max_angle_deg: float = Field(gt=0, le=80, description="steering lock [deg]")
+    max_rate_deg_per_s: float = Field(gt=0, le=2000, description="fastest steering a driver applies")
+    servo_bandwidth_hz: float = Field(gt=0, le=50, description="steering servo (driver's arms) bandwidth")
+    servo_damping_ratio: float = Field(gt=0, le=3, description="steering servo damping ratio")
+
+
+class SuspensionSpec(_Spec):
+    """One suspension type; ``stiffness`` and ``damping`` are wheel rates (at the wheel, vertical).
+
+    ``natural_frequency_hz`` and ``damping_ratio`` are optional measured values (Table 1); when given,
+    ``trikedyn vehicle check`` audits the stiffness and damping against them (Eqs. 3-4).
+    """
+
+    kind: Literal["telescopic", "swing_arm"]
+    stiffness_N_per_m: float = Field(gt=0, le=1e7, description="wheel rate K [N/m]")
+    damping_Ns_per_m: float = Field(ge=0, le=1e6, description="wheel damping C [N s/m]")
+    natural_frequency_hz: float | None = Field(default=None, gt=0, le=50, description="measured f_n [Hz]")
+    damping_ratio: float | None = Field(default=None, ge=0, lt=1, description="measured damping ratio")
+    moving_mass_kg: float = Field(ge=0, le=200, description="fork slider or swing arm, wheel excluded [kg]")
+    moving_inertia_kgm2: float = Field(
+        default=0.0, ge=0, le=50, description="swing arm inertia about its pivot [kg m^2]"
+    )
+    arm_length_m: float | None = Field(default=None, gt=0, le=2, description="swing arm pivot to axle [m]")
+    pivot_height_m: float | None = Field(default=None, gt=0, le=2, description="swing arm pivot height [m]")
+    bump_travel_m: float = Field(gt=0, le=0.5, description="travel from static to the bump stop [m]")
+    rebound_travel_m: float = Field(gt=0, le=0.5, description="travel from static to full extension [m]")
+    bump_stop_stiffness_N_per_m: float = Field(gt=0, le=1e8, description="one-sided stop stiffness [N/m]")
+
+    @model_validator(mode="after")
+    def _swing_arm_geometry(self):
+        if self.kind == "swing_arm" and (self.arm_length_m is None or self.pivot_height_m is None):
+            raise ValueError("a swing_arm suspension needs arm_length_m and pivot_height_m")
+        if self.kind == "telescopic" and (self.arm_length_m is not None or self.pivot_height_m is not None):
+            raise ValueError("arm_length_m and pivot_height_m apply to kind = 'swing_arm' only")
+        return self
+
+
+class WheelSpec(_Spec):
+    """One wheel station: the wheel centre's position at static ride height and its suspension."""
+
+    name: str = Field(pattern=r"^[a-z][a-z0-9_]*$", description="front, rear_left, rear_right, ...")
+    x_m: float = Field(ge=-5, le=10, description="contact point ahead of the rear axle [m]")
+    y_m: float = Field(ge=-2, le=2, description="contact point left of the centre line [m]")
+    suspension: str = Field(description="name of an entry of [suspension]")
+    radius_m: float = Field(gt=0.05, le=1.0, description="unloaded tyre radius [m]")
+    mass_kg: float = Field(gt=0, le=100, description="wheel with tyre, hub and brake disc [kg]")
+    spin_inertia_kgm2: float = Field(gt=0, le=20, description="inertia about the axle [kg m^2]")
+    steered: bool = False
+    driven: bool = False
+    braked: bool = True
+
+
+class TyreSpec(_Spec):
+    """Tyre: vertical spring-damper and a Magic Formula (Pacejka) with load dependence.
+
+    Peak friction ``mu = mu0 * (1 + load_sensitivity * dfz)`` with ``dfz = (Fz - Fz0) / Fz0``;
+    cornering stiffness ``C_alpha = cornering_stiffness_factor * Fz0 * sin(2 atan(Fz / (cornering_stiffness_load_factor * Fz0)))``;
+    longitudinal slip stiffness ``C_kappa = slip_stiffness_factor * Fz``.
+    """
+
+    vertical_stiffness_N_per_m: float = Field(gt=0, le=1e7)
+    vertical_damping_Ns_per_m: float = Field(ge=0, le=1e5)
+    nominal_load_N: float = Field(gt=0, le=1e5, description="Fz0 of the Magic Formula [N]")
+    mu_x: float = Field(gt=0, le=3, description="longitudinal peak friction at Fz0")
+    mu_y: float = Field(gt=0, le=3, description="lateral peak friction at Fz0")
+    load_sensitivity: float = Field(ge=-1, le=0.5, description="d mu / d dfz (negative: mu falls with load)")
+    shape_x: float = Field(gt=1, le=2, description="Magic Formula C, longitudinal")
+    shape_y: float = Field(gt=1, le=2, description="Magic Formula C, lateral")
+    curvature_x: float = Field(ge=-5, le=1, description="Magic Formula E, longitudinal")
+    curvature_y: float = Field(ge=-5, le=1, description="Magic Formula E, lateral")
+    slip_stiffness_factor: float = Field(gt=0, le=100, description="C_kappa / Fz [1]")
+    cornering_stiffness_factor: float = Field(gt=0, le=100, description="pKy1: C_alpha / Fz0 at peak [1/rad]")
+    cornering_stiffness_load_factor: float = Field(gt=0, le=10, description="pKy2: load of peak C_alpha / Fz0")
+    rolling_resistance: float = Field(ge=0, le=0.2, description="rolling resistance coefficient")
+
+
+class DriveSpec(_Spec):
+    """Drive to the driven wheels through an open differential, and brakes."""
+
+    max_drive_torque_Nm: float = Field(gt=0, le=1e4, description="at the wheels, all driven wheels [N m]")
+    max_power_W: float = Field(gt=0, le=1e6, description="at the wheels [W]")
+    max_brake_torque_Nm: float = Field(gt=0, le=1e4, description="per braked wheel [N m]")
+    differential: Literal["open"] = "open"
+
+
+class AeroSpec(_Spec):
+    """Aerodynamic drag 0.5 rho Cd A v^2."""
+
+    drag_coefficient: float = Field(ge=0, le=3)
+    frontal_area_m2: float = Field(ge=0, le=20)
+    air_density_kg_per_m3: float = Field(default=1.2, gt=0, le=2)
+
+
+class PointSpec(_Spec):
+    """A point in vehicle axes [m] (sensor position, freight site)."""
+
+    x_m: float = Field(ge=-5, le=10)
+    y_m: float = Field(ge=-2, le=2)
+    z_m: float = Field(ge=-1, le=5)
+
+
+class BodySpec(_Spec):
+    """Overall body dimensions (for lane widths and plots)."""
+
+    overall_width_m: float = Field(gt=0, le=5)
+    overall_length_m: float = Field(gt=0, le=15)
+
+
+class VehicleParameters(_Spec):
+    """A whole vehicle. Load with :func:`trikedyn.params.load_vehicle`."""
+
+    name: str = Field(min_length=1)
+    description: str = Field(min_length=1)
+    source: str = Field(min_length=1)
+    layout: Literal["delta", "tadpole"]
+    mass: MassSpec
+    body: BodySpec
+    steering: SteeringSpec
+    suspension: dict[str, SuspensionSpec]
+    wheels: tuple[WheelSpec, ...] = Field(min_length=3, max_length=3)
+    tyre: TyreSpec
+    drive: DriveSpec
+    aero: AeroSpec
+    sensor: PointSpec
+    freight: PointSpec = Field(description="where freight goes (the paper's back trunk)")
+
+    @field_validator("wheels")
+    @classmethod
+    def _unique_wheel_names(cls, wheels):
+        names = [w.name for w in wheels]
+        dup = {n for n in names if names.count(n) > 1}
+        if dup:
+            raise ValueError(f"wheel names must be unique; repeated: {', '.join(sorted(dup))}")
+        return wheels
+
+    @model_validator(mode="after")
+    def _consistent_layout(self):
+        for w in self.wheels:
+            if w.suspension not in self.suspension:
+                from difflib import get_close_matches
+
+                hint = get_close_matches(w.suspension, list(self.suspension), n=1)
+                tip = f" (did you mean '{hint[0]}'?)" if hint else ""
+                raise ValueError(
+                    f"wheel '{w.name}' names suspension '{w.suspension}', which is not defined{tip}; "
+                    f"defined: {', '.join(self.suspension)}"
+                )
+        steered = [w for w in self.wheels if w.steered]
+        expected = 1 if self.layout == "delta" else 2
+        if len(steered) != expected:
+            raise ValueError(f"a {self.layout} layout has {expected} steered wheel(s), found {len(steered)}")
+        if not any(w.driven for w in self.wheels):
+            raise ValueError("at least one wheel must be driven")
+        if self.layout == "delta":
+            front = steered[0]
+            rear = [w for w in self.wheels if not w.steered]
+            if any(abs(w.x_m) > 1e-9 for w in rear):
+                raise ValueError("the rear axle is the x origin: both rear wheels need x_m = 0")
+            if front.x_m <= 0:
+                raise ValueError("the front wheel must be ahead of the rear axle (x_m > 0)")
+            if not rear[0].y_m * rear[1].y_m < 0:
+                raise ValueError("the two rear wheels must be on opposite sides (y_m of opposite signs)")
+        return self
+
+    # ---- derived geometry -------------------------------------------------------------------------
+    def wheel(self, name: str) -> WheelSpec:
+        """The wheel called ``name``."""
+        for w in self.wheels:
+            if w.name == name:
+                return w
+        raise KeyError(name)
+
+    @property
+    def wheelbase_m(self) -> float:
+        """Front contact to rear axle [m] (delta: x of the steered wheel)."""
+        front = [w.x_m for w in self.wheels if w.steered]
+        rear = [w.x_m for w in self.wheels if not w.steered]
+        return abs(sum(front) / len(front) - sum(rear) / len(rear))
+
+    @property
+    def track_m(self) -> float:
+        """Track of the two-wheel axle: rear for a delta, front for a tadpole [m]."""
+        pair = [w for w in self.wheels if w.steered == (self.layout == "tadpole")]
+        return abs(pair[0].y_m - pair[1].y_m)
+
+    @property
+    def steering_axis_angle_rad(self) -> float:
+        """Steering axis rake [rad]."""
+        return math.radians(self.steering.axis_angle_deg)

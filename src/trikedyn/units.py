@@ -1,0 +1,37 @@
+"""Unit conversions. trikedyn is SI inside; other units appear only at the edges (CLI, files)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["STANDARD_GRAVITY", "kmh_to_mps", "mps_to_kmh", "deg_to_rad", "rad_to_deg", "g_to_mps2"]
+
+STANDARD_GRAVITY = 9.80665
+"""Standard acceleration of gravity [m/s^2] (ISO 80000-3)."""
+
+
+def kmh_to_mps(speed_kmh):
+    """Convert a speed from [km/h] to [m/s]."""
+    return np.asarray(speed_kmh, dtype=float) / 3.6 if np.ndim(speed_kmh) else float(speed_kmh) / 3.6
+
+
+def mps_to_kmh(speed_mps):
+    """Convert a speed from [m/s] to [km/h]."""
+    return np.asarray(speed_mps, dtype=float) * 3.6 if np.ndim(speed_mps) else float(speed_mps) * 3.6
+
+
+def deg_to_rad(angle_deg):
+    """Convert an angle from [deg] to [rad]."""
+    return np.deg2rad(angle_deg) if np.ndim(angle_deg) else math.radians(angle_deg)
+
+
+def rad_to_deg(angle_rad):
+    """Convert an angle from [rad] to [deg]."""
+    return np.rad2deg(angle_rad) if np.ndim(angle_rad) else math.degrees(angle_rad)
+
+
+def g_to_mps2(accel_g):
+    """Convert an acceleration from standard gravities [g] to [m/s^2]."""
+    return np.asarray(accel_g, dtype=float) * STANDARD_GRAVITY if np.ndim(accel_g) else float(accel_g) * STANDARD_GRAVITY
