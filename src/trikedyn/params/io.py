@@ -280,7 +280,9 @@ def _loc_text(loc, plain) -> str:
 
 def _describe(exc: ValidationError, plain: dict) -> str:
     """One line for the first validation error, naming the field and what is expected."""
-    err = exc.errors()[0]
+    errors = exc.errors()
+    # a typo shows as an unknown key *and* a missing one: the unknown key, with its hint, says more
+    err = next((e for e in errors if e["type"] == "extra_forbidden"), errors[0])
     loc = tuple(p for p in err["loc"] if p not in ("function-after", "function-before"))
     where = _loc_text(loc, plain)
     kind = err["type"]

@@ -1,0 +1,241 @@
+"""The ``trikedyn`` command: a thin command map over the Python API.
+
+Every command has ``--help`` and ``--json``. A user's mistake (file, field, value) prints one line,
+``trikedyn: error: WHERE: WHAT``, and exits with code 2; nothing else is printed.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from . import __version__
+from .errors import InputError
+
+app = typer.Typer(
+    name="trikedyn",
+    help="Stability analysis of three-wheeled vehicles: measure, model, drive, judge, study.",
+    no_args_is_help=True,
+    pretty_exceptions_enable=False,
+    add_completion=False,
+)
+vehicle_app = typer.Typer(help="Vehicle parameter sets: list, show, check, export.", no_args_is_help=True)
+cg_app = typer.Typer(help="Centre of gravity: from wheel weighings, and with payload.", no_args_is_help=True)
+app.add_typer(vehicle_app, name="vehicle")
+app.add_typer(cg_app, name="cg")
+
+JsonOpt = Annotated[bool, typer.Option("--json", help="Print machine-readable JSON instead of text.")]
+VehicleArg = Annotated[str, typer.Argument(help="Preset name (see `trikedyn vehicle list`) or a .toml file.")]
+
+
+def _emit(data, as_json: bool, text: str | None = None) -> None:
+    if as_json:
+        typer.echo(json.dumps(data, indent=2, default=_json_default))
+    else:
+        typer.echo(text if text is not None else json.dumps(data, indent=2, default=_json_default))
+
+
+def _json_default(obj):
+    import numpy as np
+
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, Path):
+        return str(obj)
+    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
+
+
+def _version(value: bool):
+    if value:
+        typer.echo(f"trikedyn {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(
+    version: Annotated[
+        bool, typer.Option("--version", callback=_version, is_eager=True, help="Show the version and exit.")
+    ] = False,
+):
+    """trikedyn: how fast can a three-wheeler safely go, and why."""
+
+
+# ------------------------------------------------------------------------------------------------
+# vehicle
+# ------------------------------------------------------------------------------------------------
+@vehicle_app.command("list")
+def vehicle_list(as_json: JsonOpt = False):
+    """List the parameter sets shipped with trikedyn."""
+    from .params import list_presets, load_vehicle
+
+    rows = [{"name": n, "description": load_vehicle(n).params.description} for n in list_presets()]
+    _emit(rows, as_json, "\n".join(f"{r['name']:<24} {r['description']}" for r in rows))
+
+
+@vehicle_app.command("show")
+def vehicle_show(vehicle: VehicleArg, as_json: JsonOpt = False):
+    """Show every value of a parameter set, marking assumed values (*) and their reasons."""
+    from .params import load_vehicle
+
+    pset = load_vehicle(vehicle)
+    data = pset.params.model_dump(mode="json", exclude_none=True)
+    if as_json:
+        _emit({"origin": pset.origin, "parameters": data, "notes": pset.notes}, True)
+        return
+    lines = [f"{pset.name}: {pset.params.description}", f"source: {pset.params.source}", ""]
+    for path, value in _flatten(data):
+        note = pset.notes.get(path, {})
+        mark = "*" if "assumed" in note else " "
+        lines.append(f"{mark} {path:<48} {value}")
+    assumed = pset.assumed()
+    lines += ["", f"* assumed ({len(assumed)} values):"]
+    lines += [f"  {k}: {v}" for k, v in assumed.items()]
+    typer.echo("\n".join(lines))
+
+
+def _flatten(node, prefix=""):
+    if isinstance(node, dict):
+        for key, value in node.items():
+            yield from _flatten(value, f"{prefix}.{key}" if prefix else key)
+    elif isinstance(node, list) and node and all(isinstance(i, dict) for i in node):
+        for i, item in enumerate(node):
+            label = item.get("name", str(i))
+            yield from _flatten({k: v for k, v in item.items() if k != "name"}, f"{prefix}.{label}")
+    else:
+        yield prefix, node
+
+
+@vehicle_app.command("check")
+def vehicle_check(vehicle: VehicleArg, as_json: JsonOpt = False):
+    """Audit a parameter set for consistency (Eqs. 3-4, CG against loads, support triangle, ...).
+
+    Exits 0 even when it finds inconsistencies: they are findings to read, not errors.
+    """
+    from .params import audit, load_vehicle
+
+    pset = load_vehicle(vehicle)
+    findings = audit(pset)
+    if as_json:
+        _emit({"vehicle": pset.name, "findings": [f.to_dict() for f in findings]}, True)
+        return
+    width = max(len(f.level) for f in findings)
+    lines = [f"{pset.name} ({pset.origin})"] + [f"{f.level.upper():<{width}}  {f.topic}: {f.message}" for f in findings]
+    bad = sum(f.level == "inconsistent" for f in findings)
+    lines.append(f"{len(findings)} findings, {bad} inconsistent")
+    typer.echo("\n".join(lines))
+
+
+@vehicle_app.command("export")
+def vehicle_export(vehicle: VehicleArg, file: Annotated[Path, typer.Argument(help="TOML file to write.")]):
+    """Write a parameter set to a TOML file (with its notes) to start your own vehicle from."""
+    from .params import load_vehicle, save_vehicle
+
+    if file.exists():
+        raise InputError("file exists; not overwriting it", where=str(file))
+    save_vehicle(load_vehicle(vehicle), file)
+    typer.echo(f"wrote {file}")
+
+
+# ------------------------------------------------------------------------------------------------
+# cg
+# ------------------------------------------------------------------------------------------------
+@cg_app.command("weigh")
+def cg_weigh(file: Annotated[Path, typer.Argument(help="Weighing record (TOML); see the docs.")], as_json: JsonOpt = False):
+    """Mass and CG from wheel weighings: x, y level; z from raised-axle weighings (least squares)."""
+    from .measure.weighing import load_weighing, reduce_weighing
+
+    result = reduce_weighing(load_weighing(file), where=str(file)).to_dict()
+    text = (
+        f"mass {result['mass_kg']:.2f} ± {result['mass_std_kg']:.2f} kg\n"
+        f"cg x {result['cg_x_m'] * 1000:.1f} ± {result['cg_x_std_m'] * 1000:.1f} mm\n"
+        f"cg y {result['cg_y_m'] * 1000:.1f} ± {result['cg_y_std_m'] * 1000:.1f} mm"
+    )
+    if "cg_z_m" in result:
+        text += f"\ncg z {result['cg_z_m'] * 1000:.1f} ± {result['cg_z_std_m'] * 1000:.1f} mm"
+    _emit(result, as_json, text)
+
+
+def _floats(text: str, n: int, option: str) -> list[float]:
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != n:
+        raise InputError(f"expected {n} comma-separated numbers, got '{text}'", where=option)
+    return values
+
+
+@cg_app.command("payload")
+def cg_payload(
+    vehicle: VehicleArg,
+    freight: Annotated[float, typer.Option(help="The paper's freight [kg] at the vehicle's freight site.")] = 0.0,
+    point: Annotated[list[str], typer.Option(help="Point mass 'KG,X,Y,Z' [kg, m]; repeatable.")] = [],  # noqa: B006
+    box: Annotated[list[str], typer.Option(help="Box 'KG,X,Y,Z,LX,LY,LZ' [kg, m]; repeatable.")] = [],  # noqa: B006
+    remove: Annotated[bool, typer.Option(help="Take the payload off instead of adding it.")] = False,
+    as_json: JsonOpt = False,
+):
+    """Mass, CG and inertia of a vehicle with a payload added (or removed)."""
+    from .measure.cg import Box, Payload, PointMass
+    from .params import freight as paper_freight
+    from .params import load_vehicle, with_payload
+
+    pset = load_vehicle(vehicle)
+    items = list(paper_freight(pset.params, freight).items) if freight else []
+    for i, spec in enumerate(point):
+        m, x, y, z = _floats(spec, 4, f"--point #{i + 1}")
+        items.append(PointMass(m, (x, y, z), name=f"--point #{i + 1}"))
+    for i, spec in enumerate(box):
+        m, x, y, z, lx, ly, lz = _floats(spec, 7, f"--box #{i + 1}")
+        items.append(Box(m, (x, y, z), (lx, ly, lz), name=f"--box #{i + 1}"))
+    result = with_payload(pset, Payload("cli", tuple(items)), remove=remove).params.mass
+    data = result.model_dump() | {"total_kg": result.total_kg}
+    text = (
+        f"total {result.total_kg:.2f} kg (payload {result.payload_kg:.2f} kg)\n"
+        f"cg ({result.cg_x_m * 1000:.1f}, {result.cg_y_m * 1000:.1f}, {result.cg_z_m * 1000:.1f}) mm\n"
+        f"Ixx {result.roll_inertia_kgm2:.1f}  Iyy {result.pitch_inertia_kgm2:.1f}  Izz {result.yaw_inertia_kgm2:.1f} kg m^2"
+    )
+    _emit(data, as_json, text)
+
+
+@cg_app.command("freight-table")
+def cg_freight_table(
+    vehicle: Annotated[str, typer.Argument(help="Preset name or .toml file.")] = "reference-etrike",
+    masses: Annotated[str, typer.Option(help="Freight masses [kg], comma-separated.")] = "0,50,100,150,200",
+    as_json: JsonOpt = False,
+):
+    """CG against freight mass, like the paper's Table 3."""
+    from .params import load_vehicle, with_freight
+
+    pset = load_vehicle(vehicle)
+    rows = []
+    for text in masses.split(","):
+        m = _floats(text, 1, "--masses")[0]
+        mass = with_freight(pset, m).params.mass
+        rows.append({"freight_kg": m, "cg_x_m": mass.cg_x_m, "cg_y_m": mass.cg_y_m, "cg_z_m": mass.cg_z_m})
+    text = "freight_kg   x_mm    y_mm    z_mm\n" + "\n".join(
+        f"{r['freight_kg']:>10.1f} {r['cg_x_m'] * 1e3:7.1f} {r['cg_y_m'] * 1e3:7.1f} {r['cg_z_m'] * 1e3:7.1f}" for r in rows
+    )
+    _emit(rows, as_json, text)
+
+
+# ------------------------------------------------------------------------------------------------
+def main(argv: list[str] | None = None) -> int:
+    """Entry point: runs the app; user mistakes -> one line on stderr and exit code 2."""
+    try:
+        app(args=argv, prog_name="trikedyn", standalone_mode=True)
+    except InputError as exc:
+        typer.echo(f"trikedyn: error: {exc}", err=True)
+        return 2
+    except SystemExit as exc:
+        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+    return 0
+
+
+def _console():  # pragma: no cover - console-script shim
+    sys.exit(main())

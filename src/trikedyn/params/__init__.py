@@ -1,0 +1,25 @@
+"""Vehicle parameter sets: schema, TOML load/save, presets, variants and the consistency audit."""
+
+from .audit import Finding, audit, static_wheel_loads, tip_over_thresholds
+from .io import ParameterSet, list_presets, load_vehicle, parse_vehicle, save_vehicle
+from .ops import freight, mass_properties, override, scale_suspension, with_freight, with_payload
+from .schema import VehicleParameters
+
+__all__ = [
+    "Finding",
+    "ParameterSet",
+    "VehicleParameters",
+    "audit",
+    "freight",
+    "list_presets",
+    "load_vehicle",
+    "mass_properties",
+    "override",
+    "parse_vehicle",
+    "save_vehicle",
+    "scale_suspension",
+    "static_wheel_loads",
+    "tip_over_thresholds",
+    "with_freight",
+    "with_payload",
+]
