@@ -183,7 +183,7 @@ def cg_payload(
     """Mass, CG and inertia of a vehicle with a payload added (or removed)."""
     from .measure.cg import Box, Payload, PointMass
     from .params import freight as paper_freight
-    from .params import load_vehicle, with_payload
+    from .params import load_vehicle, mass_properties, with_payload
 
     pset = load_vehicle(vehicle)
     items = list(paper_freight(pset.params, freight).items) if freight else []
@@ -193,12 +193,14 @@ def cg_payload(
     for i, spec in enumerate(box):
         m, x, y, z, lx, ly, lz = _floats(spec, 7, f"--box #{i + 1}")
         items.append(Box(m, (x, y, z), (lx, ly, lz), name=f"--box #{i + 1}"))
-    result = with_payload(pset, Payload("cli", tuple(items)), remove=remove).params.mass
-    data = result.model_dump() | {"total_kg": result.total_kg}
+    mp = mass_properties(with_payload(pset, Payload("cli", tuple(items)), remove=remove).params)
+    base = pset.params.mass.total_kg
+    data = {"total_kg": mp.mass_kg, "payload_kg": mp.mass_kg - base, "cg_m": mp.cg_m, "inertia_kgm2": mp.inertia_kgm2}
+    i = mp.inertia_kgm2
     text = (
-        f"total {result.total_kg:.2f} kg (payload {result.payload_kg:.2f} kg)\n"
-        f"cg ({result.cg_x_m * 1000:.1f}, {result.cg_y_m * 1000:.1f}, {result.cg_z_m * 1000:.1f}) mm\n"
-        f"Ixx {result.roll_inertia_kgm2:.1f}  Iyy {result.pitch_inertia_kgm2:.1f}  Izz {result.yaw_inertia_kgm2:.1f} kg m^2"
+        f"total {mp.mass_kg:.2f} kg (payload {mp.mass_kg - base:+.2f} kg)\n"
+        f"cg ({mp.cg_m[0] * 1000:.1f}, {mp.cg_m[1] * 1000:.1f}, {mp.cg_m[2] * 1000:.1f}) mm\n"
+        f"Ixx {i[0, 0]:.1f}  Iyy {i[1, 1]:.1f}  Izz {i[2, 2]:.1f} kg m^2"
     )
     _emit(data, as_json, text)
 
@@ -210,14 +212,14 @@ def cg_freight_table(
     as_json: JsonOpt = False,
 ):
     """CG against freight mass, like the paper's Table 3."""
-    from .params import load_vehicle, with_freight
+    from .params import load_vehicle, mass_properties, with_freight
 
     pset = load_vehicle(vehicle)
     rows = []
     for text in masses.split(","):
         m = _floats(text, 1, "--masses")[0]
-        mass = with_freight(pset, m).params.mass
-        rows.append({"freight_kg": m, "cg_x_m": mass.cg_x_m, "cg_y_m": mass.cg_y_m, "cg_z_m": mass.cg_z_m})
+        cg = mass_properties(with_freight(pset, m).params).cg_m
+        rows.append({"freight_kg": m, "cg_x_m": cg[0], "cg_y_m": cg[1], "cg_z_m": cg[2]})
     text = "freight_kg   x_mm    y_mm    z_mm\n" + "\n".join(
         f"{r['freight_kg']:>10.1f} {r['cg_x_m'] * 1e3:7.1f} {r['cg_y_m'] * 1e3:7.1f} {r['cg_z_m'] * 1e3:7.1f}" for r in rows
     )

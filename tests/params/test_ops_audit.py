@@ -4,9 +4,11 @@ import math
 
 import pytest
 
-from trikedyn.errors import ParameterError
+from trikedyn.errors import InputError, ParameterError
 from trikedyn.params import (
     audit,
+    freight,
+    with_payload,
     load_vehicle,
     override,
     scale_suspension,
@@ -38,9 +40,16 @@ def test_override_and_its_errors(reference):
 
 
 def test_freight_raises_mass_and_cg(reference):
-    laden = with_freight(reference, 200.0).params.mass
-    assert laden.total_kg == 783.0 and laden.payload_kg == 200.0
-    assert laden.cg_z_m > reference.params.mass.cg_z_m
+    from trikedyn.params import mass_properties
+
+    laden = with_freight(reference, 200.0)
+    mp = mass_properties(laden.params)
+    assert mp.mass_kg == 783.0 and laden.params.mass.total_kg == 583.0  # the vehicle itself is unchanged
+    assert mp.cg_m[2] > reference.params.mass.cg_z_m
+    emptied = with_payload(laden, freight(laden.params, 200.0), remove=True)
+    assert mass_properties(emptied.params).cg_m == pytest.approx(reference.params.mass.cg_m, abs=1e-12)
+    with pytest.raises(InputError, match="cannot remove"):
+        with_payload(reference, freight(reference.params, 2000.0), remove=True)
     with pytest.raises(ParameterError):
         with_freight(reference, -10.0)
 

@@ -22,6 +22,7 @@ import numpy as np
 from ..measure.cg import wheel_loads_from_cg
 from ..units import STANDARD_GRAVITY
 from .io import ParameterSet
+from .ops import mass_properties
 from .schema import VehicleParameters
 
 __all__ = ["Finding", "audit", "static_wheel_loads", "unsprung_mass", "tip_over_thresholds"]
@@ -53,7 +54,8 @@ def unsprung_mass(params: VehicleParameters, wheel_name: str) -> float:
 def static_wheel_loads(params: VehicleParameters, g: float = STANDARD_GRAVITY) -> dict[str, float]:
     """Static vertical load on each wheel [N] of the vehicle as a rigid body on level ground."""
     contacts = [(w.x_m, w.y_m) for w in params.wheels]
-    loads = wheel_loads_from_cg(params.mass.total_kg, params.mass.cg_m[:2], contacts, g)
+    mp = mass_properties(params)
+    loads = wheel_loads_from_cg(mp.mass_kg, mp.cg_m[:2], contacts, g)
     return {w.name: float(f) for w, f in zip(params.wheels, loads, strict=True)}
 
 
@@ -68,8 +70,9 @@ def tip_over_thresholds(params: VehicleParameters) -> list[dict]:
     pts = np.array([(w.x_m, w.y_m) for w in params.wheels])
     names = [w.name for w in params.wheels]
     centroid = pts.mean(axis=0)
-    cg = np.array(params.mass.cg_m[:2])
-    h = params.mass.cg_z_m
+    mp = mass_properties(params)
+    cg = mp.cg_m[:2]
+    h = mp.cg_m[2]
     edges = []
     for i in range(3):
         for j in range(i + 1, 3):
@@ -104,6 +107,8 @@ def audit(pset: ParameterSet | VehicleParameters) -> list[Finding]:
     g = STANDARD_GRAVITY
     findings: list[Finding] = []
     loads = static_wheel_loads(params, g)
+    mp = mass_properties(params)
+    total_kg, cg_x = mp.mass_kg, float(mp.cg_m[0])
     two_pi = 2.0 * math.pi
 
     # 1. Eq. 4 and Eq. 3 per suspension, and the sprung masses
@@ -159,20 +164,20 @@ def audit(pset: ParameterSet | VehicleParameters) -> list[Finding]:
         total = sum(implied.values())
         share = implied[front[0].name] / total
         x_eq3 = share * params.wheelbase_m
-        level = OK if abs(x_eq3 - params.mass.cg_x_m) <= 0.02 * params.wheelbase_m else INCONSISTENT
+        level = OK if abs(x_eq3 - cg_x) <= 0.02 * params.wheelbase_m else INCONSISTENT
         findings.append(
             Finding(
                 level,
                 "CG from Eq. 3",
                 f"K and f_n imply {total:.1f} kg on the wheels with {100 * share:.1f} % on the front, "
-                f"i.e. CG x = {x_eq3:.3f} m; the set has {params.mass.total_kg:.1f} kg and CG x = "
-                f"{params.mass.cg_x_m:.4f} m ({100 * params.mass.cg_x_m / params.wheelbase_m:.1f} % front)",
+                f"i.e. CG x = {x_eq3:.3f} m; the set has {total_kg:.1f} kg and CG x = "
+                f"{cg_x:.4f} m ({100 * cg_x / params.wheelbase_m:.1f} % front)",
                 {
                     "mass_eq3_kg": total,
                     "front_share_eq3": share,
                     "cg_x_eq3_m": x_eq3,
-                    "mass_kg": params.mass.total_kg,
-                    "cg_x_m": params.mass.cg_x_m,
+                    "mass_kg": total_kg,
+                    "cg_x_m": cg_x,
                 },
             )
         )
@@ -193,14 +198,14 @@ def audit(pset: ParameterSet | VehicleParameters) -> list[Finding]:
     parts = wheels + params.steering.head_mass_kg + sum(
         params.suspension[w.suspension].moving_mass_kg for w in params.wheels
     )
-    chassis = params.mass.total_kg - parts
+    chassis = total_kg - parts
     findings.append(
         Finding(
-            OK if chassis > 0.5 * params.mass.total_kg else WARNING,
+            OK if chassis > 0.5 * total_kg else WARNING,
             "mass bookkeeping",
-            f"chassis (sprung body with driver and payload) {chassis:.1f} kg of {params.mass.total_kg:.1f} kg; "
+            f"chassis (sprung body with driver and payload) {chassis:.1f} kg of {total_kg:.1f} kg; "
             f"wheels, fork, arms and steering head {parts:.1f} kg",
-            {"chassis_kg": chassis, "parts_kg": parts, "total_kg": params.mass.total_kg},
+            {"chassis_kg": chassis, "parts_kg": parts, "total_kg": total_kg},
         )
     )
 

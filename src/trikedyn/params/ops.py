@@ -10,17 +10,27 @@ import numpy as np
 from pydantic import ValidationError
 
 from ..errors import ParameterError
-from ..measure.cg import MassProperties, Payload, PointMass
+from ..measure.cg import Box, MassProperties, Payload, PointMass
 from .io import ParameterSet, _describe
 from .schema import VehicleParameters
 
 __all__ = ["mass_properties", "freight", "with_payload", "with_freight", "scale_suspension", "override"]
 
 
-def mass_properties(params: VehicleParameters) -> MassProperties:
-    """The whole vehicle's mass [kg], CG [m] and inertia about the CG [kg m^2]."""
+def _base_mass_properties(params: VehicleParameters) -> MassProperties:
     m = params.mass
     return MassProperties(m.total_kg, m.cg_m, np.array(m.inertia_tensor_kgm2))
+
+
+def _item(spec) -> Box:
+    return Box(spec.mass_kg, (spec.x_m, spec.y_m, spec.z_m), (spec.length_m, spec.width_m, spec.height_m), spec.name)
+
+
+def mass_properties(params: VehicleParameters) -> MassProperties:
+    """The whole vehicle's mass [kg], CG [m] and inertia about the CG [kg m^2], payload included."""
+    added = Payload("added", tuple(_item(i) for i in params.payload if not i.removed))
+    removed = Payload("removed", tuple(_item(i) for i in params.payload if i.removed))
+    return removed.removed_from(added.added_to(_base_mass_properties(params)))
 
 
 def freight(params: VehicleParameters, mass_kg: float) -> Payload:
@@ -38,25 +48,27 @@ def _revalidate(pset: ParameterSet, data: dict, what: str) -> ParameterSet:
 
 
 def with_payload(pset: ParameterSet, payload: Payload, *, remove: bool = False) -> ParameterSet:
-    """The vehicle with ``payload`` aboard (or taken off, ``remove=True``): mass, CG and inertia updated."""
-    base = mass_properties(pset.params)
-    new = payload.removed_from(base) if remove else payload.added_to(base)
-    sign = -1.0 if remove else 1.0
-    inertia = new.inertia_kgm2
+    """The vehicle with ``payload`` aboard (or, ``remove=True``, with those masses taken off it).
+
+    Items are point masses (:class:`~trikedyn.measure.cg.PointMass`) or boxes
+    (:class:`~trikedyn.measure.cg.Box`); they are appended to ``params.payload``.
+    """
+    items = []
+    for item in payload.items:
+        size = getattr(item, "size_m", (0.0, 0.0, 0.0))
+        pos = getattr(item, "centre_m", getattr(item, "position_m", None))
+        item.mass_properties()  # validates the mass
+        items.append(
+            dict(
+                name=item.name, mass_kg=float(item.mass_kg), x_m=float(pos[0]), y_m=float(pos[1]), z_m=float(pos[2]),
+                length_m=float(size[0]), width_m=float(size[1]), height_m=float(size[2]), removed=remove,
+            )
+        )
     data = pset.params.model_dump()
-    data["mass"].update(
-        payload_kg=pset.params.mass.payload_kg + sign * payload.mass_kg,
-        cg_x_m=float(new.cg_m[0]),
-        cg_y_m=float(new.cg_m[1]),
-        cg_z_m=float(new.cg_m[2]),
-        roll_inertia_kgm2=float(inertia[0, 0]),
-        pitch_inertia_kgm2=float(inertia[1, 1]),
-        yaw_inertia_kgm2=float(inertia[2, 2]),
-        roll_pitch_product_kgm2=float(-inertia[0, 1]),
-        roll_yaw_product_kgm2=float(-inertia[0, 2]),
-        pitch_yaw_product_kgm2=float(-inertia[1, 2]),
-    )
-    return _revalidate(pset, data, f"payload '{payload.name}'")
+    data["payload"] = list(data["payload"]) + items
+    new = _revalidate(pset, data, f"payload '{payload.name}'")
+    mass_properties(new.params)  # removing more than there is fails here, with a clear message
+    return new
 
 
 def with_freight(pset: ParameterSet, mass_kg: float) -> ParameterSet:

@@ -28,6 +28,7 @@ __all__ = [
     "DriveSpec",
     "AeroSpec",
     "PointSpec",
+    "PayloadItemSpec",
     "BodySpec",
     "VehicleParameters",
 ]
@@ -47,7 +48,6 @@ class MassSpec(_Spec):
         default=None, gt=0, le=5000, description="curb mass less the wheels (paper's M_B) [kg]"
     )
     driver_kg: float = Field(default=0.0, ge=0, le=300, description="driver aboard [kg]")
-    payload_kg: float = Field(default=0.0, ge=0, le=5000, description="freight aboard, in CG and inertia [kg]")
     cg_x_m: float = Field(ge=-5, le=10, description="CG of vehicle + driver, ahead of the rear axle [m]")
     cg_y_m: float = Field(ge=-2, le=2, description="CG of vehicle + driver, left of the centre line [m]")
     cg_z_m: float = Field(gt=0, le=3, description="CG of vehicle + driver, above the ground [m]")
@@ -60,8 +60,8 @@ class MassSpec(_Spec):
 
     @property
     def total_kg(self) -> float:
-        """Vehicle, driver and payload [kg]."""
-        return self.curb_kg + self.driver_kg + self.payload_kg
+        """Vehicle plus driver, ready to drive, without payload [kg]."""
+        return self.curb_kg + self.driver_kg
 
     @property
     def cg_m(self) -> tuple[float, float, float]:
@@ -203,6 +203,24 @@ class PointSpec(_Spec):
     z_m: float = Field(ge=-1, le=5)
 
 
+class PayloadItemSpec(_Spec):
+    """A payload item: a point mass (no size) or a uniform box, added to the vehicle or removed from it.
+
+    Payload is kept apart from ``[mass]`` so that the springs' preload stays that of the vehicle as built
+    (a laden vehicle sinks on its springs) and the payload can be listed, changed and taken off again.
+    """
+
+    name: str = Field(min_length=1)
+    mass_kg: float = Field(ge=0, le=5000)
+    x_m: float = Field(ge=-5, le=10)
+    y_m: float = Field(ge=-2, le=2)
+    z_m: float = Field(ge=-1, le=5)
+    length_m: float = Field(default=0.0, ge=0, le=15, description="box edge along x [m]; 0 for a point")
+    width_m: float = Field(default=0.0, ge=0, le=5, description="box edge along y [m]")
+    height_m: float = Field(default=0.0, ge=0, le=5, description="box edge along z [m]")
+    removed: bool = Field(default=False, description="true: this mass is taken off the vehicle")
+
+
 class BodySpec(_Spec):
     """Overall body dimensions (for lane widths and plots)."""
 
@@ -227,6 +245,7 @@ class VehicleParameters(_Spec):
     aero: AeroSpec
     sensor: PointSpec
     freight: PointSpec = Field(description="where freight goes (the paper's back trunk)")
+    payload: tuple[PayloadItemSpec, ...] = ()
 
     @field_validator("wheels")
     @classmethod

@@ -1,0 +1,79 @@
+"""The command line: --help, --version, --json, and one-line errors with exit code 2."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from trikedyn import __version__
+from trikedyn.cli import main
+
+
+def run(capsys, *args):
+    code = main(list(args))
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_version_and_help(capsys):
+    code, out, _ = run(capsys, "--version")
+    assert code == 0 and out.strip() == f"trikedyn {__version__}"
+    for cmd in ([], ["vehicle"], ["cg"], ["identify"], ["log"], ["reproduce"]):
+        code, out, _ = run(capsys, *cmd, "--help")
+        assert code == 0 and "Usage" in out, cmd
+
+
+def test_vehicle_commands_json(capsys):
+    code, out, _ = run(capsys, "vehicle", "list", "--json")
+    assert code == 0 and {r["name"] for r in json.loads(out)} >= {"reference-etrike", "reference-etrike-eq4"}
+    code, out, _ = run(capsys, "vehicle", "show", "reference-etrike", "--json")
+    shown = json.loads(out)
+    assert shown["parameters"]["mass"]["curb_kg"] == 508.0 and "mass.driver_kg" in shown["notes"]
+    code, out, _ = run(capsys, "vehicle", "check", "reference-etrike", "--json")
+    topics = {f["topic"] for f in json.loads(out)["findings"]}
+    assert {"damping (Eq. 4)", "sprung mass", "tip-over (rigid, static)"} <= topics
+    code, out, _ = run(capsys, "vehicle", "check", "reference-etrike")
+    assert code == 0 and "INCONSISTENT" in out and "9.54x" in out
+
+
+def test_vehicle_export_then_check(capsys, tmp_path):
+    path = tmp_path / "mine.toml"
+    assert run(capsys, "vehicle", "export", "reference-etrike", str(path))[0] == 0
+    code, out, _ = run(capsys, "vehicle", "show", str(path))
+    assert code == 0 and "* mass.driver_kg" in out
+
+
+def test_cg_commands(capsys):
+    code, out, _ = run(capsys, "cg", "freight-table", "--json")
+    rows = json.loads(out)
+    assert code == 0 and [r["freight_kg"] for r in rows] == [0, 50, 100, 150, 200]
+    code, out, _ = run(capsys, "cg", "payload", "reference-etrike", "--box", "20,0.2,0,1.0,0.5,0.5,0.5", "--json")
+    assert code == 0 and json.loads(out)["payload_kg"] == 20.0
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["vehicle", "show", "no-such-trike"], "unknown vehicle 'no-such-trike'"),
+        (["vehicle", "check", "missing.toml"], "missing.toml: no such parameter file"),
+        (["cg", "payload", "reference-etrike", "--point", "-5,0,0,1"], "mass must be a finite number >= 0 kg"),
+        (["cg", "weigh", "nowhere.toml"], "nowhere.toml: no such weighing file"),
+    ],
+)
+def test_user_mistakes_exit_2_with_one_line(capsys, args, needle):
+    code, out, err = run(capsys, *args)
+    assert code == 2
+    assert out == ""
+    assert err.count("\n") == 1 and err.startswith("trikedyn: error: ") and needle in err
+
+
+def test_console_script_has_no_traceback(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('extends = "reference-etrike"\n[mass]\ncurb_kg = -1\n')
+    proc = subprocess.run(
+        [sys.executable, "-m", "trikedyn", "vehicle", "check", str(bad)], capture_output=True, text=True
+    )
+    assert proc.returncode == 2
+    assert "Traceback" not in proc.stderr
+    assert proc.stderr.strip() == f"trikedyn: error: {bad}: mass.curb_kg: input should be greater than 0 (got -1)"
