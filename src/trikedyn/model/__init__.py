@@ -1,0 +1,1 @@
+"""The multibody trike model: tree, compiled dynamics, forces, statics and linearisation."""
