@@ -30,6 +30,8 @@ MADE_UP = TyreSpec(
     cornering_stiffness_factor=18.0,
     cornering_stiffness_load_factor=1.5,
     rolling_resistance=0.02,
+    relaxation_length_x_m=0.2,
+    relaxation_length_y_m=0.4,
 )
 
 

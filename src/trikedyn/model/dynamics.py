@@ -35,7 +35,9 @@ __all__ = [
     "joint_transforms",
     "world_transforms",
     "rnea",
+    "rnea_er",
     "crba",
+    "crba_er",
     "cholesky_solve",
     "forward_dynamics",
     "euler_rates",
@@ -106,9 +108,15 @@ def rnea(q, u, udot, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, 
     ndarray (n,)
         ``H udot + C``: the first six entries are the force on the base in base coordinates.
     """
-    nb = parent.shape[0]
     e, r = joint_transforms(q, parent, jtype, jaxis, tree_e, tree_r)
-    v = np.empty((nb, 6))
+    v = np.empty((parent.shape[0], 6))
+    return rnea_er(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar, v)
+
+
+@njit(cache=True)
+def rnea_er(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar, v):
+    """:func:`rnea` with the joint transforms given; also fills ``v`` with the body velocities."""
+    nb = parent.shape[0]
     a = np.empty((nb, 6))
     f = np.empty((nb, 6))
     tmp = np.empty(6)
@@ -143,9 +151,15 @@ def rnea(q, u, udot, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, 
 @njit(cache=True)
 def crba(q, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
     """Joint-space mass matrix ``H(q)`` (n x n, symmetric positive definite) by CRBA."""
+    e, r = joint_transforms(q, parent, jtype, jaxis, tree_e, tree_r)
+    return crba_er(e, r, parent, jtype, jaxis, mass, h, ibar)
+
+
+@njit(cache=True)
+def crba_er(e, r, parent, jtype, jaxis, mass, h, ibar):
+    """:func:`crba` with the joint transforms given."""
     nb = parent.shape[0]
     n = nb + 5
-    e, r = joint_transforms(q, parent, jtype, jaxis, tree_e, tree_r)
     mc = mass.copy()
     hc = h.copy()
     ic = ibar.copy()

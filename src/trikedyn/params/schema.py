@@ -104,7 +104,9 @@ class SteeringSpec(_Spec):
     head_inertia_kgm2: float = Field(gt=0, le=50, description="head inertia about the steering axis")
     max_angle_deg: float = Field(gt=0, le=80, description="steering lock [deg]")
     max_rate_deg_per_s: float = Field(gt=0, le=2000, description="fastest steering a driver applies")
-    servo_bandwidth_hz: float = Field(gt=0, le=50, description="steering servo (driver's arms) bandwidth")
+    servo_bandwidth_hz: float = Field(
+        gt=0, le=50, description="steering servo natural frequency on the steered inertia [Hz]"
+    )
     servo_damping_ratio: float = Field(gt=0, le=3, description="steering servo damping ratio")
 
 
@@ -176,6 +178,8 @@ class TyreSpec(_Spec):
     cornering_stiffness_factor: float = Field(gt=0, le=100, description="pKy1: C_alpha / Fz0 at peak [1/rad]")
     cornering_stiffness_load_factor: float = Field(gt=0, le=10, description="pKy2: load of peak C_alpha / Fz0")
     rolling_resistance: float = Field(ge=0, le=0.2, description="rolling resistance coefficient")
+    relaxation_length_x_m: float = Field(gt=0, le=3, description="longitudinal slip relaxation length [m]")
+    relaxation_length_y_m: float = Field(gt=0, le=3, description="lateral slip relaxation length [m]")
 
 
 class DriveSpec(_Spec):

@@ -1,0 +1,1 @@
+"""Simulation: the compiled fixed-step loop, results and output channels."""

@@ -1,0 +1,77 @@
+"""The compiled fixed-step time loop (classical Runge-Kutta, RK4) with a health watch.
+
+The whole loop runs in numba: no Python per step. Every ``record_every`` steps it stores the state.
+It stops early, with a status code and the time, on NaN, runaway tyre penetration or rollover.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..model.rhs import N_WOUT, W_DEFLECTION, evaluate
+from ..model.vehicle import S_PENETRATION_LIMIT, S_ROLL_LIMIT, WF_RADIUS
+
+__all__ = ["STATUS_OK", "STATUS_NAN", "STATUS_PENETRATION", "STATUS_ROLLOVER", "STATUS_TEXT", "rk4_loop"]
+
+STATUS_OK, STATUS_NAN, STATUS_PENETRATION, STATUS_ROLLOVER = 0, 1, 2, 3
+STATUS_TEXT = {
+    STATUS_OK: "ok",
+    STATUS_NAN: "the state became NaN or infinite (time step too large or a diverging model)",
+    STATUS_PENETRATION: "runaway tyre penetration (a wheel sank into the road by over half its radius)",
+    STATUS_ROLLOVER: "the vehicle rolled over (roll or pitch angle beyond the limit)",
+}
+
+
+@njit(cache=True)
+def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
+             wheel_f, wheel_i, tyre, sc, road):
+    """Integrate ``n_steps`` RK4 steps of ``dt`` [s] from ``x0`` at ``t0``.
+
+    Returns
+    -------
+    times : ndarray (m,)
+    states : ndarray (m, len(x0))
+        Recorded every ``record_every`` steps (the first at ``t0``).
+    status : int
+        ``STATUS_*``.
+    n_recorded : int
+        Rows of ``times``/``states`` filled.
+    t_stop : float
+        Time at which the loop stopped [s].
+    """
+    nx = x0.shape[0]
+    n_rec = n_steps // record_every + 1
+    times = np.empty(n_rec)
+    states = np.empty((n_rec, nx))
+    nw = wheel_f.shape[0]
+    wout = np.empty((nw, N_WOUT))
+    x = x0.copy()
+    t = t0
+    times[0] = t
+    states[0] = x
+    rec = 1
+    arrays = (parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar, wheel_f, wheel_i, tyre, sc, road)
+    for step in range(1, n_steps + 1):
+        k1 = evaluate(t, x, inputs, *arrays, wout)
+        for k in range(nw):
+            if wout[k, W_DEFLECTION] > sc[S_PENETRATION_LIMIT] * wheel_f[k, WF_RADIUS]:
+                return times, states, STATUS_PENETRATION, rec, t
+        k2 = evaluate(t + 0.5 * dt, x + 0.5 * dt * k1, inputs, *arrays, wout)
+        k3 = evaluate(t + 0.5 * dt, x + 0.5 * dt * k2, inputs, *arrays, wout)
+        k4 = evaluate(t + dt, x + dt * k3, inputs, *arrays, wout)
+        x = x + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        t = t0 + step * dt
+        if not np.all(np.isfinite(x)):
+            return times, states, STATUS_NAN, rec, t
+        if abs(x[3]) > sc[S_ROLL_LIMIT] or abs(x[4]) > sc[S_ROLL_LIMIT]:
+            if step % record_every == 0:
+                times[rec] = t
+                states[rec] = x
+                rec += 1
+            return times, states, STATUS_ROLLOVER, rec, t
+        if step % record_every == 0:
+            times[rec] = t
+            states[rec] = x
+            rec += 1
+    return times, states, STATUS_OK, rec, t
