@@ -1,0 +1,94 @@
+"""Static equilibrium and steady straight running, found by a solver; linearisation and modes.
+
+Every simulation starts from an equilibrium, never from a guessed state that rings. At rest the unknowns
+are the chassis height, roll and pitch and every joint that is not a wheel's spin (steer, fork,
+swing arms); the residuals are the accelerations of those coordinates with all velocities zero.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import root
+
+from ..errors import SimulationError
+from .rhs import N_WOUT, W_FZ, evaluate
+from .vehicle import VehicleModel
+
+__all__ = ["Equilibrium", "static_equilibrium", "rolling_state", "state_derivative"]
+
+
+def state_derivative(model: VehicleModel, x: np.ndarray, t: float = 0.0, inputs: np.ndarray | None = None):
+    """``dx/dt`` and the per-wheel outputs at one state (a Python-side call of the compiled function)."""
+    wout = np.zeros((len(model.tree.wheels), N_WOUT))
+    inp = np.zeros((1, 4)) if inputs is None else inputs
+    return evaluate(t, x, inp, *model.arrays(), wout), wout
+
+
+def _free_joints(model: VehicleModel) -> list[int]:
+    wheels = {w.wheel_body for w in model.tree.wheels}
+    return [5 + i for i in range(1, model.tree.n_bodies) if i not in wheels]
+
+
+@dataclass(frozen=True)
+class Equilibrium:
+    """A static equilibrium: the state, the wheel loads [N] and the solver's residual."""
+
+    state: np.ndarray
+    wheel_loads_N: dict
+    residual: float
+
+
+def static_equilibrium(model: VehicleModel, *, tol: float = 1e-10) -> Equilibrium:
+    """The vehicle at rest on flat ground: solve for height, roll, pitch and the joint deflections.
+
+    Raises
+    ------
+    SimulationError
+        When the solver finds no equilibrium (e.g. the vehicle cannot stand).
+    """
+    n = model.n_dof
+    joints = _free_joints(model)
+    unknown = [2, 3, 4, *joints]
+    residual_rows = [n + 0, n + 1, n + 5, *(n + j for j in joints)]
+    radius = float(np.mean([w.radius for w in model.tree.wheels]))
+    load = model.tree.total_mass() * 9.81 / len(model.tree.wheels)
+    guess = np.zeros(len(unknown))
+    guess[0] = -load / model.tyre[0]
+
+    def residual(p):
+        x = np.zeros(model.n_states)
+        x[unknown] = p
+        xdot, _ = state_derivative(model, x)
+        return xdot[residual_rows]
+
+    sol = root(residual, guess, method="hybr", options={"xtol": 1e-13})
+    x = np.zeros(model.n_states)
+    x[unknown] = sol.x
+    xdot, wout = state_derivative(model, x)
+    res = float(np.abs(xdot[n : 2 * n]).max())
+    if not sol.success and res > tol * 1e3 or res > 1e-6:
+        raise SimulationError(f"no static equilibrium found ({sol.message}; residual {res:.2e} m/s^2)", 0.0)
+    if x[2] < -radius:
+        raise SimulationError("static equilibrium has the chassis below the road", 0.0)
+    loads = {w.name: float(wout[k, W_FZ]) for k, w in enumerate(model.tree.wheels)}
+    return Equilibrium(x, loads, res)
+
+
+def rolling_state(model: VehicleModel, equilibrium: Equilibrium, speed_mps: float, heading_rad: float = 0.0):
+    """The equilibrium state rolling straight ahead at ``speed_mps``: chassis velocity, wheel spins
+    ``v / R_e`` (effective radius at the static deflection) and the transient slips at their steady
+    rolling values (zero slip angle; the small longitudinal slip of rolling resistance settles within
+    a few relaxation lengths)."""
+    n = model.n_dof
+    x = equilibrium.state.copy()
+    x[5] = heading_rad
+    _, wout = state_derivative(model, x)
+    pitch = x[4]
+    x[n + 3] = speed_mps * np.cos(pitch)
+    x[n + 5] = speed_mps * np.sin(pitch)
+    for k, w in enumerate(model.tree.wheels):
+        r_eff = w.radius - wout[k, 5] / 3.0
+        x[n + 5 + w.wheel_body] = speed_mps / r_eff
+    return x
