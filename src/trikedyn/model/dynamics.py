@@ -8,7 +8,11 @@ base coordinates, ``(omega, v)`` (Featherstone's floating-base convention), then
 
 Algorithms (Featherstone, *Rigid Body Dynamics Algorithms*, 2008): recursive Newton-Euler (RNEA, ch. 5)
 for the bias forces with gravity and external forces, composite-rigid-body (CRBA, ch. 6) for the joint-
-space mass matrix, and a Cholesky solve. ``H(q) du/dt + C(q, u, f_ext) = tau``.
+space mass matrix, and a Cholesky solve: ``H(q) du/dt + C(q, u, f_ext) = tau``.
+
+The ``*_into`` functions are the hot path: they fill a :func:`workspace` and allocate nothing. The plain
+functions (:func:`rnea`, :func:`crba`, :func:`forward_dynamics`) allocate a workspace per call, for
+setup code and tests.
 """
 
 from __future__ import annotations
@@ -17,13 +21,12 @@ import numpy as np
 from numba import njit
 
 from .spatial import (
-    compose,
-    euler_zyx_to_matrix,
+    euler_zyx_into,
     inertia_times_motion,
     inertia_to_parent,
     motion_cross_force,
     motion_cross_motion,
-    rot_axis,
+    rot_axis_into,
     xform_force_inv,
     xform_motion,
 )
@@ -32,224 +35,252 @@ __all__ = [
     "JOINT_FREE",
     "JOINT_REVOLUTE",
     "JOINT_PRISMATIC",
+    "workspace",
+    "joint_transforms_into",
+    "world_transforms_into",
+    "body_velocities_into",
+    "rnea_into",
+    "crba_into",
+    "cholesky_solve_into",
+    "rnea",
+    "crba",
+    "forward_dynamics",
+    "euler_rates_into",
     "joint_transforms",
     "world_transforms",
-    "rnea",
-    "rnea_er",
-    "crba",
-    "crba_er",
-    "cholesky_solve",
-    "forward_dynamics",
-    "euler_rates",
 ]
 
 JOINT_FREE, JOINT_REVOLUTE, JOINT_PRISMATIC = 0, 1, 2
 
-
-@njit(cache=True)
-def joint_transforms(q, parent, jtype, jaxis, tree_e, tree_r):
-    """Parent-to-body transforms ``(E[i], r[i])`` at ``q``; for the base, world to base."""
-    nb = parent.shape[0]
-    e = np.empty((nb, 3, 3))
-    r = np.empty((nb, 3))
-    e[0] = euler_zyx_to_matrix(q[3], q[4], q[5]).T
-    r[0] = q[:3]
-    for i in range(1, nb):
-        qi = q[5 + i]
-        if jtype[i] == JOINT_REVOLUTE:
-            ej = rot_axis(jaxis[i], qi).T
-            e[i], r[i] = compose(ej, np.zeros(3), tree_e[i], tree_r[i])
-        else:
-            e[i], r[i] = compose(np.eye(3), jaxis[i] * qi, tree_e[i], tree_r[i])
-    return e, r
+# workspace slots
+(W_E, W_R, W_EW, W_PW, W_V, W_A, W_F, W_FEXT, W_MC, W_HC, W_IC, W_HMAT, W_LOW, W_VEC, W_T6A, W_T6B, W_T33,
+ W_TAU, W_BIAS, W_ZERO) = range(20)
 
 
 @njit(cache=True)
-def world_transforms(parent, e, r):
-    """World-to-body rotations ``Ew[i]`` and body origins in the world ``pw[i]``."""
-    nb = parent.shape[0]
-    ew = np.empty((nb, 3, 3))
-    pw = np.empty((nb, 3))
-    ew[0] = e[0]
-    pw[0] = r[0]
-    for i in range(1, nb):
-        p = parent[i]
-        ew[i], pw[i] = compose(e[i], r[i], ew[p], pw[p])
-    return ew, pw
-
-
-@njit(cache=True)
-def _motion_subspace(jtype, axis):
-    s = np.zeros(6)
-    if jtype == JOINT_REVOLUTE:
-        s[:3] = axis
-    else:
-        s[3:] = axis
-    return s
-
-
-@njit(cache=True)
-def rnea(q, u, udot, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
-    """Inverse dynamics: generalised forces ``tau`` that produce ``udot`` (RNEA, with gravity).
-
-    Parameters
-    ----------
-    q, u, udot : ndarray (n,)
-        Coordinates, velocities, accelerations (base first, see the module docstring).
-    fext : ndarray (nb, 6)
-        External spatial force on each body, in that body's coordinates, about its origin [N m, N].
-    gravity : ndarray (3,)
-        Gravity in world coordinates [m/s^2], e.g. (0, 0, -9.81).
-    parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar
-        The tree (:class:`~trikedyn.model.topology.Tree`).
-
-    Returns
-    -------
-    ndarray (n,)
-        ``H udot + C``: the first six entries are the force on the base in base coordinates.
-    """
-    e, r = joint_transforms(q, parent, jtype, jaxis, tree_e, tree_r)
-    v = np.empty((parent.shape[0], 6))
-    return rnea_er(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar, v)
-
-
-@njit(cache=True)
-def rnea_er(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar, v):
-    """:func:`rnea` with the joint transforms given; also fills ``v`` with the body velocities."""
-    nb = parent.shape[0]
-    a = np.empty((nb, 6))
-    f = np.empty((nb, 6))
-    tmp = np.empty(6)
-    tmp2 = np.empty(6)
-    v[0] = u[:6]
-    a[0, :3] = udot[:3]
-    a[0, 3:] = udot[3:6] - e[0] @ gravity
-    for i in range(1, nb):
-        p = parent[i]
-        s = _motion_subspace(jtype[i], jaxis[i])
-        xform_motion(e[i], r[i], v[p], tmp)
-        vj = s * u[5 + i]
-        v[i] = tmp + vj
-        xform_motion(e[i], r[i], a[p], tmp)
-        motion_cross_motion(v[i], vj, tmp2)
-        a[i] = tmp + s * udot[5 + i] + tmp2
-    for i in range(nb):
-        inertia_times_motion(mass[i], h[i], ibar[i], a[i], f[i])
-        inertia_times_motion(mass[i], h[i], ibar[i], v[i], tmp)
-        motion_cross_force(v[i], tmp, tmp2)
-        f[i] += tmp2 - fext[i]
-    tau = np.empty(u.shape[0])
-    for i in range(nb - 1, 0, -1):
-        s = _motion_subspace(jtype[i], jaxis[i])
-        tau[5 + i] = s @ f[i]
-        xform_force_inv(e[i], r[i], f[i], tmp)
-        f[parent[i]] += tmp
-    tau[:6] = f[0]
-    return tau
-
-
-@njit(cache=True)
-def crba(q, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
-    """Joint-space mass matrix ``H(q)`` (n x n, symmetric positive definite) by CRBA."""
-    e, r = joint_transforms(q, parent, jtype, jaxis, tree_e, tree_r)
-    return crba_er(e, r, parent, jtype, jaxis, mass, h, ibar)
-
-
-@njit(cache=True)
-def crba_er(e, r, parent, jtype, jaxis, mass, h, ibar):
-    """:func:`crba` with the joint transforms given."""
-    nb = parent.shape[0]
+def workspace(nb):
+    """Scratch arrays for ``nb`` bodies (``nb + 5`` DOF), allocated once per time loop."""
     n = nb + 5
-    mc = mass.copy()
-    hc = h.copy()
-    ic = ibar.copy()
-    for i in range(nb - 1, 0, -1):
-        p = parent[i]
-        hp, ip = inertia_to_parent(e[i], r[i], mc[i], hc[i], ic[i])
-        mc[p] += mc[i]
-        hc[p] += hp
-        ic[p] += ip
-    hmat = np.zeros((n, n))
-    f = np.empty(6)
-    tmp = np.empty(6)
-    for i in range(1, nb):
-        s = _motion_subspace(jtype[i], jaxis[i])
-        inertia_times_motion(mc[i], hc[i], ic[i], s, f)
-        di = 5 + i
-        hmat[di, di] = s @ f
-        j = i
+    return (
+        np.empty((nb, 3, 3)),  # e: parent -> body rotations
+        np.empty((nb, 3)),  # r: body origins in parent coordinates
+        np.empty((nb, 3, 3)),  # ew: world -> body rotations
+        np.empty((nb, 3)),  # pw: body origins in the world
+        np.empty((nb, 6)),  # v: body velocities
+        np.empty((nb, 6)),  # a: body accelerations
+        np.empty((nb, 6)),  # f: body forces
+        np.empty((nb, 6)),  # fext: external forces
+        np.empty(nb),  # mc: composite masses
+        np.empty((nb, 3)),  # hc: composite first moments
+        np.empty((nb, 3, 3)),  # ic: composite rotational inertias
+        np.empty((n, n)),  # hmat: mass matrix
+        np.empty((n, n)),  # low: Cholesky factor
+        np.empty(n),  # vec: solve scratch
+        np.empty(6),
+        np.empty(6),
+        np.empty((3, 3)),
+        np.empty(n),  # tau: applied generalised forces
+        np.empty(n),  # bias: C(q, u, f_ext)
+        np.zeros(n),  # zero accelerations (never written)
+    )
+
+
+@njit(cache=True)
+def joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, e, r, rot):
+    """Parent-to-body transforms ``(e[i], r[i])`` at ``q``; for the base, world to base."""
+    euler_zyx_into(q[3], q[4], q[5], rot)
+    for i in range(3):
+        r[0, i] = q[i]
+        for j in range(3):
+            e[0, i, j] = rot[j, i]
+    for b in range(1, parent.shape[0]):
+        qi = q[5 + b]
+        te = tree_e[b]
+        if jtype[b] == JOINT_REVOLUTE:
+            rot_axis_into(jaxis[b], qi, rot)
+            # E = rot^T tree_e ; r = tree_r
+            for i in range(3):
+                r[b, i] = tree_r[b, i]
+                for j in range(3):
+                    e[b, i, j] = rot[0, i] * te[0, j] + rot[1, i] * te[1, j] + rot[2, i] * te[2, j]
+        else:
+            # E = tree_e ; r = tree_r + tree_e^T (axis q)
+            ax = jaxis[b]
+            for i in range(3):
+                r[b, i] = tree_r[b, i] + qi * (te[0, i] * ax[0] + te[1, i] * ax[1] + te[2, i] * ax[2])
+                for j in range(3):
+                    e[b, i, j] = te[i, j]
+
+
+@njit(cache=True)
+def world_transforms_into(parent, e, r, ew, pw):
+    """World-to-body rotations ``ew[i]`` and body origins in the world ``pw[i]``."""
+    for i in range(3):
+        pw[0, i] = r[0, i]
+        for j in range(3):
+            ew[0, i, j] = e[0, i, j]
+    for b in range(1, parent.shape[0]):
+        p = parent[b]
+        for i in range(3):
+            pw[b, i] = pw[p, i] + ew[p, 0, i] * r[b, 0] + ew[p, 1, i] * r[b, 1] + ew[p, 2, i] * r[b, 2]
+            for j in range(3):
+                ew[b, i, j] = e[b, i, 0] * ew[p, 0, j] + e[b, i, 1] * ew[p, 1, j] + e[b, i, 2] * ew[p, 2, j]
+
+
+@njit(cache=True)
+def body_velocities_into(e, r, u, parent, jtype, jaxis, v):
+    """Spatial velocity of every body in its own coordinates."""
+    for k in range(6):
+        v[0, k] = u[k]
+    for b in range(1, parent.shape[0]):
+        xform_motion(e[b], r[b], v[parent[b]], v[b])
+        off = 0 if jtype[b] == JOINT_REVOLUTE else 3
+        for k in range(3):
+            v[b, off + k] += jaxis[b, k] * u[5 + b]
+
+
+@njit(cache=True)
+def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, tau):
+    """Inverse dynamics: ``tau = H udot + C(q, u, f_ext)`` (RNEA, gravity as a base acceleration).
+
+    ``fext[i]`` is the external spatial force on body ``i`` in its coordinates, about its origin.
+    The first six entries of ``tau`` are the force on the base in base coordinates. Fills ``ws[W_V]``
+    with the body velocities.
+    """
+    nb = parent.shape[0]
+    v, a, f = ws[W_V], ws[W_A], ws[W_F]
+    t6a, t6b = ws[W_T6A], ws[W_T6B]
+    e0 = e[0]
+    for k in range(6):
+        v[0, k] = u[k]
+    for k in range(3):
+        a[0, k] = udot[k]
+        a[0, 3 + k] = udot[3 + k] - (e0[k, 0] * gravity[0] + e0[k, 1] * gravity[1] + e0[k, 2] * gravity[2])
+    for b in range(1, nb):
+        p = parent[b]
+        off = 0 if jtype[b] == JOINT_REVOLUTE else 3
+        qd = u[5 + b]
+        xform_motion(e[b], r[b], v[p], v[b])
+        for k in range(3):
+            v[b, off + k] += jaxis[b, k] * qd
+        xform_motion(e[b], r[b], a[p], a[b])
+        # a += S udot + v x (S qd)
+        for k in range(6):
+            t6a[k] = 0.0
+        for k in range(3):
+            t6a[off + k] = jaxis[b, k] * qd
+            a[b, off + k] += jaxis[b, k] * udot[5 + b]
+        motion_cross_motion(v[b], t6a, t6b)
+        for k in range(6):
+            a[b, k] += t6b[k]
+    for b in range(nb):
+        inertia_times_motion(mass[b], h[b], ibar[b], a[b], f[b])
+        inertia_times_motion(mass[b], h[b], ibar[b], v[b], t6a)
+        motion_cross_force(v[b], t6a, t6b)
+        for k in range(6):
+            f[b, k] += t6b[k] - fext[b, k]
+    for b in range(nb - 1, 0, -1):
+        off = 0 if jtype[b] == JOINT_REVOLUTE else 3
+        tau[5 + b] = jaxis[b, 0] * f[b, off] + jaxis[b, 1] * f[b, off + 1] + jaxis[b, 2] * f[b, off + 2]
+        xform_force_inv(e[b], r[b], f[b], t6a)
+        p = parent[b]
+        for k in range(6):
+            f[p, k] += t6a[k]
+    for k in range(6):
+        tau[k] = f[0, k]
+
+
+@njit(cache=True)
+def crba_into(e, r, parent, jtype, jaxis, mass, h, ibar, ws):
+    """Joint-space mass matrix ``H(q)`` into ``ws[W_HMAT]`` by the composite-rigid-body algorithm."""
+    nb = parent.shape[0]
+    mc, hc, ic, hmat = ws[W_MC], ws[W_HC], ws[W_IC], ws[W_HMAT]
+    f, tmp, scratch = ws[W_T6A], ws[W_T6B], ws[W_T33]
+    hmat[:, :] = 0.0
+    for b in range(nb):
+        mc[b] = mass[b]
+        for i in range(3):
+            hc[b, i] = h[b, i]
+            for j in range(3):
+                ic[b, i, j] = ibar[b, i, j]
+    for b in range(nb - 1, 0, -1):
+        p = parent[b]
+        inertia_to_parent(e[b], r[b], mc[b], hc[b], ic[b], hc[p], ic[p], scratch)
+        mc[p] += mc[b]
+    for b in range(1, nb):
+        off = 0 if jtype[b] == JOINT_REVOLUTE else 3
+        for k in range(6):
+            tmp[k] = 0.0
+        for k in range(3):
+            tmp[off + k] = jaxis[b, k]
+        inertia_times_motion(mc[b], hc[b], ic[b], tmp, f)
+        di = 5 + b
+        hmat[di, di] = jaxis[b, 0] * f[off] + jaxis[b, 1] * f[off + 1] + jaxis[b, 2] * f[off + 2]
+        j = b
         while parent[j] > 0:
             xform_force_inv(e[j], r[j], f, tmp)
-            f[:] = tmp
+            for k in range(6):
+                f[k] = tmp[k]
             j = parent[j]
-            sj = _motion_subspace(jtype[j], jaxis[j])
-            hmat[di, 5 + j] = sj @ f
-            hmat[5 + j, di] = hmat[di, 5 + j]
+            offj = 0 if jtype[j] == JOINT_REVOLUTE else 3
+            value = jaxis[j, 0] * f[offj] + jaxis[j, 1] * f[offj + 1] + jaxis[j, 2] * f[offj + 2]
+            hmat[di, 5 + j] = value
+            hmat[5 + j, di] = value
         xform_force_inv(e[j], r[j], f, tmp)
         for k in range(6):
             hmat[di, k] = tmp[k]
             hmat[k, di] = tmp[k]
-    unit = np.zeros(6)
     for k in range(6):
-        unit[:] = 0.0
-        unit[k] = 1.0
-        inertia_times_motion(mc[0], hc[0], ic[0], unit, f)
-        hmat[:6, k] = f
-    return hmat
+        for i in range(6):
+            tmp[i] = 0.0
+        tmp[k] = 1.0
+        inertia_times_motion(mc[0], hc[0], ic[0], tmp, f)
+        for i in range(6):
+            hmat[i, k] = f[i]
 
 
 @njit(cache=True)
-def cholesky_solve(a, b):
-    """Solve ``a x = b`` for symmetric positive definite ``a`` (small, dense) by Cholesky."""
+def cholesky_solve_into(a, b, low, y, x):
+    """Solve ``a x = b`` for symmetric positive definite ``a`` by Cholesky; ``x`` is NaN if ``a`` is not."""
     n = a.shape[0]
-    low = np.zeros((n, n))
     for j in range(n):
         d = a[j, j]
         for k in range(j):
             d -= low[j, k] * low[j, k]
         if d <= 0.0:
-            return np.full(n, np.nan)
-        low[j, j] = np.sqrt(d)
+            for i in range(n):
+                x[i] = np.nan
+            return
+        ljj = np.sqrt(d)
+        low[j, j] = ljj
         for i in range(j + 1, n):
             s = a[i, j]
             for k in range(j):
                 s -= low[i, k] * low[j, k]
-            low[i, j] = s / low[j, j]
-    y = np.empty(n)
+            low[i, j] = s / ljj
     for i in range(n):
         s = b[i]
         for k in range(i):
             s -= low[i, k] * y[k]
         y[i] = s / low[i, i]
-    x = np.empty(n)
     for i in range(n - 1, -1, -1):
         s = y[i]
         for k in range(i + 1, n):
             s -= low[k, i] * x[k]
         x[i] = s / low[i, i]
-    return x
 
 
 @njit(cache=True)
-def forward_dynamics(q, u, tau, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
-    """Accelerations ``du/dt = H^-1 (tau - C(q, u, f_ext))``."""
-    zero = np.zeros(u.shape[0])
-    bias = rnea(q, u, zero, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar)
-    hmat = crba(q, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar)
-    return cholesky_solve(hmat, tau - bias)
-
-
-@njit(cache=True)
-def euler_rates(q, u):
+def euler_rates_into(q, u, e0, out):
     """``dq/dt``: base position rate in the world, Euler-angle rates, joint rates.
 
-    With ``R`` body-to-world, ``d p / dt = R v``; ZYX Euler rates from the body angular velocity
+    With ``R`` body-to-world, ``dp/dt = R v``; ZYX Euler rates from the body angular velocity
     ``omega``: ``roll' = wx + (wy sin(roll) + wz cos(roll)) tan(pitch)``,
     ``pitch' = wy cos(roll) - wz sin(roll)``, ``yaw' = (wy sin(roll) + wz cos(roll)) / cos(pitch)``.
+    ``e0`` is the base's world-to-body rotation, ``R^T``.
     """
-    out = np.empty(q.shape[0])
-    rmat = euler_zyx_to_matrix(q[3], q[4], q[5])
-    out[:3] = rmat @ u[3:6]
+    for i in range(3):
+        out[i] = e0[0, i] * u[3] + e0[1, i] * u[4] + e0[2, i] * u[5]
     sr, cr = np.sin(q[3]), np.cos(q[3])
     cp = np.cos(q[4])
     tp = np.tan(q[4])
@@ -257,5 +288,59 @@ def euler_rates(q, u):
     out[3] = wx + (wy * sr + wz * cr) * tp
     out[4] = wy * cr - wz * sr
     out[5] = (wy * sr + wz * cr) / cp
-    out[6:] = u[6:]
+    for i in range(6, q.shape[0]):
+        out[i] = u[i]
+
+
+# ---- allocating wrappers (setup code, tests) ---------------------------------------------------
+@njit(cache=True)
+def joint_transforms(q, parent, jtype, jaxis, tree_e, tree_r):
+    """Parent-to-body transforms at ``q`` (allocating)."""
+    nb = parent.shape[0]
+    e = np.empty((nb, 3, 3))
+    r = np.empty((nb, 3))
+    joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, e, r, np.empty((3, 3)))
+    return e, r
+
+
+@njit(cache=True)
+def world_transforms(parent, e, r):
+    """World-to-body rotations and body origins (allocating)."""
+    nb = parent.shape[0]
+    ew = np.empty((nb, 3, 3))
+    pw = np.empty((nb, 3))
+    world_transforms_into(parent, e, r, ew, pw)
+    return ew, pw
+
+
+@njit(cache=True)
+def rnea(q, u, udot, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
+    """``H udot + C(q, u, f_ext)`` (allocating; see :func:`rnea_into`)."""
+    ws = workspace(parent.shape[0])
+    joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws[W_E], ws[W_R], ws[W_T33])
+    tau = np.empty(u.shape[0])
+    rnea_into(ws[W_E], ws[W_R], u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, tau)
+    return tau
+
+
+@njit(cache=True)
+def crba(q, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
+    """Joint-space mass matrix ``H(q)`` (allocating; see :func:`crba_into`)."""
+    ws = workspace(parent.shape[0])
+    joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws[W_E], ws[W_R], ws[W_T33])
+    crba_into(ws[W_E], ws[W_R], parent, jtype, jaxis, mass, h, ibar, ws)
+    return ws[W_HMAT].copy()
+
+
+@njit(cache=True)
+def forward_dynamics(q, u, tau, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
+    """Accelerations ``du/dt = H^-1 (tau - C(q, u, f_ext))`` (allocating)."""
+    ws = workspace(parent.shape[0])
+    joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws[W_E], ws[W_R], ws[W_T33])
+    n = u.shape[0]
+    bias = np.empty(n)
+    rnea_into(ws[W_E], ws[W_R], u, np.zeros(n), fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, bias)
+    crba_into(ws[W_E], ws[W_R], parent, jtype, jaxis, mass, h, ibar, ws)
+    out = np.empty(n)
+    cholesky_solve_into(ws[W_HMAT], tau - bias, ws[W_LOW], ws[W_VEC], out)
     return out

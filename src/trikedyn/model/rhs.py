@@ -30,8 +30,29 @@ import numpy as np
 from numba import njit
 
 from ..tyre.magic_formula import combined_forces, rolling_resistance_moment, vertical_force
-from .dynamics import cholesky_solve, crba_er, euler_rates, joint_transforms, rnea_er, world_transforms
-from .spatial import cross, xform_motion
+from .dynamics import (
+    W_BIAS,
+    W_E,
+    W_EW,
+    W_FEXT,
+    W_HMAT,
+    W_LOW,
+    W_PW,
+    W_R,
+    W_T33,
+    W_TAU,
+    W_V,
+    W_VEC,
+    W_ZERO,
+    body_velocities_into,
+    cholesky_solve_into,
+    crba_into,
+    euler_rates_into,
+    joint_transforms_into,
+    rnea_into,
+    workspace,
+    world_transforms_into,
+)
 from .vehicle import (
     R_HEIGHT,
     R_KIND,
@@ -69,7 +90,7 @@ from .vehicle import (
     WI_WHEEL,
 )
 
-__all__ = ["road_height", "interpolate_inputs", "evaluate", "W_FX", "W_FY", "W_FZ", "N_WOUT"]
+__all__ = ["road_height", "interpolate_inputs", "evaluate", "evaluate_into", "workspace", "W_FX", "W_FY", "W_FZ", "N_WOUT"]
 
 # per-wheel outputs of :func:`evaluate`
 W_FX, W_FY, W_FZ, W_KAPPA, W_ALPHA, W_DEFLECTION, W_TRAVEL, W_SPIN, W_VX = range(9)
@@ -101,54 +122,48 @@ def interpolate_inputs(t, inputs):
 
 
 @njit(cache=True)
-def _body_velocities(e, r, u, parent, jtype, jaxis):
-    nb = parent.shape[0]
-    v = np.empty((nb, 6))
-    tmp = np.empty(6)
-    v[0] = u[:6]
-    for i in range(1, nb):
-        xform_motion(e[i], r[i], v[parent[i]], tmp)
-        if jtype[i] == 1:
-            tmp[:3] += jaxis[i] * u[5 + i]
-        else:
-            tmp[3:] += jaxis[i] * u[5 + i]
-        v[i] = tmp
-    return v
-
-
-@njit(cache=True)
-def _tyre(k, wheel_f, wheel_i, tyre, sc, road, ew, pw, v, slip, slip_dot, fext, wout):
+def _tyre(k, wheel_f, wheel_i, tyre, sc, road, ew, pw, v, slip, xdot, slip_off, fext, wout):
     """Contact and tyre forces of wheel ``k``: fills ``fext`` of its body, its slip rates and ``wout``."""
     wb = wheel_i[k, WI_WHEEL]
     radius = wheel_f[k, WF_RADIUS]
-    ew_k = ew[wb]
-    centre = pw[wb]
-    axle = ew_k[1].copy()  # wheel y axis in world coordinates
-    _, hx, hy = road_height(centre[0], centre[1], road)
-    nrm = np.array([-hx, -hy, 1.0])
-    nrm /= math.sqrt(nrm @ nrm)
-    down = nrm - (nrm @ axle) * axle
-    cos_camber = math.sqrt(down @ down)
-    down /= -cos_camber
-    contact = centre + radius * down
-    hp, hpx, hpy = road_height(contact[0], contact[1], road)
-    deflection = (hp - contact[2]) * nrm[2]
-    omega_w = ew_k.T @ v[wb, :3]
-    vel_c = ew_k.T @ v[wb, 3:]
-    rate = (hpx * vel_c[0] + hpy * vel_c[1] - vel_c[2]) * nrm[2]
-    ex = cross(axle, nrm)
-    ex /= math.sqrt(ex @ ex)
-    ey = cross(nrm, ex)
-    vx = vel_c @ ex
-    vy = vel_c @ ey
-    spin = omega_w @ axle
+    e = ew[wb]
+    cx, cy, cz = pw[wb, 0], pw[wb, 1], pw[wb, 2]
+    ax, ay, az = e[1, 0], e[1, 1], e[1, 2]  # wheel spin axis in world coordinates
+    _, hx, hy = road_height(cx, cy, road)
+    nn = 1.0 / math.sqrt(hx * hx + hy * hy + 1.0)
+    nx, ny, nz = -hx * nn, -hy * nn, nn
+    dot = nx * ax + ny * ay + nz * az
+    dx, dy, dz = nx - dot * ax, ny - dot * ay, nz - dot * az
+    dn = -radius / math.sqrt(dx * dx + dy * dy + dz * dz)
+    rx, ry, rz = dx * dn, dy * dn, dz * dn  # centre -> contact point
+    px, py, pz = cx + rx, cy + ry, cz + rz
+    hp, hpx, hpy = road_height(px, py, road)
+    deflection = (hp - pz) * nz
+    # wheel angular velocity and centre velocity in world coordinates
+    vb = v[wb]
+    wx = e[0, 0] * vb[0] + e[1, 0] * vb[1] + e[2, 0] * vb[2]
+    wy = e[0, 1] * vb[0] + e[1, 1] * vb[1] + e[2, 1] * vb[2]
+    wz = e[0, 2] * vb[0] + e[1, 2] * vb[1] + e[2, 2] * vb[2]
+    vcx = e[0, 0] * vb[3] + e[1, 0] * vb[4] + e[2, 0] * vb[5]
+    vcy = e[0, 1] * vb[3] + e[1, 1] * vb[4] + e[2, 1] * vb[5]
+    vcz = e[0, 2] * vb[3] + e[1, 2] * vb[4] + e[2, 2] * vb[5]
+    rate = (hpx * vcx + hpy * vcy - vcz) * nz
+    # tyre axes: ex = axle x n (forward), ey = n x ex
+    exx, exy, exz = ay * nz - az * ny, az * nx - ax * nz, ax * ny - ay * nx
+    en = 1.0 / math.sqrt(exx * exx + exy * exy + exz * exz)
+    exx, exy, exz = exx * en, exy * en, exz * en
+    eyx, eyy, eyz = ny * exz - nz * exy, nz * exx - nx * exz, nx * exy - ny * exx
+    vx = vcx * exx + vcy * exy + vcz * exz
+    vy = vcx * eyx + vcy * eyy + vcz * eyz
+    spin = wx * ax + wy * ay + wz * az
     r_eff = radius - deflection / 3.0
     v_low = sc[S_V_LOW]
     v_ref = math.sqrt(math.sqrt(vx * vx * vx * vx + v_low * v_low * v_low * v_low))
     kappa = slip[2 * k]
-    alpha = math.atan(slip[2 * k + 1])
-    slip_dot[2 * k] = (spin * r_eff - vx - v_ref * kappa) / sc[S_SIGMA_X]
-    slip_dot[2 * k + 1] = (-vy - v_ref * slip[2 * k + 1]) / sc[S_SIGMA_Y]
+    tan_alpha = slip[2 * k + 1]
+    alpha = math.atan(tan_alpha)
+    xdot[slip_off + 2 * k] = (spin * r_eff - vx - v_ref * kappa) / sc[S_SIGMA_X]
+    xdot[slip_off + 2 * k + 1] = (-vy - v_ref * tan_alpha) / sc[S_SIGMA_Y]
     fz = vertical_force(deflection, rate, tyre)
     fx = 0.0
     fy = 0.0
@@ -156,10 +171,15 @@ def _tyre(k, wheel_f, wheel_i, tyre, sc, road, ew, pw, v, slip, slip_dot, fext, 
     if fz > 0.0 and sc[S_SLIP_FORCES] > 0.0:
         fx, fy = combined_forces(kappa, alpha, fz, tyre)
         my = rolling_resistance_moment(fz, spin, r_eff, tyre, sc[S_W_LOW])
-    force = fx * ex + fy * ey + fz * nrm
-    moment = cross(contact - centre, force) + my * axle
-    fext[wb, :3] = ew_k @ moment
-    fext[wb, 3:] = ew_k @ force
+    fwx = fx * exx + fy * eyx + fz * nx
+    fwy = fx * exy + fy * eyy + fz * ny
+    fwz = fx * exz + fy * eyz + fz * nz
+    mwx = ry * fwz - rz * fwy + my * ax
+    mwy = rz * fwx - rx * fwz + my * ay
+    mwz = rx * fwy - ry * fwx + my * az
+    for i in range(3):
+        fext[wb, i] = e[i, 0] * mwx + e[i, 1] * mwy + e[i, 2] * mwz
+        fext[wb, 3 + i] = e[i, 0] * fwx + e[i, 1] * fwy + e[i, 2] * fwz
     wout[k, W_FX] = fx
     wout[k, W_FY] = fy
     wout[k, W_FZ] = fz
@@ -171,20 +191,22 @@ def _tyre(k, wheel_f, wheel_i, tyre, sc, road, ew, pw, v, slip, slip_dot, fext, 
 
 
 @njit(cache=True)
-def evaluate(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
-             wheel_f, wheel_i, tyre, sc, road, wout):
-    """``dx/dt`` at ``(t, x)``; fills ``wout`` (n_wheels, N_WOUT) with the per-wheel outputs."""
-    n = parent.shape[0] + 5
+def evaluate_into(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
+                  wheel_f, wheel_i, tyre, sc, road, wout, ws, xdot):
+    """``xdot = dx/dt`` at ``(t, x)``; fills ``wout`` (n_wheels, N_WOUT); ``ws`` from :func:`workspace`."""
+    nb = parent.shape[0]
+    n = nb + 5
     nw = wheel_f.shape[0]
     q = x[:n]
     u = x[n : 2 * n]
     slip = x[2 * n :]
-    xdot = np.empty(2 * n + 2 * nw)
-    e, r = joint_transforms(q, parent, jtype, jaxis, tree_e, tree_r)
-    ew, pw = world_transforms(parent, e, r)
-    v = _body_velocities(e, r, u, parent, jtype, jaxis)
-    fext = np.zeros((parent.shape[0], 6))
-    tau = np.zeros(n)
+    e, r, ew, pw, v, fext = ws[W_E], ws[W_R], ws[W_EW], ws[W_PW], ws[W_V], ws[W_FEXT]
+    joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, e, r, ws[W_T33])
+    world_transforms_into(parent, e, r, ew, pw)
+    body_velocities_into(e, r, u, parent, jtype, jaxis, v)
+    fext[:, :] = 0.0
+    tau = ws[W_TAU]
+    tau[:] = 0.0
     steer_cmd, drive_cmd, brake_cmd = interpolate_inputs(t, inputs)
 
     drive = min(max(drive_cmd, -sc[S_MAX_TORQUE]), sc[S_MAX_TORQUE])
@@ -198,7 +220,7 @@ def evaluate(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
     brake = min(max(brake_cmd, 0.0), sc[S_MAX_BRAKE])
 
     for k in range(nw):
-        _tyre(k, wheel_f, wheel_i, tyre, sc, road, ew, pw, v, slip, xdot[2 * n :], fext, wout)
+        _tyre(k, wheel_f, wheel_i, tyre, sc, road, ew, pw, v, slip, xdot, 2 * n, fext, wout)
         sb = wheel_i[k, WI_SPRING]
         z = q[5 + sb]
         zd = u[5 + sb]
@@ -222,15 +244,27 @@ def evaluate(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
             tau[5 + wb] -= brake * math.tanh(u[5 + wb] / sc[S_W_LOW])
 
     if sc[S_AERO] > 0.0:
-        point = np.array([sc[S_AERO_X], 0.0, sc[S_AERO_Z]])
-        vel = v[0, 3:] + cross(v[0, :3], point)
-        drag = np.array([-sc[S_AERO] * abs(vel[0]) * vel[0], 0.0, 0.0])
-        fext[0, :3] += cross(point, drag)
-        fext[0, 3:] += drag
+        px, pz = sc[S_AERO_X], sc[S_AERO_Z]
+        vax = v[0, 3] + (v[0, 1] * pz)  # v + w x p, x component, with p = (px, 0, pz)
+        drag = -sc[S_AERO] * abs(vax) * vax
+        fext[0, 1] += pz * drag  # p x (drag, 0, 0) = (0, pz drag, 0)
+        fext[0, 3] += drag
 
-    gravity = np.array([0.0, 0.0, -sc[S_G]])
-    bias = rnea_er(e, r, u, np.zeros(n), fext, gravity, parent, jtype, jaxis, mass, h, ibar, np.empty((parent.shape[0], 6)))
-    hmat = crba_er(e, r, parent, jtype, jaxis, mass, h, ibar)
-    xdot[:n] = euler_rates(q, u)
-    xdot[n : 2 * n] = cholesky_solve(hmat, tau - bias)
+    gravity = (0.0, 0.0, -sc[S_G])
+    bias = ws[W_BIAS]
+    rnea_into(e, r, u, ws[W_ZERO], fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, bias)
+    crba_into(e, r, parent, jtype, jaxis, mass, h, ibar, ws)
+    for i in range(n):
+        tau[i] -= bias[i]
+    cholesky_solve_into(ws[W_HMAT], tau, ws[W_LOW], ws[W_VEC], xdot[n : 2 * n])
+    euler_rates_into(q, u, e[0], xdot[:n])
+
+
+@njit(cache=True)
+def evaluate(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar, wheel_f, wheel_i, tyre, sc, road, wout):
+    """``dx/dt`` at ``(t, x)`` (allocating; see :func:`evaluate_into`)."""
+    ws = workspace(parent.shape[0])
+    xdot = np.empty(x.shape[0])
+    evaluate_into(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
+                  wheel_f, wheel_i, tyre, sc, road, wout, ws, xdot)
     return xdot

@@ -11,7 +11,9 @@ Conventions (Featherstone's):
   ``h = m c`` (``c`` the centre of mass) and the rotational inertia about the origin
   ``Ibar = I_c + m [c]x [c]x^T``. The 6x6 matrix is ``[[Ibar, [h]x], [[h]x^T, m 1]]``.
 
-Every function works on small numpy arrays in place where it can; all are ``njit(cache=True)``.
+The hot-path functions write into output arrays and use no temporaries and no BLAS calls (numba calls
+BLAS for ``@`` on small arrays, which costs far more than the arithmetic): the time loop allocates
+nothing per body. All are ``njit(cache=True)``.
 """
 
 from __future__ import annotations
@@ -21,8 +23,11 @@ from numba import njit
 
 __all__ = [
     "cross",
+    "cross_into",
     "rot_axis",
-    "compose",
+    "euler_zyx_to_matrix",
+    "mat_vec",
+    "mat_t_vec",
     "xform_motion",
     "xform_force_inv",
     "motion_cross_motion",
@@ -30,28 +35,54 @@ __all__ = [
     "inertia_times_motion",
     "inertia_to_parent",
     "inertia_matrix6",
-    "euler_zyx_to_matrix",
 ]
 
 
 @njit(cache=True)
 def cross(a, b):
-    """Cross product of two 3-vectors."""
+    """Cross product of two 3-vectors (allocates; for setup code)."""
     out = np.empty(3)
+    cross_into(a, b, out)
+    return out
+
+
+@njit(cache=True)
+def cross_into(a, b, out):
+    """``out = a x b`` (``out`` must not alias ``a`` or ``b``)."""
     out[0] = a[1] * b[2] - a[2] * b[1]
     out[1] = a[2] * b[0] - a[0] * b[2]
     out[2] = a[0] * b[1] - a[1] * b[0]
-    return out
+
+
+@njit(cache=True)
+def mat_vec(m, v, out):
+    """``out = m v`` for a 3x3 ``m``."""
+    for i in range(3):
+        out[i] = m[i, 0] * v[0] + m[i, 1] * v[1] + m[i, 2] * v[2]
+
+
+@njit(cache=True)
+def mat_t_vec(m, v, out):
+    """``out = m^T v`` for a 3x3 ``m``."""
+    for i in range(3):
+        out[i] = m[0, i] * v[0] + m[1, i] * v[1] + m[2, i] * v[2]
 
 
 @njit(cache=True)
 def rot_axis(axis, angle):
     """Rotation matrix (Rodrigues) that turns vectors by ``angle`` [rad] about the unit ``axis``."""
+    out = np.empty((3, 3))
+    rot_axis_into(axis, angle, out)
+    return out
+
+
+@njit(cache=True)
+def rot_axis_into(axis, angle, out):
+    """:func:`rot_axis` into ``out``."""
     c = np.cos(angle)
     s = np.sin(angle)
     t = 1.0 - c
     x, y, z = axis[0], axis[1], axis[2]
-    out = np.empty((3, 3))
     out[0, 0] = t * x * x + c
     out[0, 1] = t * x * y - s * z
     out[0, 2] = t * x * z + s * y
@@ -61,16 +92,22 @@ def rot_axis(axis, angle):
     out[2, 0] = t * x * z - s * y
     out[2, 1] = t * y * z + s * x
     out[2, 2] = t * z * z + c
-    return out
 
 
 @njit(cache=True)
 def euler_zyx_to_matrix(roll, pitch, yaw):
     """Rotation matrix body -> world for ISO 8855 yaw-pitch-roll (Z, then Y, then X) angles [rad]."""
+    out = np.empty((3, 3))
+    euler_zyx_into(roll, pitch, yaw, out)
+    return out
+
+
+@njit(cache=True)
+def euler_zyx_into(roll, pitch, yaw, out):
+    """:func:`euler_zyx_to_matrix` into ``out``."""
     cr, sr = np.cos(roll), np.sin(roll)
     cp, sp = np.cos(pitch), np.sin(pitch)
     cy, sy = np.cos(yaw), np.sin(yaw)
-    out = np.empty((3, 3))
     out[0, 0] = cy * cp
     out[0, 1] = cy * sp * sr - sy * cr
     out[0, 2] = cy * sp * cr + sy * sr
@@ -80,75 +117,105 @@ def euler_zyx_to_matrix(roll, pitch, yaw):
     out[2, 0] = -sp
     out[2, 1] = cp * sr
     out[2, 2] = cp * cr
-    return out
-
-
-@njit(cache=True)
-def compose(e2, r2, e1, r1):
-    """Transform ``X2 X1`` (first X1: A->B, then X2: B->C) as ``(E, r)`` of A->C."""
-    return e2 @ e1, r1 + e1.T @ r2
 
 
 @njit(cache=True)
 def xform_motion(e, r, m, out):
-    """``out = X m`` for a motion vector ``m`` (6,), transform ``(e, r)``."""
-    w = m[:3]
-    v = m[3:] - cross(r, w)
-    out[:3] = e @ w
-    out[3:] = e @ v
+    """``out = X m`` for a motion vector ``m`` (6,), transform ``(e, r)``; ``out`` must not alias ``m``."""
+    w0, w1, w2 = m[0], m[1], m[2]
+    v0 = m[3] - (r[1] * w2 - r[2] * w1)
+    v1 = m[4] - (r[2] * w0 - r[0] * w2)
+    v2 = m[5] - (r[0] * w1 - r[1] * w0)
+    for i in range(3):
+        out[i] = e[i, 0] * w0 + e[i, 1] * w1 + e[i, 2] * w2
+        out[3 + i] = e[i, 0] * v0 + e[i, 1] * v1 + e[i, 2] * v2
 
 
 @njit(cache=True)
 def xform_force_inv(e, r, f, out):
-    """``out = X^T f``: a force in the child frame B expressed in the parent frame A."""
-    n = e.T @ f[:3]
-    ff = e.T @ f[3:]
-    out[:3] = n + cross(r, ff)
-    out[3:] = ff
+    """``out = X^T f``: a force in the child frame B expressed in the parent frame A (no aliasing)."""
+    n0 = e[0, 0] * f[0] + e[1, 0] * f[1] + e[2, 0] * f[2]
+    n1 = e[0, 1] * f[0] + e[1, 1] * f[1] + e[2, 1] * f[2]
+    n2 = e[0, 2] * f[0] + e[1, 2] * f[1] + e[2, 2] * f[2]
+    f0 = e[0, 0] * f[3] + e[1, 0] * f[4] + e[2, 0] * f[5]
+    f1 = e[0, 1] * f[3] + e[1, 1] * f[4] + e[2, 1] * f[5]
+    f2 = e[0, 2] * f[3] + e[1, 2] * f[4] + e[2, 2] * f[5]
+    out[0] = n0 + r[1] * f2 - r[2] * f1
+    out[1] = n1 + r[2] * f0 - r[0] * f2
+    out[2] = n2 + r[0] * f1 - r[1] * f0
+    out[3] = f0
+    out[4] = f1
+    out[5] = f2
 
 
 @njit(cache=True)
 def motion_cross_motion(v, m, out):
-    """``out = v x m`` (spatial cross product of motion vectors)."""
-    w, vl = v[:3], v[3:]
-    out[:3] = cross(w, m[:3])
-    out[3:] = cross(w, m[3:]) + cross(vl, m[:3])
+    """``out = v x m`` (spatial cross product of motion vectors; no aliasing)."""
+    out[0] = v[1] * m[2] - v[2] * m[1]
+    out[1] = v[2] * m[0] - v[0] * m[2]
+    out[2] = v[0] * m[1] - v[1] * m[0]
+    out[3] = v[1] * m[5] - v[2] * m[4] + v[4] * m[2] - v[5] * m[1]
+    out[4] = v[2] * m[3] - v[0] * m[5] + v[5] * m[0] - v[3] * m[2]
+    out[5] = v[0] * m[4] - v[1] * m[3] + v[3] * m[1] - v[4] * m[0]
 
 
 @njit(cache=True)
 def motion_cross_force(v, f, out):
-    """``out = v x* f`` (spatial cross product of a motion and a force vector)."""
-    w, vl = v[:3], v[3:]
-    out[:3] = cross(w, f[:3]) + cross(vl, f[3:])
-    out[3:] = cross(w, f[3:])
+    """``out = v x* f`` (spatial cross product of a motion and a force vector; no aliasing)."""
+    out[0] = v[1] * f[2] - v[2] * f[1] + v[4] * f[5] - v[5] * f[4]
+    out[1] = v[2] * f[0] - v[0] * f[2] + v[5] * f[3] - v[3] * f[5]
+    out[2] = v[0] * f[1] - v[1] * f[0] + v[3] * f[4] - v[4] * f[3]
+    out[3] = v[1] * f[5] - v[2] * f[4]
+    out[4] = v[2] * f[3] - v[0] * f[5]
+    out[5] = v[0] * f[4] - v[1] * f[3]
 
 
 @njit(cache=True)
 def inertia_times_motion(m, h, ibar, a, out):
-    """``out = I a`` for the inertia ``(m, h, Ibar)`` and a motion vector ``a``."""
-    w, v = a[:3], a[3:]
-    out[:3] = ibar @ w + cross(h, v)
-    out[3:] = m * v - cross(h, w)
+    """``out = I a`` for the inertia ``(m, h, Ibar)`` and a motion vector ``a`` (no aliasing)."""
+    w0, w1, w2, v0, v1, v2 = a[0], a[1], a[2], a[3], a[4], a[5]
+    for i in range(3):
+        out[i] = ibar[i, 0] * w0 + ibar[i, 1] * w1 + ibar[i, 2] * w2
+    out[0] += h[1] * v2 - h[2] * v1
+    out[1] += h[2] * v0 - h[0] * v2
+    out[2] += h[0] * v1 - h[1] * v0
+    out[3] = m * v0 - (h[1] * w2 - h[2] * w1)
+    out[4] = m * v1 - (h[2] * w0 - h[0] * w2)
+    out[5] = m * v2 - (h[0] * w1 - h[1] * w0)
 
 
 @njit(cache=True)
-def inertia_to_parent(e, r, m, h, ibar):
-    """``X^T I X``: an inertia about the child frame's origin, expressed about the parent's.
+def inertia_to_parent(e, r, m, h, ibar, h_out, ibar_out, tmp):
+    """``X^T I X``: add an inertia about the child frame's origin to one about the parent's.
 
-    Returns ``(h_parent, ibar_parent)``; the mass is unchanged. With ``y = E^T h``:
-    ``h' = y + m r`` and ``Ibar' = E^T Ibar E - [r]x [y]x - [y + m r]x [r]x`` (Featherstone, Table 2.5).
+    Accumulates into ``h_out`` and ``ibar_out`` (the mass is unchanged and is added by the caller);
+    ``tmp`` is a 3x3 scratch array.
+    With ``y = E^T h``: ``h' = y + m r`` and ``Ibar' = E^T Ibar E - [r]x [y]x - [y + m r]x [r]x``
+    (Featherstone, Table 2.5); ``[a]x [b]x = b a^T - (a.b) 1``.
     """
-    y = e.T @ h
-    hp = y + m * r
-    ib = e.T @ ibar @ e
-    # - [r]x [y]x - [hp]x [r]x, written out: [a]x [b]x = b a^T - (a.b) 1
-    ry = r[0] * y[0] + r[1] * y[1] + r[2] * y[2]
-    hr = hp[0] * r[0] + hp[1] * r[1] + hp[2] * r[2]
+    y0 = e[0, 0] * h[0] + e[1, 0] * h[1] + e[2, 0] * h[2]
+    y1 = e[0, 1] * h[0] + e[1, 1] * h[1] + e[2, 1] * h[2]
+    y2 = e[0, 2] * h[0] + e[1, 2] * h[1] + e[2, 2] * h[2]
+    hp0 = y0 + m * r[0]
+    hp1 = y1 + m * r[1]
+    hp2 = y2 + m * r[2]
+    h_out[0] += hp0
+    h_out[1] += hp1
+    h_out[2] += hp2
+    # E^T Ibar E
     for i in range(3):
         for j in range(3):
-            ib[i, j] -= y[i] * r[j] + r[i] * hp[j]
-        ib[i, i] += ry + hr
-    return hp, ib
+            tmp[i, j] = ibar[i, 0] * e[0, j] + ibar[i, 1] * e[1, j] + ibar[i, 2] * e[2, j]
+    y = (y0, y1, y2)
+    hp = (hp0, hp1, hp2)
+    diag = r[0] * y0 + r[1] * y1 + r[2] * y2 + hp0 * r[0] + hp1 * r[1] + hp2 * r[2]
+    for i in range(3):
+        for j in range(3):
+            value = e[0, i] * tmp[0, j] + e[1, i] * tmp[1, j] + e[2, i] * tmp[2, j]
+            value -= y[i] * r[j] + r[i] * hp[j]
+            if i == j:
+                value += diag
+            ibar_out[i, j] += value
 
 
 @njit(cache=True)

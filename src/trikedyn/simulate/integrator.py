@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ..model.rhs import N_WOUT, W_DEFLECTION, evaluate
+from ..model.rhs import N_WOUT, W_DEFLECTION, evaluate_into, workspace
 from ..model.vehicle import S_PENETRATION_LIMIT, S_ROLL_LIMIT, WF_RADIUS
 
 __all__ = ["STATUS_OK", "STATUS_NAN", "STATUS_PENETRATION", "STATUS_ROLLOVER", "STATUS_TEXT", "rk4_loop"]
@@ -47,22 +47,39 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, parent, jtype, jaxis, tr
     nw = wheel_f.shape[0]
     wout = np.empty((nw, N_WOUT))
     x = x0.copy()
+    xs = np.empty(nx)
+    k1 = np.empty(nx)
+    k2 = np.empty(nx)
+    k3 = np.empty(nx)
+    k4 = np.empty(nx)
+    ws = workspace(parent.shape[0])
     t = t0
     times[0] = t
     states[0] = x
     rec = 1
     arrays = (parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar, wheel_f, wheel_i, tyre, sc, road)
+    half = 0.5 * dt
     for step in range(1, n_steps + 1):
-        k1 = evaluate(t, x, inputs, *arrays, wout)
+        evaluate_into(t, x, inputs, *arrays, wout, ws, k1)
         for k in range(nw):
             if wout[k, W_DEFLECTION] > sc[S_PENETRATION_LIMIT] * wheel_f[k, WF_RADIUS]:
                 return times, states, STATUS_PENETRATION, rec, t
-        k2 = evaluate(t + 0.5 * dt, x + 0.5 * dt * k1, inputs, *arrays, wout)
-        k3 = evaluate(t + 0.5 * dt, x + 0.5 * dt * k2, inputs, *arrays, wout)
-        k4 = evaluate(t + dt, x + dt * k3, inputs, *arrays, wout)
-        x = x + (dt / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        for i in range(nx):
+            xs[i] = x[i] + half * k1[i]
+        evaluate_into(t + half, xs, inputs, *arrays, wout, ws, k2)
+        for i in range(nx):
+            xs[i] = x[i] + half * k2[i]
+        evaluate_into(t + half, xs, inputs, *arrays, wout, ws, k3)
+        for i in range(nx):
+            xs[i] = x[i] + dt * k3[i]
+        evaluate_into(t + dt, xs, inputs, *arrays, wout, ws, k4)
+        finite = True
+        for i in range(nx):
+            x[i] += (dt / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+            if not np.isfinite(x[i]):
+                finite = False
         t = t0 + step * dt
-        if not np.all(np.isfinite(x)):
+        if not finite:
             return times, states, STATUS_NAN, rec, t
         if abs(x[3]) > sc[S_ROLL_LIMIT] or abs(x[4]) > sc[S_ROLL_LIMIT]:
             if step % record_every == 0:
