@@ -77,3 +77,33 @@ def test_console_script_has_no_traceback(tmp_path):
     assert proc.returncode == 2
     assert "Traceback" not in proc.stderr
     assert proc.stderr.strip() == f"trikedyn: error: {bad}: mass.curb_kg: input should be greater than 0 (got -1)"
+
+
+def test_log_info_and_identify(capsys, tmp_path):
+    """identify on a synthetic speed-bump record written as a WitMotion SDK log."""
+    import numpy as np
+    import pandas as pd
+
+    from trikedyn.measure.logs import write_log
+    from trikedyn.measure.quarter_car import quarter_car_free_decay
+
+    t, az = quarter_car_free_decay(160.0, 20.0, 46000.0, 1100.0, 200e3, duration_s=12.0, sample_rate_hz=100.0,
+                                   bump=(0.05, 0.5, 5 / 3.6), event_time_s=1.0, noise_std_mps2=0.05, seed=3,
+                                   include_gravity=True)
+    frame = pd.DataFrame({"time_s": t, "ax_mps2": 0.0 * t, "ay_mps2": 0.0 * t, "az_mps2": az})
+    log = write_log(frame, tmp_path / "bump.txt", "witmotion-sdk")
+    code, out, _ = run(capsys, "log", "info", str(log), "--json")
+    assert code == 0 and json.loads(out)["samples"] == len(t)
+    code, out, _ = run(capsys, "identify", str(log), "--sprung-mass", "160", "--tyre-stiffness", "200000",
+                       "--plot", str(tmp_path / "fig.png"), "--json")
+    result = json.loads(out)
+    assert code == 0
+    for key in ("natural_frequency_hz", "damping_ratio", "log_decrement", "stiffness_N_per_m",
+                "damping_Ns_per_m", "cycles_used"):
+        assert key in result
+    assert result["stiffness_N_per_m"] == pytest.approx(46000.0, rel=0.05)
+    assert (tmp_path / "fig.png").stat().st_size > 10_000
+    code, _, err = run(capsys, "identify", str(log), "--sprung-mass", "-3")
+    assert code == 2 and "sprung" in err
+    code, _, err = run(capsys, "identify", str(log), "--sprung-mass", "160", "--axis", "w")
+    assert code == 2 and "--axis" in err

@@ -344,6 +344,28 @@ def identify(
     _emit(data, as_json, text)
 
 
+@app.command("reproduce")
+def reproduce_cmd(
+    out: Annotated[Path, typer.Option("--out", help="Output folder (created; files in it are replaced).")] = Path(
+        "trikedyn-output"
+    ),
+    no_figures: Annotated[bool, typer.Option("--no-figures", help="Skip the PNG figures.")] = False,
+    as_json: JsonOpt = False,
+):
+    """The reference paper's workflow on the built-in reference vehicle: tables, figures, verdicts."""
+    from .reproduce import reproduce
+
+    if out.exists() and not out.is_dir():
+        raise InputError("exists and is not a folder", where=str(out))
+    summary = reproduce(out, figures=not no_figures)
+    text = "\n".join(
+        [f"wrote {len(summary['files'])} files to {out}"]
+        + [f"- {s['verdict'].upper()}: {s['paper']}" for s in summary["statements"]]
+        + [f"see {out / 'summary.md'}"]
+    )
+    _emit({k: summary[k] for k in ("out_dir", "statements", "files")}, as_json, text)
+
+
 # ------------------------------------------------------------------------------------------------
 def main(argv: list[str] | None = None) -> int:
     """Entry point: runs the app; user mistakes -> one line on stderr and exit code 2."""

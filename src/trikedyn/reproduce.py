@@ -1,0 +1,257 @@
+"""``trikedyn reproduce``: the reference paper's workflow on the built-in reference vehicle.
+
+So far the measurement side (paper section 2.1): Table 1 (suspension identification by Eqs. 1-4, from a
+speed-bump record emulated at the paper's 10 Hz), Table 3 (CG against freight) and the parameter audit.
+Each result is written as CSV (and PNG figures), and set beside the paper's statement it reproduces or
+contradicts in ``summary.md`` / ``summary.json``. The manoeuvres, the rollover index and the parametric
+study join as they are built.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from . import paper
+from .measure.quarter_car import quarter_car_free_decay, quarter_car_modes
+from .measure.suspension import damping_coefficient, identify_suspension, sprung_mass_from_stiffness
+from .params import audit, load_vehicle, mass_properties, with_freight
+from .params.audit import static_wheel_loads, unsprung_mass
+from .units import STANDARD_GRAVITY
+
+__all__ = ["reproduce", "BUMP"]
+
+BUMP = {"height_m": 0.05, "length_m": 0.5, "speed_kmh": 5.0}
+"""The emulated speed bump: the paper's 5 km/h (section 2.1); height and length assumed (not given)."""
+SENSOR = {"rate_hz": 10.0, "noise_std_mps2": 0.05, "bias_mps2": 0.2, "seed": 2024}
+"""The emulated HWT901B: the paper's 10 Hz, with assumed noise and bias."""
+
+
+def _write_csv(path: Path, rows: list[dict]) -> None:
+    with path.open("w", newline="", encoding="utf-8") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def _station(pset, wheel: str, suspension: str) -> dict:
+    """The quarter car of one wheel station of a parameter set (masses from its CG)."""
+    p = pset.params
+    s = p.suspension[suspension]
+    load = static_wheel_loads(p)[wheel] / STANDARD_GRAVITY
+    m_u = unsprung_mass(p, wheel)
+    return {
+        "sprung_mass_kg": load - m_u,
+        "unsprung_mass_kg": m_u,
+        "stiffness_N_per_m": s.stiffness_N_per_m,
+        "damping_Ns_per_m": s.damping_Ns_per_m,
+        "tyre_stiffness_N_per_m": p.tyre.vertical_stiffness_N_per_m,
+        "tyre_damping_Ns_per_m": p.tyre.vertical_damping_Ns_per_m,
+    }
+
+
+def table1(out: Path, figures: bool = True) -> tuple[list[dict], list[dict]]:
+    """Table 1 by the paper's equations, and identified from emulated 10 Hz speed-bump records."""
+    eq_rows = []
+    for name, row in paper.TABLE1.items():
+        m_s = sprung_mass_from_stiffness(row["stiffness_N_per_m"], row["natural_frequency_hz"])
+        c_eq4 = damping_coefficient(row["damping_ratio"], row["stiffness_N_per_m"], m_s)
+        eq_rows.append(
+            {
+                "suspension": name,
+                "natural_frequency_hz": row["natural_frequency_hz"],
+                "damping_ratio": row["damping_ratio"],
+                "stiffness_N_per_m": row["stiffness_N_per_m"],
+                "damping_table1_Ns_per_m": row["damping_Ns_per_m"],
+                "sprung_mass_eq3_kg": float(m_s),
+                "damping_eq4_Ns_per_m": float(c_eq4),
+                "ratio_eq4_to_table1": float(c_eq4 / row["damping_Ns_per_m"]),
+            }
+        )
+    _write_csv(out / "table1_equations.csv", eq_rows)
+
+    ident_rows = []
+    speed = BUMP["speed_kmh"] / 3.6
+    for preset in ("reference-etrike", "reference-etrike-eq4"):
+        pset = load_vehicle(preset)
+        for wheel, susp in (("front", "front"), ("rear_left", "rear")):
+            qc = _station(pset, wheel, susp)
+            args = (qc["sprung_mass_kg"], qc["unsprung_mass_kg"], qc["stiffness_N_per_m"], qc["damping_Ns_per_m"],
+                    qc["tyre_stiffness_N_per_m"], qc["tyre_damping_Ns_per_m"])
+            modes = quarter_car_modes(*args)
+            time_s, accel = quarter_car_free_decay(
+                *args, duration_s=30.0, sample_rate_hz=SENSOR["rate_hz"],
+                bump=(BUMP["height_m"], BUMP["length_m"], speed), event_time_s=1.0,
+                noise_std_mps2=SENSOR["noise_std_mps2"], bias_mps2=SENSOR["bias_mps2"], seed=SENSOR["seed"],
+                include_gravity=True,
+            )
+            result = identify_suspension(
+                time_s, accel, qc["sprung_mass_kg"], tyre_stiffness_N_per_m=qc["tyre_stiffness_N_per_m"],
+                tyre_damping_Ns_per_m=qc["tyre_damping_Ns_per_m"], unsprung_mass_kg=qc["unsprung_mass_kg"],
+            )
+            ident_rows.append(
+                {
+                    "vehicle": preset,
+                    "suspension": susp,
+                    "sprung_mass_kg": qc["sprung_mass_kg"],
+                    "body_mode_frequency_hz": modes.sprung_frequency_hz,
+                    "body_mode_damping_ratio": modes.sprung_damping_ratio,
+                    "identified_frequency_hz": result.natural_frequency_hz,
+                    "identified_damping_ratio": result.damping_ratio,
+                    "model_stiffness_N_per_m": qc["stiffness_N_per_m"],
+                    "identified_stiffness_N_per_m": result.stiffness_N_per_m,
+                    "stiffness_error_pct": 100 * (result.stiffness_N_per_m / qc["stiffness_N_per_m"] - 1),
+                    "model_damping_Ns_per_m": qc["damping_Ns_per_m"],
+                    "identified_damping_Ns_per_m": result.damping_Ns_per_m,
+                    "damping_error_pct": 100 * (result.damping_Ns_per_m / qc["damping_Ns_per_m"] - 1),
+                    "cycles_used": result.cycles_used,
+                    "warnings": " | ".join(result.warnings),
+                }
+            )
+            if figures:
+                import matplotlib
+
+                matplotlib.use("Agg")
+                fig = result.plot()
+                fig.axes[0].set_xlim(0.0, min(time_s[-1], result.decay_start_s + 6.0 / max(result.damping_ratio, 0.05)))
+                fig.suptitle(f"{preset}, {susp}: emulated 10 Hz bump record (Fig. 2c-d)", fontsize=10)
+                fig.savefig(out / f"fig2_identification_{preset}_{susp}.png", dpi=110)
+                import matplotlib.pyplot as plt
+
+                plt.close(fig)
+    _write_csv(out / "table1_identified.csv", ident_rows)
+    return eq_rows, ident_rows
+
+
+def table3(out: Path) -> list[dict]:
+    """Table 3: CG against freight mass, ours (in the paper's axes) beside the paper's."""
+    pset = load_vehicle("reference-etrike")
+    rows = []
+    for freight_kg, x_mm, y_mm, z_mm in paper.TABLE3:
+        cg = mass_properties(with_freight(pset, freight_kg).params).cg_m
+        ours = ((cg[0] - paper.REFERENCE_X_DATUM_M) * 1e3, cg[1] * 1e3, cg[2] * 1e3)
+        rows.append(
+            {
+                "freight_kg": freight_kg,
+                "paper_x_mm": x_mm, "paper_y_mm": y_mm, "paper_z_mm": z_mm,
+                "x_mm": ours[0], "y_mm": ours[1], "z_mm": ours[2],
+                "max_abs_error_mm": max(abs(ours[0] - x_mm), abs(ours[1] - y_mm), abs(ours[2] - z_mm)),
+            }
+        )
+    _write_csv(out / "table3.csv", rows)
+    return rows
+
+
+def _audits(out: Path) -> dict:
+    found = {}
+    for preset in ("reference-etrike", "reference-etrike-eq4"):
+        findings = audit(load_vehicle(preset))
+        found[preset] = [f.to_dict() for f in findings]
+        with (out / f"audit_{preset}.txt").open("w", encoding="utf-8") as fh:
+            for f in findings:
+                fh.write(f"{f.level.upper():<12} {f.topic}: {f.message}\n")
+    (out / "audit.json").write_text(json.dumps(found, indent=2, default=float), encoding="utf-8")
+    return found
+
+
+def _statements(eq_rows, ident_rows, t3_rows, audits) -> list[dict]:
+    front, rear = eq_rows
+    worst_t3 = max(r["max_abs_error_mm"] for r in t3_rows)
+    eq4 = [r for r in ident_rows if r["vehicle"] == "reference-etrike-eq4"]
+    worst_k = max(abs(r["stiffness_error_pct"]) for r in ident_rows)
+    worst_c = max(abs(r["damping_error_pct"]) for r in ident_rows)
+    m_eq3 = front["sprung_mass_eq3_kg"] + 2 * rear["sprung_mass_eq3_kg"]
+    tip = [f for f in audits["reference-etrike"] if f["topic"].startswith("tip-over") and f["values"]["lateral"]]
+    return [
+        {
+            "paper": "Eq. 4, C = 2 xi sqrt(K M_s), gives Table 1's damping coefficients",
+            "verdict": "contradicts",
+            "evidence": f"Eq. 4 with Table 1's own xi, f_n and K gives {front['damping_eq4_Ns_per_m']:.1f} and "
+            f"{rear['damping_eq4_Ns_per_m']:.1f} N s/m, {front['ratio_eq4_to_table1']:.2f}x and "
+            f"{rear['ratio_eq4_to_table1']:.2f}x Table 1's {front['damping_table1_Ns_per_m']} and "
+            f"{rear['damping_table1_Ns_per_m']} N s/m; Table 1's C would mean xi = "
+            f"{front['damping_ratio'] / front['ratio_eq4_to_table1']:.3f} and "
+            f"{rear['damping_ratio'] / rear['ratio_eq4_to_table1']:.3f}. Both presets ship: reference-etrike "
+            "(Table 1) and reference-etrike-eq4 (Eq. 4).",
+        },
+        {
+            "paper": "K = 4 pi^2 f_n^2 M_s (Eq. 3) with M_s from the loads on each suspension",
+            "verdict": "reproduces, with a finding",
+            "evidence": f"Table 1's K and f_n imply M_s = {front['sprung_mass_eq3_kg']:.2f} kg (front) and "
+            f"{rear['sprung_mass_eq3_kg']:.2f} kg (each rear), {m_eq3:.1f} kg in all: more than the "
+            f"{paper.TOTAL_MASS_KG:g} kg vehicle, i.e. the bump test was driven with a driver aboard.",
+        },
+        {
+            "paper": "Table 3: CG against freight mass (0-200 kg in the back trunk)",
+            "verdict": "reproduces",
+            "evidence": f"one freight position and a base mass of 583 kg (508 kg vehicle + 75 kg driver) give every "
+            f"coordinate of Table 3 within {worst_t3:.3f} mm; with the 508 kg vehicle alone no single position "
+            "comes within 1 mm.",
+        },
+        {
+            "paper": "10 Hz sampling satisfies Shannon's theorem for 2.9 Hz, so the record can be analysed",
+            "verdict": "reproduces, with a caveat",
+            "evidence": f"from emulated 10 Hz speed-bump records (bump {BUMP['height_m'] * 1000:.0f} mm x "
+            f"{BUMP['length_m']} m at {BUMP['speed_kmh']} km/h), resampling and a free-decay fit recover the "
+            f"model's K within {worst_k:.1f} % and C within {worst_c:.1f} % (tyre in series corrected); but 10 Hz "
+            "is only 3.4 samples per cycle, so crest amplitudes for the log decrement (Eq. 1) alone are biased.",
+        },
+        {
+            "paper": "The tyre's stiffness is negligible in the quarter-car reduction",
+            "verdict": "contradicts",
+            "evidence": "with the paper's own 200 kN/m tyre in series the body mode differs from the suspension "
+            "alone: on reference-etrike-eq4 the body modes are "
+            + ", ".join(f"{r['suspension']} {r['body_mode_frequency_hz']:.2f} Hz (xi {r['body_mode_damping_ratio']:.2f})"
+                        for r in eq4)
+            + f" against the suspension-only {front['natural_frequency_hz']} Hz / {rear['natural_frequency_hz']} Hz "
+            f"(xi {front['damping_ratio']} / {rear['damping_ratio']}).",
+        },
+        {
+            "paper": "The CG is 16 mm to the left, so the vehicle is unbalanced (rollover matters)",
+            "verdict": "reproduces",
+            "evidence": "rigid static tip-over thresholds of reference-etrike: "
+            + ", ".join(f"toward the {e['values']['tips_toward']} at a_y/g = {e['values']['acceleration_g']:.3f}" for e in tip),
+        },
+    ]
+
+
+def reproduce(out_dir: str | Path, *, figures: bool = True, log=None) -> dict:
+    """Run the reproduction into ``out_dir``; returns the summary (also written as ``summary.json``)."""
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    say = log or (lambda text: print(text, file=sys.stderr))
+    say("audit: reference-etrike and reference-etrike-eq4")
+    audits = _audits(out)
+    say("Table 1: Eqs. 1-4 and identification from emulated 10 Hz speed-bump records")
+    eq_rows, ident_rows = table1(out, figures=figures)
+    say("Table 3: CG against freight")
+    t3_rows = table3(out)
+    statements = _statements(eq_rows, ident_rows, t3_rows, audits)
+    summary = {
+        "out_dir": str(out),
+        "table1_equations": eq_rows,
+        "table1_identified": ident_rows,
+        "table3": t3_rows,
+        "statements": statements,
+        "files": sorted(p.name for p in out.iterdir()),
+    }
+    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=_jsonable), encoding="utf-8")
+    lines = ["# trikedyn reproduce: the reference paper, measurement side", ""]
+    for s in statements:
+        lines += [f"## {s['paper']}", f"**{s['verdict']}** - {s['evidence']}", ""]
+    lines += ["Files: " + ", ".join(summary["files"]), ""]
+    (out / "summary.md").write_text("\n".join(lines), encoding="utf-8")
+    return summary
+
+
+def _jsonable(obj):
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return str(obj)
