@@ -107,3 +107,19 @@ def test_log_info_and_identify(capsys, tmp_path):
     assert code == 2 and "sprung" in err
     code, _, err = run(capsys, "identify", str(log), "--sprung-mass", "160", "--axis", "w")
     assert code == 2 and "--axis" in err
+
+
+def test_bad_log_exits_2_naming_file_and_line(capsys, tmp_path):
+    bad = tmp_path / "cut.csv"
+    bad.write_text("time_s,az_mps2\n0.0,9.8\n0.1,9.81\n0.2\n")
+    code, out, err = run(capsys, "log", "info", str(bad))
+    assert code == 2 and out == "" and err.count("\n") == 1
+    assert "cut.csv:4" in err
+
+
+def test_modes_command(capsys):
+    code, out, _ = run(capsys, "modes", "reference-etrike", "--json")
+    data = json.loads(out)
+    assert code == 0 and sum(data["static_wheel_loads_N"].values()) == pytest.approx(583.0 * 9.80665, rel=1e-6)
+    names = {m["name"] for m in data["modes"]}
+    assert {"bounce", "pitch", "roll"} <= names

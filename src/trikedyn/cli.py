@@ -132,14 +132,16 @@ def vehicle_check(vehicle: VehicleArg, as_json: JsonOpt = False):
 
 
 @vehicle_app.command("export")
-def vehicle_export(vehicle: VehicleArg, file: Annotated[Path, typer.Argument(help="TOML file to write.")]):
+def vehicle_export(
+    vehicle: VehicleArg, file: Annotated[Path, typer.Argument(help="TOML file to write.")], as_json: JsonOpt = False
+):
     """Write a parameter set to a TOML file (with its notes) to start your own vehicle from."""
     from .params import load_vehicle, save_vehicle
 
     if file.exists():
         raise InputError("file exists; not overwriting it", where=str(file))
     save_vehicle(load_vehicle(vehicle), file)
-    typer.echo(f"wrote {file}")
+    _emit({"wrote": str(file)}, as_json, f"wrote {file}")
 
 
 # ------------------------------------------------------------------------------------------------
@@ -288,11 +290,12 @@ def log_convert(
     fmt: FormatOpt = "auto",
     sensor: SensorOpt = 1,
     rate: RateOpt = None,
+    as_json: JsonOpt = False,
 ):
     """Convert an IMU log to a plain CSV in SI units."""
     imu = _read(log, fmt, sensor, rate)
     imu.data.to_csv(out, index=False)
-    typer.echo(f"wrote {out} ({len(imu.data)} samples)")
+    _emit({"wrote": str(out), "samples": len(imu.data)}, as_json, f"wrote {out} ({len(imu.data)} samples)")
 
 
 @app.command("identify")
@@ -342,6 +345,35 @@ def identify(
         + [f"warning: {w}" for w in data.get("warnings", [])]
     )
     _emit(data, as_json, text)
+
+
+@app.command("modes")
+def modes_cmd(
+    vehicle: VehicleArg,
+    freight: Annotated[float, typer.Option(help="The paper's freight aboard [kg].")] = 0.0,
+    as_json: JsonOpt = False,
+):
+    """Static equilibrium, and the vibration modes of the linearised model about it."""
+    from .model.linear import modes
+    from .model.statics import static_equilibrium
+    from .model.vehicle import build_model
+    from .params import load_vehicle, with_freight
+
+    model = build_model(with_freight(load_vehicle(vehicle), freight))
+    eq = static_equilibrium(model)
+    found = modes(model, eq)
+    data = {
+        "vehicle": model.params.name,
+        "freight_kg": freight,
+        "static_wheel_loads_N": eq.wheel_loads_N,
+        "modes": [m.to_dict() for m in found],
+    }
+    lines = [f"{model.params.name}: static wheel loads " + ", ".join(f"{k} {v:.0f} N" for k, v in eq.wheel_loads_N.items())]
+    lines += [f"{'mode':<24}{'f [Hz]':>9}{'zeta':>8}   participation"]
+    for m in found:
+        share = ", ".join(f"{k} {v:.0%}" for k, v in list(m.participation.items())[:3])
+        lines.append(f"{m.name:<24}{m.frequency_hz:>9.3f}{m.damping_ratio:>8.3f}   {share}")
+    _emit(data, as_json, "\n".join(lines))
 
 
 @app.command("reproduce")
