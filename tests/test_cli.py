@@ -81,7 +81,6 @@ def test_console_script_has_no_traceback(tmp_path):
 
 def test_log_info_and_identify(capsys, tmp_path):
     """identify on a synthetic speed-bump record written as a WitMotion SDK log."""
-    import numpy as np
     import pandas as pd
 
     from trikedyn.measure.logs import write_log

@@ -8,12 +8,43 @@ The flat public API::
 
 __version__ = "0.1.0"
 
-from .errors import InputError, LogFormatError, ParameterError, SimulationError, TrikedynError  # noqa: E402
-from .measure.cg import Box, MassProperties, Payload, PointMass  # noqa: E402
-from .measure.logs import ImuLog, read_log, write_log  # noqa: E402
-from .measure.suspension import identify_suspension  # noqa: E402
-from .measure.weighing import reduce_weighing  # noqa: E402
-from .params import (  # noqa: E402
+
+def _numba_cache_dir() -> None:
+    """Key numba's on-disk cache by the package's compiled sources.
+
+    numba invalidates a cached function only when *its own* file changes, not when a function it calls
+    from another module does; a stale time loop would then run old physics. Caching into a folder named
+    after a hash of every compiled module avoids that. A user's own ``NUMBA_CACHE_DIR`` wins.
+    """
+    import hashlib
+    import os
+    from pathlib import Path
+
+    if "NUMBA_CACHE_DIR" in os.environ:
+        return
+    here = Path(__file__).parent
+    digest = hashlib.sha1(__version__.encode())
+    for sub in ("model", "tyre", "simulate", "driver", "manoeuvres"):
+        for path in sorted((here / sub).glob("*.py")):
+            digest.update(path.read_bytes())
+    base = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
+    os.environ["NUMBA_CACHE_DIR"] = str(base / "trikedyn" / f"numba-{digest.hexdigest()[:16]}")
+    import sys
+
+    if "numba" in sys.modules:  # numba read its configuration already
+        from numba.core import config
+
+        config.reload_config()
+
+
+_numba_cache_dir()
+
+from .errors import InputError, LogFormatError, ParameterError, SimulationError, TrikedynError
+from .measure.cg import Box, MassProperties, Payload, PointMass
+from .measure.logs import ImuLog, read_log, write_log
+from .measure.suspension import identify_suspension
+from .measure.weighing import reduce_weighing
+from .params import (
     ParameterSet,
     VehicleParameters,
     audit,

@@ -264,7 +264,7 @@ def log_info(
     summary = {
         "file": str(log),
         "format": imu.format,
-        "samples": int(len(data)),
+        "samples": len(data),
         "duration_s": float(data["time_s"].iloc[-1]) if len(data) else 0.0,
         "sample_rate_hz": imu.sample_rate_hz,
         "channels": {

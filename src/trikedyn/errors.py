@@ -8,11 +8,11 @@ without a traceback. Any other exception is a bug and may show a traceback.
 from __future__ import annotations
 
 __all__ = [
-    "TrikedynError",
     "InputError",
-    "ParameterError",
     "LogFormatError",
+    "ParameterError",
     "SimulationError",
+    "TrikedynError",
 ]
 
 

@@ -9,15 +9,15 @@ reading that the preset ``reference-etrike`` takes (see its ``mass.cg_x_m`` note
 from __future__ import annotations
 
 __all__ = [
-    "TOTAL_MASS_KG",
     "BODY_MASS_KG",
     "CG_MM",
+    "REFERENCE_X_DATUM_M",
     "TABLE1",
     "TABLE2_SCALES",
     "TABLE3",
-    "TYRE_VERTICAL_STIFFNESS_N_PER_M",
+    "TOTAL_MASS_KG",
     "TYRE_VERTICAL_DAMPING_NS_PER_M",
-    "REFERENCE_X_DATUM_M",
+    "TYRE_VERTICAL_STIFFNESS_N_PER_M",
 ]
 
 TOTAL_MASS_KG = 508.0

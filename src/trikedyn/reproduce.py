@@ -24,7 +24,7 @@ from .params import audit, load_vehicle, mass_properties, with_freight
 from .params.audit import static_wheel_loads, unsprung_mass
 from .units import STANDARD_GRAVITY
 
-__all__ = ["reproduce", "BUMP"]
+__all__ = ["BUMP", "reproduce"]
 
 BUMP = {"height_m": 0.05, "length_m": 0.5, "speed_kmh": 5.0}
 """The emulated speed bump: the paper's 5 km/h (section 2.1); height and length assumed (not given)."""

@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-__all__ = ["STANDARD_GRAVITY", "kmh_to_mps", "mps_to_kmh", "deg_to_rad", "rad_to_deg", "g_to_mps2"]
+__all__ = ["STANDARD_GRAVITY", "deg_to_rad", "g_to_mps2", "kmh_to_mps", "mps_to_kmh", "rad_to_deg"]
 
 STANDARD_GRAVITY = 9.80665
 """Standard acceleration of gravity [m/s^2] (ISO 80000-3)."""

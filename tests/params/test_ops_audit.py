@@ -8,13 +8,13 @@ from trikedyn.errors import InputError, ParameterError
 from trikedyn.params import (
     audit,
     freight,
-    with_payload,
     load_vehicle,
     override,
     scale_suspension,
     static_wheel_loads,
     tip_over_thresholds,
     with_freight,
+    with_payload,
 )
 from trikedyn.units import STANDARD_GRAVITY as G
 

@@ -25,16 +25,16 @@ from ..errors import InputError
 from ..units import STANDARD_GRAVITY
 
 __all__ = [
-    "MassProperties",
-    "PointMass",
     "Box",
-    "Payload",
     "LevelWeighingResult",
+    "MassProperties",
+    "Payload",
+    "PointMass",
     "TiltedWeighingResult",
     "cg_from_level_weighing",
     "cg_height_from_tilted_weighings",
-    "wheel_loads_from_cg",
     "tilted_wheel_loads",
+    "wheel_loads_from_cg",
 ]
 
 

@@ -111,7 +111,7 @@ def _hint(name: str, choices) -> str:
     return f"; did you mean {close[0]!r}?" if close else ""
 
 
-_WIT_LOOKUP = {_norm(h): si for hs in _WIT_HEADERS.values() for h, si in zip(hs, (TIME, *CHANNELS, TEMP))}
+_WIT_LOOKUP = {_norm(h): si for hs in _WIT_HEADERS.values() for h, si in zip(hs, (TIME, *CHANNELS, TEMP), strict=False)}
 
 
 @dataclass(frozen=True, eq=False)
@@ -362,7 +362,7 @@ def _read_bwt(raw: bytes, path: Path, sensor: int, notes: list[str]) -> ImuLog:
         raise LogFormatError(f"sensor={sensor} but the file has columns for sensor(s) "
                              f"{', '.join(map(str, sensors)) or 'none'}; expected AccX{sensor}",
                              where=at_header)
-    want = {"Time": TIME} | {f"{p}{c}{sensor}": si for p, sis in _BWT.items() for c, si in zip("XYZ", sis)}
+    want = {"Time": TIME} | {f"{p}{c}{sensor}": si for p, sis in _BWT.items() for c, si in zip("XYZ", sis, strict=False)}
     missing = [h for h in want if h not in header]
     if missing:
         raise LogFormatError(f"no column {', '.join(missing)}; columns present: {', '.join(header)}",
@@ -637,7 +637,7 @@ def _write_witmotion(data: pd.DataFrame, path: Path, fmt: str) -> None:
         out[pc_time] = _clock_text(f, "clock" if fmt == "witmotion-pc" else "date")
         out[device] = "trikedyn"
     out[_WIT_HEADERS[fmt][0]] = _clock_text(f, "sdk" if fmt == "witmotion-sdk" else "date")
-    for si, h in zip((*CHANNELS, TEMP), _WIT_HEADERS[fmt][1:]):
+    for si, h in zip((*CHANNELS, TEMP), _WIT_HEADERS[fmt][1:], strict=False):
         if si in data:
             out[h] = data[si].to_numpy(float) / _FACTOR.get(si, 1.0)
     sdk = fmt == "witmotion-sdk"
@@ -649,7 +649,7 @@ def _write_witmotion(data: pd.DataFrame, path: Path, fmt: str) -> None:
 def _write_bwt(data: pd.DataFrame, path: Path) -> None:
     out = {"Time": _clock_text(_clock(data[TIME].to_numpy(float), path, "bwt901cl-csv"), "clock")}
     for prefix, sis in _BWT.items():
-        for c, si in zip("XYZ", sis):
+        for c, si in zip("XYZ", sis, strict=False):
             if si in data:
                 out[f"{prefix}{c}1"] = data[si].to_numpy(float) / (1.0 if prefix == "Acc" else _DEG)
     pd.DataFrame(out | _extras(data, CHANNELS)).to_csv(path, index=False)

@@ -141,7 +141,7 @@ def quarter_car_modes(sprung_mass, unsprung_mass, stiffness, damping, tyre_stiff
     pairs = [(z, np.conj(z)) for z in cplx]
     pairs += [(complex(real[i]), complex(real[i + 1])) for i in range(0, len(real) - 1, 2)]
     omega = np.array([np.sqrt(abs(a * b)) for a, b in pairs])
-    zeta = np.array([-(a + b).real / (2.0 * w) for (a, b), w in zip(pairs, omega)])
+    zeta = np.array([-(a + b).real / (2.0 * w) for (a, b), w in zip(pairs, omega, strict=False)])
     order = np.argsort(omega)
     eig = np.array([z for i in order for z in pairs[i]])
     return QuarterCarModes(omega[order] / (2.0 * np.pi), zeta[order], eig)

@@ -32,9 +32,14 @@ import numpy as np
 
 from ..errors import InputError
 from ..units import STANDARD_GRAVITY
-from .cg import LevelWeighingResult, TiltedWeighingResult, cg_from_level_weighing, cg_height_from_tilted_weighings
+from .cg import (
+    LevelWeighingResult,
+    TiltedWeighingResult,
+    cg_from_level_weighing,
+    cg_height_from_tilted_weighings,
+)
 
-__all__ = ["CgMeasurement", "reduce_weighing", "load_weighing"]
+__all__ = ["CgMeasurement", "load_weighing", "reduce_weighing"]
 
 
 @dataclass(frozen=True)

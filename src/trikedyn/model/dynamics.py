@@ -33,21 +33,21 @@ from .spatial import (
 
 __all__ = [
     "JOINT_FREE",
-    "JOINT_REVOLUTE",
     "JOINT_PRISMATIC",
-    "workspace",
-    "joint_transforms_into",
-    "world_transforms_into",
+    "JOINT_REVOLUTE",
     "body_velocities_into",
-    "rnea_into",
-    "crba_into",
     "cholesky_solve_into",
-    "rnea",
     "crba",
-    "forward_dynamics",
+    "crba_into",
     "euler_rates_into",
+    "forward_dynamics",
     "joint_transforms",
+    "joint_transforms_into",
+    "rnea",
+    "rnea_into",
+    "workspace",
     "world_transforms",
+    "world_transforms_into",
 ]
 
 JOINT_FREE, JOINT_REVOLUTE, JOINT_PRISMATIC = 0, 1, 2

@@ -60,7 +60,6 @@ from .vehicle import (
     R_X0,
     ROAD_BUMP,
     S_AERO,
-    S_AERO_X,
     S_AERO_Z,
     S_G,
     S_MAX_BRAKE,
@@ -90,7 +89,7 @@ from .vehicle import (
     WI_WHEEL,
 )
 
-__all__ = ["road_height", "interpolate_inputs", "evaluate", "evaluate_into", "workspace", "W_FX", "W_FY", "W_FZ", "N_WOUT"]
+__all__ = ["N_WOUT", "W_FX", "W_FY", "W_FZ", "evaluate", "evaluate_into", "interpolate_inputs", "road_height", "workspace"]
 
 # per-wheel outputs of :func:`evaluate`
 W_FX, W_FY, W_FZ, W_KAPPA, W_ALPHA, W_DEFLECTION, W_TRAVEL, W_SPIN, W_VX = range(9)
@@ -244,8 +243,8 @@ def evaluate_into(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, i
             tau[5 + wb] -= brake * math.tanh(u[5 + wb] / sc[S_W_LOW])
 
     if sc[S_AERO] > 0.0:
-        px, pz = sc[S_AERO_X], sc[S_AERO_Z]
-        vax = v[0, 3] + (v[0, 1] * pz)  # v + w x p, x component, with p = (px, 0, pz)
+        pz = sc[S_AERO_Z]  # drag acts at (S_AERO_X, 0, pz); its x does not change the moment
+        vax = v[0, 3] + (v[0, 1] * pz)  # x component of v + w x p
         drag = -sc[S_AERO] * abs(vax) * vax
         fext[0, 1] += pz * drag  # p x (drag, 0, 0) = (0, pz drag, 0)
         fext[0, 3] += drag

@@ -24,17 +24,17 @@ from numba import njit
 __all__ = [
     "cross",
     "cross_into",
-    "rot_axis",
     "euler_zyx_to_matrix",
-    "mat_vec",
-    "mat_t_vec",
-    "xform_motion",
-    "xform_force_inv",
-    "motion_cross_motion",
-    "motion_cross_force",
+    "inertia_matrix6",
     "inertia_times_motion",
     "inertia_to_parent",
-    "inertia_matrix6",
+    "mat_t_vec",
+    "mat_vec",
+    "motion_cross_force",
+    "motion_cross_motion",
+    "rot_axis",
+    "xform_force_inv",
+    "xform_motion",
 ]
 
 

@@ -16,7 +16,7 @@ from ..errors import SimulationError
 from .rhs import N_WOUT, W_FZ, evaluate
 from .vehicle import VehicleModel
 
-__all__ = ["Equilibrium", "static_equilibrium", "rolling_state", "state_derivative"]
+__all__ = ["Equilibrium", "rolling_state", "state_derivative", "static_equilibrium"]
 
 
 def state_derivative(model: VehicleModel, x: np.ndarray, t: float = 0.0, inputs: np.ndarray | None = None):

@@ -18,7 +18,7 @@ from ..tyre.magic_formula import tyre_coefficients
 from ..units import STANDARD_GRAVITY
 from .topology import Tree, build_tree
 
-__all__ = ["VehicleModel", "Road", "build_model", "flat_road", "speed_bump"]
+__all__ = ["Road", "VehicleModel", "build_model", "flat_road", "speed_bump"]
 
 # per-wheel float parameters
 WF_RADIUS, WF_MR, WF_K, WF_C, WF_PRELOAD, WF_BUMP, WF_REBOUND, WF_KSTOP = range(8)

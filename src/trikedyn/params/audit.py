@@ -25,7 +25,7 @@ from .io import ParameterSet
 from .ops import mass_properties
 from .schema import VehicleParameters
 
-__all__ = ["Finding", "audit", "static_wheel_loads", "unsprung_mass", "tip_over_thresholds"]
+__all__ = ["Finding", "audit", "static_wheel_loads", "tip_over_thresholds", "unsprung_mass"]
 
 OK, NOTE, WARNING, INCONSISTENT = "ok", "note", "warning", "inconsistent"
 

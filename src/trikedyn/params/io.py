@@ -23,7 +23,7 @@ from pydantic import BaseModel, ValidationError
 from ..errors import ParameterError
 from .schema import VehicleParameters
 
-__all__ = ["ParameterSet", "list_presets", "load_vehicle", "parse_vehicle", "save_vehicle", "NOTE_KEYS"]
+__all__ = ["NOTE_KEYS", "ParameterSet", "list_presets", "load_vehicle", "parse_vehicle", "save_vehicle"]
 
 NOTE_KEYS = ("assumed", "source", "note")
 
@@ -294,8 +294,7 @@ def _describe(exc: ValidationError, plain: dict) -> str:
     if kind == "missing":
         return f"{where}: missing (required)"
     msg = err["msg"]
-    if msg.startswith("Value error, "):
-        msg = msg[len("Value error, ") :]
+    msg = msg.removeprefix("Value error, ")
     got = err.get("input")
     shown = "" if isinstance(got, dict | list) or kind.startswith("value_error") else f" (got {got!r})"
     return f"{where}: {msg[0].lower() + msg[1:]}{shown}"

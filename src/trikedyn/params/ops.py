@@ -14,7 +14,7 @@ from ..measure.cg import Box, MassProperties, Payload, PointMass
 from .io import ParameterSet, _describe
 from .schema import VehicleParameters
 
-__all__ = ["mass_properties", "freight", "with_payload", "with_freight", "scale_suspension", "override"]
+__all__ = ["freight", "mass_properties", "override", "scale_suspension", "with_freight", "with_payload"]
 
 
 def _base_mass_properties(params: VehicleParameters) -> MassProperties:

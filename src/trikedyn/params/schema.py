@@ -20,17 +20,17 @@ from typing import Literal
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 __all__ = [
+    "AeroSpec",
+    "BodySpec",
+    "DriveSpec",
     "MassSpec",
+    "PayloadItemSpec",
+    "PointSpec",
     "SteeringSpec",
     "SuspensionSpec",
-    "WheelSpec",
     "TyreSpec",
-    "DriveSpec",
-    "AeroSpec",
-    "PointSpec",
-    "PayloadItemSpec",
-    "BodySpec",
     "VehicleParameters",
+    "WheelSpec",
 ]
 
 

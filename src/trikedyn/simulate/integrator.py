@@ -12,7 +12,7 @@ from numba import njit
 from ..model.rhs import N_WOUT, W_DEFLECTION, evaluate_into, workspace
 from ..model.vehicle import S_PENETRATION_LIMIT, S_ROLL_LIMIT, WF_RADIUS
 
-__all__ = ["STATUS_OK", "STATUS_NAN", "STATUS_PENETRATION", "STATUS_ROLLOVER", "STATUS_TEXT", "rk4_loop"]
+__all__ = ["STATUS_NAN", "STATUS_OK", "STATUS_PENETRATION", "STATUS_ROLLOVER", "STATUS_TEXT", "rk4_loop"]
 
 STATUS_OK, STATUS_NAN, STATUS_PENETRATION, STATUS_ROLLOVER = 0, 1, 2, 3
 STATUS_TEXT = {
