@@ -267,3 +267,10 @@ def evaluate(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar, 
     evaluate_into(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
                   wheel_f, wheel_i, tyre, sc, road, wout, ws, xdot)
     return xdot
+
+
+def _body_velocities_py(e, r, u, tree):
+    """Body spatial velocities (for tests and post-processing; allocating)."""
+    v = np.empty((tree.n_bodies, 6))
+    body_velocities_into(e, r, u, tree.parent, tree.jtype, tree.jaxis, v)
+    return v

@@ -118,8 +118,13 @@ class VehicleModel:
         return replace(self, road=road.array())
 
     def variant(self, *, slip_forces: bool | None = None, damping: bool | None = None,
-                gravity: float | None = None) -> VehicleModel:
-        """A copy with model parts switched off, for verification (energy, momentum)."""
+                gravity: float | None = None, drag: bool | None = None) -> VehicleModel:
+        """A copy with model parts switched off, for verification (energy, momentum).
+
+        ``damping=False`` removes the suspension and tyre dampers and the steering servo's damping;
+        ``slip_forces=False`` the tyres' horizontal forces and rolling resistance; ``drag=False`` the
+        aerodynamic drag; ``gravity`` sets g [m/s^2].
+        """
         scalars = self.scalars.copy()
         wheel_f = self.wheel_f.copy()
         tyre = self.tyre.copy()
@@ -131,6 +136,8 @@ class VehicleModel:
             scalars[S_STEER_KD] = 0.0
         if gravity is not None:
             scalars[S_G] = gravity
+        if drag is False:
+            scalars[S_AERO] = 0.0
         return replace(self, scalars=scalars, wheel_f=wheel_f, tyre=tyre)
 
 

@@ -1,0 +1,77 @@
+"""Output channels computed from recorded states (compiled; one pass over the samples).
+
+Channels per sample: chassis pose and rates, velocities and accelerations at the vehicle's CG in chassis
+axes (as an accelerometer there would read them without gravity), the steer angle, and per wheel the
+tyre forces, slips, deflection, suspension travel and spin; the rollover index of Eq. 5,
+``RI = (Fz_right - Fz_left) / (Fz_right + Fz_left)`` over the two-wheel axle, and the load transfer
+ratio over all wheels, ``LTR = (sum Fz_right - sum Fz_left) / sum Fz``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from ..model.rhs import N_WOUT, evaluate_into, workspace
+
+__all__ = ["BASE_CHANNELS", "WHEEL_CHANNELS", "compute_channels"]
+
+BASE_CHANNELS = (
+    "x_m",
+    "y_m",
+    "z_m",
+    "roll_rad",
+    "pitch_rad",
+    "yaw_rad",
+    "roll_rate_radps",
+    "pitch_rate_radps",
+    "yaw_rate_radps",
+    "vx_mps",
+    "vy_mps",
+    "vz_mps",
+    "ax_mps2",
+    "ay_mps2",
+    "az_mps2",
+    "speed_mps",
+    "steer_rad",
+)
+WHEEL_CHANNELS = ("fx_N", "fy_N", "fz_N", "kappa", "alpha_rad", "deflection_m", "travel_m", "spin_radps", "vx_mps")
+
+
+@njit(cache=True)
+def compute_channels(times, states, inputs, cg, steer_index, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
+                     wheel_f, wheel_i, tyre, sc, road):
+    """Channel matrices for recorded ``states``.
+
+    Returns
+    -------
+    base : ndarray (m, len(BASE_CHANNELS))
+    wheels : ndarray (m, n_wheels, N_WOUT)
+    """
+    m = times.shape[0]
+    n = parent.shape[0] + 5
+    nw = wheel_f.shape[0]
+    base = np.empty((m, 17))
+    wheels = np.empty((m, nw, N_WOUT))
+    ws = workspace(parent.shape[0])
+    xdot = np.empty(states.shape[1])
+    wout = np.empty((nw, N_WOUT))
+    for i in range(m):
+        x = states[i]
+        evaluate_into(times[i], x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
+                      wheel_f, wheel_i, tyre, sc, road, wout, ws, xdot)
+        wheels[i] = wout
+        w = x[n : n + 3]
+        v = x[n + 3 : n + 6]
+        wd = xdot[n : n + 3]
+        vd = xdot[n + 3 : n + 6]
+        # velocity and classical acceleration of the CG point fixed in the chassis, chassis axes
+        vc = v + np.cross(w, cg)
+        ac = vd + np.cross(wd, cg) + np.cross(w, vc)
+        base[i, 0:6] = x[0:6]
+        base[i, 6:9] = w
+        base[i, 9:12] = vc
+        base[i, 12:15] = ac
+        base[i, 15] = np.sqrt(vc[0] * vc[0] + vc[1] * vc[1])
+        base[i, 16] = x[5 + steer_index] if steer_index > 0 else 0.0
+    return base, wheels

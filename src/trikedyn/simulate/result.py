@@ -1,0 +1,116 @@
+"""Simulation results: channels by name, a pandas DataFrame, and plots (matplotlib imported lazily)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .channels import BASE_CHANNELS, WHEEL_CHANNELS
+
+__all__ = ["Result", "rollover_index", "load_transfer_ratio"]
+
+
+def rollover_index(fz_right, fz_left):
+    """Rollover index (paper Eq. 5): ``RI = (F_R - F_L) / (F_R + F_L)``; |RI| = 1 when a wheel lifts.
+
+    Returns NaN where both wheels are off the ground.
+    """
+    fr = np.asarray(fz_right, dtype=float)
+    fl = np.asarray(fz_left, dtype=float)
+    total = fr + fl
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(total > 0, (fr - fl) / np.where(total > 0, total, 1.0), np.nan)
+
+
+def load_transfer_ratio(fz_right_total, fz_left_total):
+    """Load transfer ratio over all wheels: ``(sum F_right - sum F_left) / sum F``."""
+    return rollover_index(fz_right_total, fz_left_total)
+
+
+@dataclass(frozen=True)
+class Result:
+    """A simulation's recorded channels.
+
+    Attributes
+    ----------
+    time_s : ndarray
+    channels : dict[str, ndarray]
+        ``BASE_CHANNELS`` by name; per wheel ``<wheel>_<quantity>`` (e.g. ``rear_left_fz_N``);
+        ``ri`` (Eq. 5 over the two-wheel axle) and ``ltr``.
+    states : ndarray
+        The raw state at each sample.
+    status : str
+        ``"ok"`` or why the run stopped early.
+    meta : dict
+        Vehicle name, time step, wheel names.
+    """
+
+    time_s: np.ndarray
+    channels: dict
+    states: np.ndarray
+    status: str = "ok"
+    meta: dict = field(default_factory=dict)
+
+    @classmethod
+    def from_arrays(cls, model, times, states, base, wheels, inputs, *, status, dt) -> Result:
+        channels = {name: base[:, i].copy() for i, name in enumerate(BASE_CHANNELS)}
+        names = model.wheel_names
+        for k, wname in enumerate(names):
+            for j, quantity in enumerate(WHEEL_CHANNELS):
+                channels[f"{wname}_{quantity}"] = wheels[:, k, j].copy()
+        fz = wheels[:, :, 2]
+        ys = np.array([w.y_m for w in (model.params.wheel(n) for n in names)])
+        pair = [k for k, n in enumerate(names) if not model.params.wheel(n).steered] if model.params.layout == "delta" \
+            else [k for k, n in enumerate(names) if model.params.wheel(n).steered]
+        left = max(pair, key=lambda k: ys[k])
+        right = min(pair, key=lambda k: ys[k])
+        channels["ri"] = rollover_index(fz[:, right], fz[:, left])
+        channels["ltr"] = load_transfer_ratio(fz[:, ys < 0].sum(axis=1), fz[:, ys > 0].sum(axis=1))
+        channels["min_wheel_load_N"] = fz.min(axis=1)
+        if inputs.shape[0] == 1:
+            channels["steer_cmd_rad"] = np.full(times.shape, inputs[0, 1])
+            channels["drive_torque_Nm"] = np.full(times.shape, inputs[0, 2])
+        else:
+            channels["steer_cmd_rad"] = np.interp(times, inputs[:, 0], inputs[:, 1])
+            channels["drive_torque_Nm"] = np.interp(times, inputs[:, 0], inputs[:, 2])
+        meta = {"vehicle": model.params.name, "dt_s": dt, "wheels": list(names), "left": names[left],
+                "right": names[right]}
+        return cls(times.copy(), channels, states.copy(), status, meta)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        if name == "time_s":
+            return self.time_s
+        if name not in self.channels:
+            from difflib import get_close_matches
+
+            from ..errors import InputError
+
+            hint = get_close_matches(name, list(self.channels), n=1)
+            raise InputError(f"no channel '{name}'" + (f"; did you mean '{hint[0]}'?" if hint else ""), where="channel")
+        return self.channels[name]
+
+    def to_pandas(self):
+        """All channels as a DataFrame indexed by time [s]."""
+        import pandas as pd
+
+        frame = pd.DataFrame(self.channels, index=pd.Index(self.time_s, name="time_s"))
+        frame.attrs.update(self.meta, status=self.status)
+        return frame
+
+    def plot(self, channels=("speed_mps", "ay_mps2", "yaw_rate_radps", "ri"), axes=None):
+        """Time histories of ``channels`` (one axis each); returns the Figure."""
+        import matplotlib.pyplot as plt
+
+        if axes is None:
+            fig, axes = plt.subplots(len(channels), 1, sharex=True, figsize=(7, 1.8 * len(channels)))
+        axes = np.atleast_1d(axes)
+        for ax, name in zip(axes, channels, strict=False):
+            ax.plot(self.time_s, self[name])
+            ax.set_ylabel(name)
+            ax.grid(alpha=0.3)
+        axes[-1].set_xlabel("time [s]")
+        axes[0].set_title(f"{self.meta.get('vehicle', '')} ({self.status})")
+        fig = axes[0].figure
+        fig.tight_layout()
+        return fig
