@@ -30,7 +30,7 @@ def mjcf_from_tree(tree, gravity=(0.0, 0.0, -9.80665)):
     def body(i):
         quat = np.empty(4)
         mujoco.mju_mat2Quat(quat, np.ascontiguousarray(tree.tree_e[i].T).ravel())
-        kind = "hinge" if tree.jtype[i] == 1 else "slide"
+        kind = "slide" if tree.jtype[i] == 2 else "hinge"  # revolute and rotor joints are hinges
         inner = "".join(body(c) for c in children[i])
         return (
             f'<body name="{tree.body_names[i]}" pos="{_fmt(tree.tree_r[i])}" quat="{_fmt(quat)}">'

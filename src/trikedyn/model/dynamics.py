@@ -24,6 +24,7 @@ from .spatial import (
     euler_zyx_into,
     inertia_times_motion,
     inertia_to_parent,
+    inertia_translate_to_parent,
     motion_cross_force,
     motion_cross_motion,
     rot_axis_into,
@@ -50,7 +51,10 @@ __all__ = [
     "world_transforms_into",
 ]
 
-JOINT_FREE, JOINT_REVOLUTE, JOINT_PRISMATIC = 0, 1, 2
+JOINT_FREE, JOINT_REVOLUTE, JOINT_PRISMATIC, JOINT_ROTOR = 0, 1, 2, 3
+"""Joint types. A *rotor* is a revolute joint whose body is axisymmetric about the joint axis (a wheel):
+its frame is kept fixed to the parent (it does not spin with the body), which leaves the inertia, and so
+every equation, unchanged while saving the spin rotation in every transform."""
 
 # workspace slots
 (W_E, W_R, W_EW, W_PW, W_V, W_A, W_F, W_FEXT, W_MC, W_HC, W_IC, W_HMAT, W_LOW, W_VEC, W_T6A, W_T6B, W_T33,
@@ -103,6 +107,11 @@ def joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, e, r, rot):
                 r[b, i] = tree_r[b, i]
                 for j in range(3):
                     e[b, i, j] = rot[0, i] * te[0, j] + rot[1, i] * te[1, j] + rot[2, i] * te[2, j]
+        elif jtype[b] == JOINT_ROTOR:
+            for i in range(3):
+                r[b, i] = tree_r[b, i]
+                for j in range(3):
+                    e[b, i, j] = te[i, j]
         else:
             # E = tree_e ; r = tree_r + tree_e^T (axis q)
             ax = jaxis[b]
@@ -134,7 +143,7 @@ def body_velocities_into(e, r, u, parent, jtype, jaxis, v):
         v[0, k] = u[k]
     for b in range(1, parent.shape[0]):
         xform_motion(e[b], r[b], v[parent[b]], v[b])
-        off = 0 if jtype[b] == JOINT_REVOLUTE else 3
+        off = 3 if jtype[b] == JOINT_PRISMATIC else 0
         for k in range(3):
             v[b, off + k] += jaxis[b, k] * u[5 + b]
 
@@ -158,7 +167,7 @@ def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar,
         a[0, 3 + k] = udot[3 + k] - (e0[k, 0] * gravity[0] + e0[k, 1] * gravity[1] + e0[k, 2] * gravity[2])
     for b in range(1, nb):
         p = parent[b]
-        off = 0 if jtype[b] == JOINT_REVOLUTE else 3
+        off = 3 if jtype[b] == JOINT_PRISMATIC else 0
         qd = u[5 + b]
         xform_motion(e[b], r[b], v[p], v[b])
         for k in range(3):
@@ -180,7 +189,7 @@ def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar,
         for k in range(6):
             f[b, k] += t6b[k] - fext[b, k]
     for b in range(nb - 1, 0, -1):
-        off = 0 if jtype[b] == JOINT_REVOLUTE else 3
+        off = 3 if jtype[b] == JOINT_PRISMATIC else 0
         tau[5 + b] = jaxis[b, 0] * f[b, off] + jaxis[b, 1] * f[b, off + 1] + jaxis[b, 2] * f[b, off + 2]
         xform_force_inv(e[b], r[b], f[b], t6a)
         p = parent[b]
@@ -205,10 +214,14 @@ def crba_into(e, r, parent, jtype, jaxis, mass, h, ibar, ws):
                 ic[b, i, j] = ibar[b, i, j]
     for b in range(nb - 1, 0, -1):
         p = parent[b]
-        inertia_to_parent(e[b], r[b], mc[b], hc[b], ic[b], hc[p], ic[p], scratch)
+        eb = e[b]
+        if eb[0, 0] == 1.0 and eb[1, 1] == 1.0 and eb[2, 2] == 1.0:  # no rotation: a rotor frame, a slider
+            inertia_translate_to_parent(r[b], mc[b], hc[b], ic[b], hc[p], ic[p])
+        else:
+            inertia_to_parent(eb, r[b], mc[b], hc[b], ic[b], hc[p], ic[p], scratch)
         mc[p] += mc[b]
     for b in range(1, nb):
-        off = 0 if jtype[b] == JOINT_REVOLUTE else 3
+        off = 3 if jtype[b] == JOINT_PRISMATIC else 0
         for k in range(6):
             tmp[k] = 0.0
         for k in range(3):
@@ -222,7 +235,7 @@ def crba_into(e, r, parent, jtype, jaxis, mass, h, ibar, ws):
             for k in range(6):
                 f[k] = tmp[k]
             j = parent[j]
-            offj = 0 if jtype[j] == JOINT_REVOLUTE else 3
+            offj = 3 if jtype[j] == JOINT_PRISMATIC else 0
             value = jaxis[j, 0] * f[offj] + jaxis[j, 1] * f[offj + 1] + jaxis[j, 2] * f[offj + 2]
             hmat[di, 5 + j] = value
             hmat[5 + j, di] = value

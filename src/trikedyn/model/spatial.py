@@ -219,6 +219,24 @@ def inertia_to_parent(e, r, m, h, ibar, h_out, ibar_out, tmp):
 
 
 @njit(cache=True)
+def inertia_translate_to_parent(r, m, h, ibar, h_out, ibar_out):
+    """:func:`inertia_to_parent` for a transform without rotation (``E = 1``): a wheel's rotor frame, a slider."""
+    hp0 = h[0] + m * r[0]
+    hp1 = h[1] + m * r[1]
+    hp2 = h[2] + m * r[2]
+    h_out[0] += hp0
+    h_out[1] += hp1
+    h_out[2] += hp2
+    y = (h[0], h[1], h[2])
+    hp = (hp0, hp1, hp2)
+    diag = r[0] * h[0] + r[1] * h[1] + r[2] * h[2] + hp0 * r[0] + hp1 * r[1] + hp2 * r[2]
+    for i in range(3):
+        for j in range(3):
+            ibar_out[i, j] += ibar[i, j] - (y[i] * r[j] + r[i] * hp[j])
+        ibar_out[i, i] += diag
+
+
+@njit(cache=True)
 def inertia_matrix6(m, h, ibar):
     """The 6x6 spatial inertia matrix of ``(m, h, Ibar)`` (for tests and linear algebra)."""
     out = np.zeros((6, 6))

@@ -31,7 +31,7 @@ from ..params.audit import static_wheel_loads, unsprung_mass
 from ..params.ops import mass_properties
 from ..params.schema import VehicleParameters
 from ..units import STANDARD_GRAVITY
-from .dynamics import JOINT_FREE, JOINT_PRISMATIC, JOINT_REVOLUTE
+from .dynamics import JOINT_FREE, JOINT_PRISMATIC, JOINT_REVOLUTE, JOINT_ROTOR
 
 __all__ = ["Tree", "WheelStation", "build_tree"]
 
@@ -175,7 +175,7 @@ def build_tree(params: VehicleParameters, g: float = STANDARD_GRAVITY) -> Tree:
                     (m_s * SLIDER_LENGTH_M**2 / 12, m_s * SLIDER_LENGTH_M**2 / 12, m_s * 0.002),
                 ),
             )
-            wheel = b.add(f"{w.name}_wheel", slider, JOINT_REVOLUTE, (0, 1, 0), np.eye(3), offset, wheel_inertia)
+            wheel = b.add(f"{w.name}_wheel", slider, JOINT_ROTOR, (0, 1, 0), np.eye(3), offset, wheel_inertia)
             ratio = float(np.cos(eps))
             # the axial spring carries the axial component of the vertical sprung load
             stations.append((w, wheel, slider, head, ratio, sprung_load * ratio))
@@ -195,7 +195,7 @@ def build_tree(params: VehicleParameters, g: float = STANDARD_GRAVITY) -> Tree:
                 f"{w.name}_swing_arm", 0, JOINT_REVOLUTE, (0, 1, 0), np.eye(3), pivot,
                 _rod_or_point(susp.moving_mass_kg, (-lx / 2, 0.0, drop / 2), (i_cg * 0.05, i_cg, i_cg)),
             )
-            wheel = b.add(f"{w.name}_wheel", arm, JOINT_REVOLUTE, (0, 1, 0), np.eye(3), (-lx, 0.0, drop), wheel_inertia)
+            wheel = b.add(f"{w.name}_wheel", arm, JOINT_ROTOR, (0, 1, 0), np.eye(3), (-lx, 0.0, drop), wheel_inertia)
             # torque about the pivot that carries the sprung load at the axle: load * lever (lx)
             # minus the moment of the arm's own weight is carried as part of the unsprung share
             stations.append((w, wheel, arm, -1, lx, sprung_load * lx))
