@@ -28,7 +28,7 @@ def test_rk4_wheel_loads_match_dop853(reference, dt):
 
     duration = 5.0
     record = int(round(0.01 / dt))
-    times, states, status, rec, _ = rk4_loop(x0, 0.0, dt, int(round(duration / dt)), record, inputs, *arrays)
+    times, states, _, _, status, rec, _ = rk4_loop(x0, 0.0, dt, int(round(duration / dt)), record, inputs, *arrays)
     assert status == STATUS_OK
     reference_run = solve_ivp(rhs, (0.0, duration), x0, method="DOP853", rtol=1e-10, atol=1e-12,
                               t_eval=times[:rec])

@@ -18,7 +18,7 @@ setup code and tests.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from .._jit import jit
 
 from .spatial import (
     euler_zyx_into,
@@ -38,6 +38,8 @@ __all__ = [
     "JOINT_REVOLUTE",
     "body_velocities_into",
     "cholesky_solve_into",
+    "dof_parents",
+    "ltl_solve_into",
     "crba",
     "crba_into",
     "euler_rates_into",
@@ -58,12 +60,13 @@ every equation, unchanged while saving the spin rotation in every transform."""
 
 # workspace slots
 (W_E, W_R, W_EW, W_PW, W_V, W_A, W_F, W_FEXT, W_MC, W_HC, W_IC, W_HMAT, W_LOW, W_VEC, W_T6A, W_T6B, W_T33,
- W_TAU, W_BIAS, W_ZERO) = range(20)
+ W_TAU, W_BIAS, W_ZERO, W_LAM) = range(21)
 
 
-@njit(cache=True)
-def workspace(nb):
-    """Scratch arrays for ``nb`` bodies (``nb + 5`` DOF), allocated once per time loop."""
+@jit
+def workspace(parent):
+    """Scratch arrays for the tree of ``parent`` (``nb + 5`` DOF), allocated once per time loop."""
+    nb = parent.shape[0]
     n = nb + 5
     return (
         np.empty((nb, 3, 3)),  # e: parent -> body rotations
@@ -86,10 +89,11 @@ def workspace(nb):
         np.empty(n),  # tau: applied generalised forces
         np.empty(n),  # bias: C(q, u, f_ext)
         np.zeros(n),  # zero accelerations (never written)
+        dof_parents(parent),  # DOF-level parent array for the sparse factorisation
     )
 
 
-@njit(cache=True)
+@jit(inline="always")
 def joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, e, r, rot):
     """Parent-to-body transforms ``(e[i], r[i])`` at ``q``; for the base, world to base."""
     euler_zyx_into(q[3], q[4], q[5], rot)
@@ -121,7 +125,7 @@ def joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, e, r, rot):
                     e[b, i, j] = te[i, j]
 
 
-@njit(cache=True)
+@jit(inline="always")
 def world_transforms_into(parent, e, r, ew, pw):
     """World-to-body rotations ``ew[i]`` and body origins in the world ``pw[i]``."""
     for i in range(3):
@@ -136,7 +140,7 @@ def world_transforms_into(parent, e, r, ew, pw):
                 ew[b, i, j] = e[b, i, 0] * ew[p, 0, j] + e[b, i, 1] * ew[p, 1, j] + e[b, i, 2] * ew[p, 2, j]
 
 
-@njit(cache=True)
+@jit(inline="always")
 def body_velocities_into(e, r, u, parent, jtype, jaxis, v):
     """Spatial velocity of every body in its own coordinates."""
     for k in range(6):
@@ -148,13 +152,13 @@ def body_velocities_into(e, r, u, parent, jtype, jaxis, v):
             v[b, off + k] += jaxis[b, k] * u[5 + b]
 
 
-@njit(cache=True)
-def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, tau):
+@jit(inline="always")
+def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, tau, have_velocities=False):
     """Inverse dynamics: ``tau = H udot + C(q, u, f_ext)`` (RNEA, gravity as a base acceleration).
 
     ``fext[i]`` is the external spatial force on body ``i`` in its coordinates, about its origin.
     The first six entries of ``tau`` are the force on the base in base coordinates. Fills ``ws[W_V]``
-    with the body velocities.
+    with the body velocities, or uses them as they are with ``have_velocities``.
     """
     nb = parent.shape[0]
     v, a, f = ws[W_V], ws[W_A], ws[W_F]
@@ -169,9 +173,10 @@ def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar,
         p = parent[b]
         off = 3 if jtype[b] == JOINT_PRISMATIC else 0
         qd = u[5 + b]
-        xform_motion(e[b], r[b], v[p], v[b])
-        for k in range(3):
-            v[b, off + k] += jaxis[b, k] * qd
+        if not have_velocities:
+            xform_motion(e[b], r[b], v[p], v[b])
+            for k in range(3):
+                v[b, off + k] += jaxis[b, k] * qd
         xform_motion(e[b], r[b], a[p], a[b])
         # a += S udot + v x (S qd)
         for k in range(6):
@@ -199,7 +204,7 @@ def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar,
         tau[k] = f[0, k]
 
 
-@njit(cache=True)
+@jit(inline="always")
 def crba_into(e, r, parent, jtype, jaxis, mass, h, ibar, ws):
     """Joint-space mass matrix ``H(q)`` into ``ws[W_HMAT]`` by the composite-rigid-body algorithm."""
     nb = parent.shape[0]
@@ -252,7 +257,7 @@ def crba_into(e, r, parent, jtype, jaxis, mass, h, ibar, ws):
             hmat[i, k] = f[i]
 
 
-@njit(cache=True)
+@jit(inline="always")
 def cholesky_solve_into(a, b, low, y, x):
     """Solve ``a x = b`` for symmetric positive definite ``a`` by Cholesky; ``x`` is NaN if ``a`` is not."""
     n = a.shape[0]
@@ -283,7 +288,64 @@ def cholesky_solve_into(a, b, low, y, x):
         x[i] = s / low[i, i]
 
 
-@njit(cache=True)
+@jit
+def dof_parents(parent):
+    """The DOF-level parent array of the tree (Featherstone's lambda): the base's six DOF form a chain,
+    a joint's DOF hangs on its parent body's (the base's last DOF for a child of the base)."""
+    nb = parent.shape[0]
+    lam = np.empty(nb + 5, dtype=np.int64)
+    for i in range(6):
+        lam[i] = i - 1
+    for b in range(1, nb):
+        lam[5 + b] = 5 + parent[b] if parent[b] > 0 else 5
+    return lam
+
+
+@jit
+def ltl_solve_into(a, b, lam, x):
+    """Solve ``a x = b`` exploiting the tree's branch-induced sparsity (Featherstone 2008, 6.5).
+
+    ``a`` (the mass matrix) is factorised in place as ``L^T L`` touching only entries between a DOF and its
+    ancestors in ``lam``; ``x`` is NaN if ``a`` is not positive definite.
+    """
+    n = a.shape[0]
+    for k in range(n - 1, -1, -1):
+        d = a[k, k]
+        if d <= 0.0:
+            for i in range(n):
+                x[i] = np.nan
+            return
+        lkk = np.sqrt(d)
+        a[k, k] = lkk
+        i = lam[k]
+        while i != -1:
+            a[k, i] /= lkk
+            i = lam[i]
+        i = lam[k]
+        while i != -1:
+            j = i
+            aki = a[k, i]
+            while j != -1:
+                a[i, j] -= aki * a[k, j]
+                j = lam[j]
+            i = lam[i]
+    for i in range(n):
+        x[i] = b[i]
+    for i in range(n - 1, -1, -1):  # L^T y = b
+        x[i] /= a[i, i]
+        j = lam[i]
+        while j != -1:
+            x[j] -= a[i, j] * x[i]
+            j = lam[j]
+    for i in range(n):  # L x = y
+        j = lam[i]
+        while j != -1:
+            x[i] -= a[i, j] * x[j]
+            j = lam[j]
+        x[i] /= a[i, i]
+
+
+@jit(inline="always")
 def euler_rates_into(q, u, e0, out):
     """``dq/dt``: base position rate in the world, Euler-angle rates, joint rates.
 
@@ -306,7 +368,7 @@ def euler_rates_into(q, u, e0, out):
 
 
 # ---- allocating wrappers (setup code, tests) ---------------------------------------------------
-@njit(cache=True)
+@jit
 def joint_transforms(q, parent, jtype, jaxis, tree_e, tree_r):
     """Parent-to-body transforms at ``q`` (allocating)."""
     nb = parent.shape[0]
@@ -316,7 +378,7 @@ def joint_transforms(q, parent, jtype, jaxis, tree_e, tree_r):
     return e, r
 
 
-@njit(cache=True)
+@jit
 def world_transforms(parent, e, r):
     """World-to-body rotations and body origins (allocating)."""
     nb = parent.shape[0]
@@ -326,29 +388,29 @@ def world_transforms(parent, e, r):
     return ew, pw
 
 
-@njit(cache=True)
+@jit
 def rnea(q, u, udot, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
     """``H udot + C(q, u, f_ext)`` (allocating; see :func:`rnea_into`)."""
-    ws = workspace(parent.shape[0])
+    ws = workspace(parent)
     joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws[W_E], ws[W_R], ws[W_T33])
     tau = np.empty(u.shape[0])
     rnea_into(ws[W_E], ws[W_R], u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, tau)
     return tau
 
 
-@njit(cache=True)
+@jit
 def crba(q, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
     """Joint-space mass matrix ``H(q)`` (allocating; see :func:`crba_into`)."""
-    ws = workspace(parent.shape[0])
+    ws = workspace(parent)
     joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws[W_E], ws[W_R], ws[W_T33])
     crba_into(ws[W_E], ws[W_R], parent, jtype, jaxis, mass, h, ibar, ws)
     return ws[W_HMAT].copy()
 
 
-@njit(cache=True)
+@jit
 def forward_dynamics(q, u, tau, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
     """Accelerations ``du/dt = H^-1 (tau - C(q, u, f_ext))`` (allocating)."""
-    ws = workspace(parent.shape[0])
+    ws = workspace(parent)
     joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws[W_E], ws[W_R], ws[W_T33])
     n = u.shape[0]
     bias = np.empty(n)

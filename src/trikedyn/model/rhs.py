@@ -27,7 +27,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from .._jit import jit
 
 from ..tyre.magic_formula import combined_forces, rolling_resistance_moment, vertical_force
 from .dynamics import (
@@ -96,7 +96,7 @@ W_FX, W_FY, W_FZ, W_KAPPA, W_ALPHA, W_DEFLECTION, W_TRAVEL, W_SPIN, W_VX = range
 N_WOUT = 9
 
 
-@njit(cache=True)
+@jit(inline="always")
 def road_height(x, y, road):
     """Road height [m] and its slopes ``dh/dx``, ``dh/dy`` at ``(x, y)``."""
     if road[R_KIND] == ROAD_BUMP:
@@ -111,16 +111,34 @@ def road_height(x, y, road):
     return 0.0, 0.0, 0.0
 
 
-@njit(cache=True)
+@jit(inline="always")
 def interpolate_inputs(t, inputs):
-    """Steer command [rad], drive torque [N m], brake torque [N m] at time ``t``."""
-    if inputs.shape[0] == 1:
+    """Steer command [rad], drive torque [N m], brake torque [N m] at time ``t``.
+
+    ``inputs`` is one row (constant inputs) or a table on a *uniform* time grid (see
+    :func:`trikedyn.simulate.run.input_table`): the row is found by division, not by search, and held
+    beyond the ends.
+    """
+    m = inputs.shape[0]
+    if m == 1:
         return inputs[0, 1], inputs[0, 2], inputs[0, 3]
-    times = inputs[:, 0]
-    return np.interp(t, times, inputs[:, 1]), np.interp(t, times, inputs[:, 2]), np.interp(t, times, inputs[:, 3])
+    t0 = inputs[0, 0]
+    step = inputs[1, 0] - t0
+    pos = (t - t0) / step
+    if pos <= 0.0:
+        return inputs[0, 1], inputs[0, 2], inputs[0, 3]
+    i = int(pos)
+    if i >= m - 1:
+        return inputs[m - 1, 1], inputs[m - 1, 2], inputs[m - 1, 3]
+    w = pos - i
+    return (
+        inputs[i, 1] + w * (inputs[i + 1, 1] - inputs[i, 1]),
+        inputs[i, 2] + w * (inputs[i + 1, 2] - inputs[i, 2]),
+        inputs[i, 3] + w * (inputs[i + 1, 3] - inputs[i, 3]),
+    )
 
 
-@njit(cache=True)
+@jit(inline="always")
 def _tyre(k, wheel_f, wheel_i, tyre, sc, road, ew, pw, v, slip, xdot, slip_off, fext, wout):
     """Contact and tyre forces of wheel ``k``: fills ``fext`` of its body, its slip rates and ``wout``."""
     wb = wheel_i[k, WI_WHEEL]
@@ -189,7 +207,7 @@ def _tyre(k, wheel_f, wheel_i, tyre, sc, road, ew, pw, v, slip, xdot, slip_off, 
     wout[k, W_VX] = vx
 
 
-@njit(cache=True)
+@jit
 def evaluate_into(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
                   wheel_f, wheel_i, tyre, sc, road, wout, ws, xdot):
     """``xdot = dx/dt`` at ``(t, x)``; fills ``wout`` (n_wheels, N_WOUT); ``ws`` from :func:`workspace`."""
@@ -251,7 +269,7 @@ def evaluate_into(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, i
 
     gravity = (0.0, 0.0, -sc[S_G])
     bias = ws[W_BIAS]
-    rnea_into(e, r, u, ws[W_ZERO], fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, bias)
+    rnea_into(e, r, u, ws[W_ZERO], fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, bias, True)
     crba_into(e, r, parent, jtype, jaxis, mass, h, ibar, ws)
     for i in range(n):
         tau[i] -= bias[i]
@@ -259,10 +277,10 @@ def evaluate_into(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, i
     euler_rates_into(q, u, e[0], xdot[:n])
 
 
-@njit(cache=True)
+@jit
 def evaluate(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar, wheel_f, wheel_i, tyre, sc, road, wout):
     """``dx/dt`` at ``(t, x)`` (allocating; see :func:`evaluate_into`)."""
-    ws = workspace(parent.shape[0])
+    ws = workspace(parent)
     xdot = np.empty(x.shape[0])
     evaluate_into(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
                   wheel_f, wheel_i, tyre, sc, road, wout, ws, xdot)

@@ -19,7 +19,7 @@ nothing per body. All are ``njit(cache=True)``.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from .._jit import jit
 
 __all__ = [
     "cross",
@@ -38,7 +38,7 @@ __all__ = [
 ]
 
 
-@njit(cache=True)
+@jit(inline="always")
 def cross(a, b):
     """Cross product of two 3-vectors (allocates; for setup code)."""
     out = np.empty(3)
@@ -46,7 +46,7 @@ def cross(a, b):
     return out
 
 
-@njit(cache=True)
+@jit(inline="always")
 def cross_into(a, b, out):
     """``out = a x b`` (``out`` must not alias ``a`` or ``b``)."""
     out[0] = a[1] * b[2] - a[2] * b[1]
@@ -54,21 +54,21 @@ def cross_into(a, b, out):
     out[2] = a[0] * b[1] - a[1] * b[0]
 
 
-@njit(cache=True)
+@jit(inline="always")
 def mat_vec(m, v, out):
     """``out = m v`` for a 3x3 ``m``."""
     for i in range(3):
         out[i] = m[i, 0] * v[0] + m[i, 1] * v[1] + m[i, 2] * v[2]
 
 
-@njit(cache=True)
+@jit(inline="always")
 def mat_t_vec(m, v, out):
     """``out = m^T v`` for a 3x3 ``m``."""
     for i in range(3):
         out[i] = m[0, i] * v[0] + m[1, i] * v[1] + m[2, i] * v[2]
 
 
-@njit(cache=True)
+@jit(inline="always")
 def rot_axis(axis, angle):
     """Rotation matrix (Rodrigues) that turns vectors by ``angle`` [rad] about the unit ``axis``."""
     out = np.empty((3, 3))
@@ -76,7 +76,7 @@ def rot_axis(axis, angle):
     return out
 
 
-@njit(cache=True)
+@jit(inline="always")
 def rot_axis_into(axis, angle, out):
     """:func:`rot_axis` into ``out``."""
     c = np.cos(angle)
@@ -94,7 +94,7 @@ def rot_axis_into(axis, angle, out):
     out[2, 2] = t * z * z + c
 
 
-@njit(cache=True)
+@jit(inline="always")
 def euler_zyx_to_matrix(roll, pitch, yaw):
     """Rotation matrix body -> world for ISO 8855 yaw-pitch-roll (Z, then Y, then X) angles [rad]."""
     out = np.empty((3, 3))
@@ -102,7 +102,7 @@ def euler_zyx_to_matrix(roll, pitch, yaw):
     return out
 
 
-@njit(cache=True)
+@jit(inline="always")
 def euler_zyx_into(roll, pitch, yaw, out):
     """:func:`euler_zyx_to_matrix` into ``out``."""
     cr, sr = np.cos(roll), np.sin(roll)
@@ -119,7 +119,7 @@ def euler_zyx_into(roll, pitch, yaw, out):
     out[2, 2] = cp * cr
 
 
-@njit(cache=True)
+@jit(inline="always")
 def xform_motion(e, r, m, out):
     """``out = X m`` for a motion vector ``m`` (6,), transform ``(e, r)``; ``out`` must not alias ``m``."""
     w0, w1, w2 = m[0], m[1], m[2]
@@ -131,7 +131,7 @@ def xform_motion(e, r, m, out):
         out[3 + i] = e[i, 0] * v0 + e[i, 1] * v1 + e[i, 2] * v2
 
 
-@njit(cache=True)
+@jit(inline="always")
 def xform_force_inv(e, r, f, out):
     """``out = X^T f``: a force in the child frame B expressed in the parent frame A (no aliasing)."""
     n0 = e[0, 0] * f[0] + e[1, 0] * f[1] + e[2, 0] * f[2]
@@ -148,7 +148,7 @@ def xform_force_inv(e, r, f, out):
     out[5] = f2
 
 
-@njit(cache=True)
+@jit(inline="always")
 def motion_cross_motion(v, m, out):
     """``out = v x m`` (spatial cross product of motion vectors; no aliasing)."""
     out[0] = v[1] * m[2] - v[2] * m[1]
@@ -159,7 +159,7 @@ def motion_cross_motion(v, m, out):
     out[5] = v[0] * m[4] - v[1] * m[3] + v[3] * m[1] - v[4] * m[0]
 
 
-@njit(cache=True)
+@jit(inline="always")
 def motion_cross_force(v, f, out):
     """``out = v x* f`` (spatial cross product of a motion and a force vector; no aliasing)."""
     out[0] = v[1] * f[2] - v[2] * f[1] + v[4] * f[5] - v[5] * f[4]
@@ -170,7 +170,7 @@ def motion_cross_force(v, f, out):
     out[5] = v[0] * f[4] - v[1] * f[3]
 
 
-@njit(cache=True)
+@jit(inline="always")
 def inertia_times_motion(m, h, ibar, a, out):
     """``out = I a`` for the inertia ``(m, h, Ibar)`` and a motion vector ``a`` (no aliasing)."""
     w0, w1, w2, v0, v1, v2 = a[0], a[1], a[2], a[3], a[4], a[5]
@@ -184,7 +184,7 @@ def inertia_times_motion(m, h, ibar, a, out):
     out[5] = m * v2 - (h[0] * w1 - h[1] * w0)
 
 
-@njit(cache=True)
+@jit(inline="always")
 def inertia_to_parent(e, r, m, h, ibar, h_out, ibar_out, tmp):
     """``X^T I X``: add an inertia about the child frame's origin to one about the parent's.
 
@@ -218,7 +218,7 @@ def inertia_to_parent(e, r, m, h, ibar, h_out, ibar_out, tmp):
             ibar_out[i, j] += value
 
 
-@njit(cache=True)
+@jit(inline="always")
 def inertia_translate_to_parent(r, m, h, ibar, h_out, ibar_out):
     """:func:`inertia_to_parent` for a transform without rotation (``E = 1``): a wheel's rotor frame, a slider."""
     hp0 = h[0] + m * r[0]
@@ -236,7 +236,7 @@ def inertia_translate_to_parent(r, m, h, ibar, h_out, ibar_out):
         ibar_out[i, i] += diag
 
 
-@njit(cache=True)
+@jit(inline="always")
 def inertia_matrix6(m, h, ibar):
     """The 6x6 spatial inertia matrix of ``(m, h, Ibar)`` (for tests and linear algebra)."""
     out = np.zeros((6, 6))

@@ -10,9 +10,8 @@ ratio over all wheels, ``LTR = (sum Fz_right - sum Fz_left) / sum Fz``.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
-from ..model.rhs import N_WOUT, evaluate_into, workspace
+from .._jit import jit
 
 __all__ = ["BASE_CHANNELS", "WHEEL_CHANNELS", "compute_channels"]
 
@@ -38,33 +37,22 @@ BASE_CHANNELS = (
 WHEEL_CHANNELS = ("fx_N", "fy_N", "fz_N", "kappa", "alpha_rad", "deflection_m", "travel_m", "spin_radps", "vx_mps")
 
 
-@njit(cache=True)
-def compute_channels(times, states, inputs, cg, steer_index, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
-                     wheel_f, wheel_i, tyre, sc, road):
-    """Channel matrices for recorded ``states``.
+@jit
+def compute_channels(states, derivs, cg, steer_index, n):
+    """Chassis channels from recorded states and their derivatives (no re-evaluation).
 
     Returns
     -------
-    base : ndarray (m, len(BASE_CHANNELS))
-    wheels : ndarray (m, n_wheels, N_WOUT)
+    ndarray (m, len(BASE_CHANNELS))
     """
-    m = times.shape[0]
-    n = parent.shape[0] + 5
-    nw = wheel_f.shape[0]
+    m = states.shape[0]
     base = np.empty((m, 17))
-    wheels = np.empty((m, nw, N_WOUT))
-    ws = workspace(parent.shape[0])
-    xdot = np.empty(states.shape[1])
-    wout = np.empty((nw, N_WOUT))
     for i in range(m):
         x = states[i]
-        evaluate_into(times[i], x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
-                      wheel_f, wheel_i, tyre, sc, road, wout, ws, xdot)
-        wheels[i] = wout
         w = x[n : n + 3]
         v = x[n + 3 : n + 6]
-        wd = xdot[n : n + 3]
-        vd = xdot[n + 3 : n + 6]
+        wd = derivs[i, n : n + 3]
+        vd = derivs[i, n + 3 : n + 6]
         # velocity and classical acceleration of the CG point fixed in the chassis, chassis axes
         vc = v + np.cross(w, cg)
         ac = vd + np.cross(wd, cg) + np.cross(w, vc)
@@ -74,4 +62,4 @@ def compute_channels(times, states, inputs, cg, steer_index, parent, jtype, jaxi
         base[i, 12:15] = ac
         base[i, 15] = np.sqrt(vc[0] * vc[0] + vc[1] * vc[1])
         base[i, 16] = x[5 + steer_index] if steer_index > 0 else 0.0
-    return base, wheels
+    return base

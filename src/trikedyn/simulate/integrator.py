@@ -7,7 +7,7 @@ It stops early, with a status code and the time, on NaN, runaway tyre penetratio
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+from .._jit import jit
 
 from ..model.rhs import N_WOUT, W_DEFLECTION, evaluate_into, workspace
 from ..model.vehicle import S_PENETRATION_LIMIT, S_ROLL_LIMIT, WF_RADIUS
@@ -23,20 +23,23 @@ STATUS_TEXT = {
 }
 
 
-@njit(cache=True)
+@jit
 def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
              wheel_f, wheel_i, tyre, sc, road):
     """Integrate ``n_steps`` RK4 steps of ``dt`` [s] from ``x0`` at ``t0``.
 
+    Every ``record_every`` steps (and at ``t0``) it records the state, its derivative and the per-wheel
+    outputs; the derivative is the first RK stage of the next step, so recording costs no extra evaluation.
+
     Returns
     -------
     times : ndarray (m,)
-    states : ndarray (m, len(x0))
-        Recorded every ``record_every`` steps (the first at ``t0``).
+    states, derivatives : ndarray (m, len(x0))
+    wheels : ndarray (m, n_wheels, N_WOUT)
     status : int
         ``STATUS_*``.
     n_recorded : int
-        Rows of ``times``/``states`` filled.
+        Rows filled.
     t_stop : float
         Time at which the loop stopped [s].
     """
@@ -44,7 +47,9 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, parent, jtype, jaxis, tr
     n_rec = n_steps // record_every + 1
     times = np.empty(n_rec)
     states = np.empty((n_rec, nx))
+    derivs = np.empty((n_rec, nx))
     nw = wheel_f.shape[0]
+    wheels = np.empty((n_rec, nw, N_WOUT))
     wout = np.empty((nw, N_WOUT))
     x = x0.copy()
     xs = np.empty(nx)
@@ -52,18 +57,26 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, parent, jtype, jaxis, tr
     k2 = np.empty(nx)
     k3 = np.empty(nx)
     k4 = np.empty(nx)
-    ws = workspace(parent.shape[0])
+    ws = workspace(parent)
     t = t0
-    times[0] = t
-    states[0] = x
-    rec = 1
+    rec = 0
+    status = STATUS_OK
     arrays = (parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar, wheel_f, wheel_i, tyre, sc, road)
     half = 0.5 * dt
-    for step in range(1, n_steps + 1):
+    step = 0
+    while True:
         evaluate_into(t, x, inputs, *arrays, wout, ws, k1)
+        if (step % record_every == 0 or status != STATUS_OK) and rec < n_rec:
+            times[rec] = t
+            states[rec] = x
+            derivs[rec] = k1
+            wheels[rec] = wout
+            rec += 1
+        if status != STATUS_OK or step == n_steps:
+            break
         for k in range(nw):
             if wout[k, W_DEFLECTION] > sc[S_PENETRATION_LIMIT] * wheel_f[k, WF_RADIUS]:
-                return times, states, STATUS_PENETRATION, rec, t
+                return times, states, derivs, wheels, STATUS_PENETRATION, rec, t
         for i in range(nx):
             xs[i] = x[i] + half * k1[i]
         evaluate_into(t + half, xs, inputs, *arrays, wout, ws, k2)
@@ -78,17 +91,10 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, parent, jtype, jaxis, tr
             x[i] += (dt / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
             if not np.isfinite(x[i]):
                 finite = False
+        step += 1
         t = t0 + step * dt
         if not finite:
-            return times, states, STATUS_NAN, rec, t
+            return times, states, derivs, wheels, STATUS_NAN, rec, t
         if abs(x[3]) > sc[S_ROLL_LIMIT] or abs(x[4]) > sc[S_ROLL_LIMIT]:
-            if step % record_every == 0:
-                times[rec] = t
-                states[rec] = x
-                rec += 1
-            return times, states, STATUS_ROLLOVER, rec, t
-        if step % record_every == 0:
-            times[rec] = t
-            states[rec] = x
-            rec += 1
-    return times, states, STATUS_OK, rec, t
+            status = STATUS_ROLLOVER  # recorded at the top of the loop, then the loop ends
+    return times, states, derivs, wheels, status, rec, t

@@ -14,9 +14,8 @@ import numpy as np
 
 from ..errors import InputError, SimulationError
 from ..model.statics import rolling_state, static_equilibrium
-from ..model.vehicle import S_SIGMA_X, VehicleModel, build_model
+from ..model.vehicle import VehicleModel, build_model
 from ..params.io import ParameterSet
-from ..tyre.magic_formula import SLIP_STIFFNESS_FACTOR
 from .channels import compute_channels
 from .integrator import STATUS_OK, STATUS_TEXT, rk4_loop
 from .result import Result
@@ -61,22 +60,27 @@ def input_table(duration_s: float, dt: float, steer_rad: InputSpec = 0.0, drive_
     return table
 
 
-def max_stable_step(model: VehicleModel) -> tuple[float, str]:
-    """The largest RK4 step [s] the stiffest modes allow (a conservative estimate, with its reason).
+RK4_STABILITY = 2.5
+"""Largest ``|lambda| dt`` allowed: RK4 is stable to 2.78 on the real and 2.83 on the imaginary axis."""
 
-    RK4 is stable for ``|lambda| dt < 2.78``; the estimate keeps ``omega dt < 1`` for the wheel hop on
-    the tyre plus a bump stop, and for the wheel-spin mode on the tyre's longitudinal relaxation.
+
+def max_stable_step(model: VehicleModel, state: np.ndarray | None = None) -> tuple[float, str]:
+    """The largest RK4 step [s] the model's fastest dynamics allow, with the mode that sets it.
+
+    The fastest eigenvalue of the linearisation about ``state`` (static equilibrium by default), and the
+    wheel hop on a bump stop (a one-sided spring not engaged at equilibrium): ``dt <= 2.5 / |lambda|``.
     """
-    limits = []
-    load = model.tree.total_mass() * 9.81 / len(model.tree.wheels)
-    for k, w in enumerate(model.tree.wheels):
-        unsprung = model.tree.mass[w.wheel_body] + model.tree.mass[w.spring_body] * (1 if w.steer_body >= 0 else 0.5)
-        k_hop = model.tyre[0] + w.bump_stop_stiffness + w.stiffness / max(w.motion_ratio, 1e-3) ** 2
-        limits.append((1.0 / np.sqrt(k_hop / unsprung), f"{w.name} wheel hop on tyre and bump stop"))
-        spin_inertia = model.tree.ibar[w.wheel_body][1, 1]
-        c_kappa = model.tyre[SLIP_STIFFNESS_FACTOR] * 3.0 * load
-        omega = np.sqrt(c_kappa * w.radius**2 / (spin_inertia * model.scalars[S_SIGMA_X]))
-        limits.append((1.0 / omega, f"{w.name} wheel spin on the tyre's relaxation length"))
+    from ..model.linear import linearise
+
+    if state is None:
+        state = static_equilibrium(model).state
+    a, _ = linearise(model, state)
+    fastest = float(np.abs(np.linalg.eigvals(a)).max())
+    limits = [(RK4_STABILITY / fastest, f"the fastest mode of the linearised model ({fastest:.0f} rad/s)")]
+    for w in model.tree.wheels:
+        unsprung = model.tree.mass[w.wheel_body] + model.tree.mass[w.spring_body] * (1.0 if w.steer_body >= 0 else 0.5)
+        omega = np.sqrt((model.tyre[0] + w.bump_stop_stiffness) / unsprung)
+        limits.append((RK4_STABILITY / omega, f"{w.name} wheel hop on its bump stop ({omega:.0f} rad/s)"))
     return min(limits)
 
 
@@ -85,16 +89,17 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
     """Run the compiled loop from ``x0`` and compute the channels; raise :class:`SimulationError` on failure."""
     if dt <= 0 or duration_s <= 0:
         raise InputError("time step and duration must be > 0", where="dt" if dt <= 0 else "duration_s")
-    limit, why = max_stable_step(model)
+    limit, why = max_stable_step(model, x0)
     if dt > limit:
         raise SimulationError(f"time step too large: dt = {dt:g} s, but {why} needs dt <= {limit:.2g} s", 0.0)
     every = max(1, int(round(1.0 / (output_rate_hz * dt))))
     n_steps = int(round(duration_s / dt))
-    times, states, status, n_rec, t_stop = rk4_loop(x0, 0.0, dt, n_steps, every, inputs, *model.arrays())
-    times, states = times[:n_rec], states[:n_rec]
+    times, states, derivs, wheels, status, n_rec, t_stop = rk4_loop(x0, 0.0, dt, n_steps, every, inputs,
+                                                                    *model.arrays())
+    times, states, derivs, wheels = times[:n_rec], states[:n_rec], derivs[:n_rec], wheels[:n_rec]
     steer = [w.steer_body for w in model.tree.wheels if w.steer_body >= 0]
     cg = model.tree.chassis_cg  # the sprung body's CG, fixed in the chassis
-    base, wheels = compute_channels(times, states, inputs, cg, steer[0] if steer else -1, *model.arrays())
+    base = compute_channels(states, derivs, cg, steer[0] if steer else -1, model.n_dof)
     result = Result.from_arrays(model, times, states, base, wheels, inputs, status=STATUS_TEXT[status], dt=dt)
     if status != STATUS_OK and raise_on_failure:
         err = SimulationError(STATUS_TEXT[status], t_stop)
@@ -105,7 +110,7 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
 
 def simulate(vehicle: ParameterSet | VehicleModel, *, duration_s: float, speed_kmh: float = 0.0,
              steer_rad: InputSpec = 0.0, drive_torque_Nm: InputSpec = 0.0, brake_torque_Nm: InputSpec = 0.0,
-             road=None, dt: float = 1e-3, output_rate_hz: float = 100.0) -> Result:
+             road=None, dt: float = 5e-3, output_rate_hz: float = 100.0) -> Result:
     """Simulate open-loop inputs from a straight rolling start at ``speed_kmh``.
 
     Parameters

@@ -76,7 +76,7 @@ from __future__ import annotations
 
 import math
 
-import numba
+from .._jit import jit
 import numpy as np
 from scipy.optimize import brentq
 
@@ -231,7 +231,7 @@ def tyre_coefficients(tyre) -> np.ndarray:
 
 
 # ---- compiled force functions -------------------------------------------------------------------------
-@numba.njit(cache=True)
+@jit(inline="always")
 def vertical_force(penetration_m, penetration_rate_mps, coeffs):
     """Vertical (normal) tyre force, non-adhesive.
 
@@ -256,7 +256,7 @@ def vertical_force(penetration_m, penetration_rate_mps, coeffs):
     return max(fz, 0.0)
 
 
-@numba.njit(cache=True)
+@jit(inline="always")
 def peak_friction(fz, coeffs):
     """Peak friction coefficients at a load.
 
@@ -278,7 +278,7 @@ def peak_friction(fz, coeffs):
     return coeffs[MU_X] * scale, coeffs[MU_Y] * scale
 
 
-@numba.njit(cache=True)
+@jit(inline="always")
 def slip_stiffness(fz, coeffs):
     """Longitudinal slip stiffness ``C_kappa = slip_stiffness_factor Fz`` [N] (per unit slip), 0 for Fz <= 0."""
     if fz <= 0.0:
@@ -286,7 +286,7 @@ def slip_stiffness(fz, coeffs):
     return coeffs[SLIP_STIFFNESS_FACTOR] * fz
 
 
-@numba.njit(cache=True)
+@jit(inline="always")
 def cornering_stiffness(fz, coeffs):
     """Cornering stiffness ``C_alpha = pKy1 Fz0 sin(2 atan(Fz / (pKy2 Fz0)))`` [N/rad], 0 for Fz <= 0.
 
@@ -302,7 +302,7 @@ def cornering_stiffness(fz, coeffs):
     )
 
 
-@numba.njit(cache=True)
+@jit(inline="always")
 def magic_formula_curve(u, shape, curvature):
     """Normalised Magic Formula ``sin(C atan(u - E (u - atan u)))`` [1] of the input ``u = B x`` [1].
 
@@ -311,7 +311,7 @@ def magic_formula_curve(u, shape, curvature):
     return math.sin(shape * math.atan(u - curvature * (u - math.atan(u))))
 
 
-@numba.njit(cache=True)
+@jit(inline="always")
 def _stiffness_factors(fz, mu_x, mu_y, coeffs):
     """Magic Formula B_x [1] and B_y [1/rad] at a load ``fz > 0`` with its peak frictions."""
     bx = coeffs[SLIP_STIFFNESS_FACTOR] / (coeffs[SHAPE_X] * mu_x)  # K/(C D) with K, D both ~ Fz
@@ -319,7 +319,7 @@ def _stiffness_factors(fz, mu_x, mu_y, coeffs):
     return bx, by
 
 
-@numba.njit(cache=True)
+@jit(inline="always")
 def pure_longitudinal(kappa, fz, coeffs):
     """Longitudinal force in pure longitudinal slip (Magic Formula).
 
@@ -344,7 +344,7 @@ def pure_longitudinal(kappa, fz, coeffs):
     return mu_x * fz * magic_formula_curve(bx * kappa, coeffs[SHAPE_X], coeffs[CURVATURE_X])
 
 
-@numba.njit(cache=True)
+@jit(inline="always")
 def pure_lateral(alpha, fz, coeffs):
     """Lateral force in pure side slip (Magic Formula).
 
@@ -370,7 +370,7 @@ def pure_lateral(alpha, fz, coeffs):
     return mu_y * fz * magic_formula_curve(by * alpha, coeffs[SHAPE_Y], coeffs[CURVATURE_Y])
 
 
-@numba.njit(cache=True)
+@jit(inline="always")
 def combined_forces(kappa, alpha, fz, coeffs):
     """Longitudinal and lateral forces in combined slip (similarity method, normalised slips).
 
@@ -410,7 +410,7 @@ def combined_forces(kappa, alpha, fz, coeffs):
     return mu_x * fz * (kn * gx), mu_y * fz * (an * gy)
 
 
-@numba.njit(cache=True)
+@jit(inline="always")
 def slip_quantities(vx_contact, vy_contact, omega_wheel, radius_eff, v_low):
     """Longitudinal slip and slip angle, regularised at low speed.
 
@@ -456,7 +456,7 @@ def slip_quantities(vx_contact, vy_contact, omega_wheel, radius_eff, v_low):
     return kappa, alpha
 
 
-@numba.njit(cache=True)
+@jit(inline="always")
 def rolling_resistance_moment(fz, omega, radius, coeffs, w_low):
     """Rolling resistance moment on the wheel about its spin axis.
 
@@ -484,7 +484,7 @@ def rolling_resistance_moment(fz, omega, radius, coeffs, w_low):
     return -coeffs[ROLLING_RESISTANCE] * fz * radius * math.tanh(omega / w_low)
 
 
-@numba.njit(cache=True)
+@jit(inline="always")
 def tyre_forces(
     penetration_m, penetration_rate_mps, vx_contact, vy_contact, omega_wheel, radius_eff, coeffs, v_low, w_low
 ):
