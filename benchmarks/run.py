@@ -1,0 +1,95 @@
+"""Speed benchmarks (``make bench``): prints the figures and writes them to ``benchmarks/results.json``.
+
+Each timing is the best of several repeats after a warm-up run (numba compilation excluded), on one core.
+Not part of ``make test``: timings depend on the machine.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
+
+from trikedyn import __version__  # noqa: E402
+from trikedyn.model.statics import rolling_state, static_equilibrium  # noqa: E402
+from trikedyn.model.vehicle import build_model  # noqa: E402
+from trikedyn.params import load_vehicle  # noqa: E402
+from trikedyn.simulate.integrator import rk4_loop  # noqa: E402
+from trikedyn.simulate.run import input_table, simulate  # noqa: E402
+
+REPEATS = 7
+
+
+def best_of(func, repeats=REPEATS):
+    func()  # warm-up (compilation, caches)
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        func()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def sine_steer(t):
+    """The sine-steer run: 0.03 rad at 0.5 Hz about the steering axis."""
+    return 0.03 * np.sin(2 * np.pi * 0.5 * t)
+
+
+def bench_sine_steer() -> dict:
+    """Issue 3: a 10 s, 30 km/h sine-steer run of reference-etrike."""
+    model = build_model(load_vehicle("reference-etrike"))
+    duration = 10.0
+
+    def run():
+        simulate(model, duration_s=duration, speed_kmh=30.0, steer_rad=sine_steer, drive_torque_Nm=50.0)
+
+    end_to_end = best_of(run)
+    # the compiled loop alone, and one right-hand-side evaluation
+    eq = static_equilibrium(model)
+    x0 = rolling_state(model, eq, 30 / 3.6)
+    dt = 5e-3
+    inputs = input_table(duration, dt, sine_steer, 50.0)
+    loop = best_of(lambda: rk4_loop(x0, 0.0, dt, int(duration / dt), 2, inputs, *model.arrays()))
+    per_eval = loop / (4 * int(duration / dt))  # four RK4 stages a step
+    return {
+        "sine_steer_10s_30kmh": {
+            "simulated_s": duration,
+            "time_step_s": dt,
+            "wall_s": end_to_end,
+            "real_time_factor": duration / end_to_end,
+            "loop_wall_s": loop,
+            "loop_real_time_factor": duration / loop,
+            "rhs_evaluation_us": per_eval * 1e6,
+        }
+    }
+
+
+def main() -> int:
+    results = {
+        "trikedyn": __version__,
+        "python": sys.version.split()[0],
+        "machine": platform.machine(),
+        "processor": platform.processor() or platform.machine(),
+        "cpus": os.cpu_count(),
+    }
+    results.update(bench_sine_steer())
+    out = Path(__file__).with_name("results.json")
+    out.write_text(json.dumps(results, indent=2))
+    s = results["sine_steer_10s_30kmh"]
+    print(f"sine steer, 10 s at 30 km/h (reference-etrike, dt {s['time_step_s'] * 1e3:g} ms):")
+    print(f"  end to end  {s['wall_s'] * 1e3:7.1f} ms   real-time factor {s['real_time_factor']:6.0f}")
+    print(f"  loop only   {s['loop_wall_s'] * 1e3:7.1f} ms   real-time factor {s['loop_real_time_factor']:6.0f}")
+    print(f"  one right-hand-side evaluation (4 per step) {s['rhs_evaluation_us']:.2f} us")
+    print(f"wrote {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
