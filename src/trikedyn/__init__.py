@@ -44,6 +44,9 @@ from .measure.cg import Box, MassProperties, Payload, PointMass
 from .measure.logs import ImuLog, read_log, write_log
 from .measure.suspension import identify_suspension
 from .measure.weighing import reduce_weighing
+from .model.linear import modes
+from .model.statics import static_equilibrium
+from .model.vehicle import Road, build_model, flat_road, speed_bump
 from .params import (
     ParameterSet,
     VehicleParameters,
@@ -55,6 +58,8 @@ from .params import (
     with_freight,
     with_payload,
 )
+from .simulate.result import Result, rollover_index
+from .simulate.run import simulate
 
 __all__ = [
     "Box",
@@ -64,6 +69,8 @@ __all__ = [
     "MassProperties",
     "ParameterError",
     "ParameterSet",
+    "Result",
+    "Road",
     "Payload",
     "PointMass",
     "SimulationError",
@@ -71,6 +78,13 @@ __all__ = [
     "VehicleParameters",
     "__version__",
     "audit",
+    "build_model",
+    "flat_road",
+    "modes",
+    "rollover_index",
+    "simulate",
+    "speed_bump",
+    "static_equilibrium",
     "identify_suspension",
     "list_presets",
     "load_vehicle",

@@ -18,8 +18,8 @@ setup code and tests.
 from __future__ import annotations
 
 import numpy as np
-from .._jit import jit
 
+from .._jit import jit
 from .spatial import (
     euler_zyx_into,
     inertia_times_motion,

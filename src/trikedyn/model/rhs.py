@@ -27,8 +27,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from .._jit import jit
 
+from .._jit import jit
 from ..tyre.magic_formula import combined_forces, rolling_resistance_moment, vertical_force
 from .dynamics import (
     W_BIAS,

@@ -19,6 +19,7 @@ nothing per body. All are ``njit(cache=True)``.
 from __future__ import annotations
 
 import numpy as np
+
 from .._jit import jit
 
 __all__ = [

@@ -7,8 +7,8 @@ It stops early, with a status code and the time, on NaN, runaway tyre penetratio
 from __future__ import annotations
 
 import numpy as np
-from .._jit import jit
 
+from .._jit import jit
 from ..model.rhs import N_WOUT, W_DEFLECTION, evaluate_into, workspace
 from ..model.vehicle import S_PENETRATION_LIMIT, S_ROLL_LIMIT, WF_RADIUS
 

@@ -76,11 +76,12 @@ from __future__ import annotations
 
 import math
 
-from .._jit import jit
 import numpy as np
 from scipy.optimize import brentq
 
 from trikedyn.errors import ParameterError
+
+from .._jit import jit
 
 __all__ = [
     "CORNERING_STIFFNESS_FACTOR",
