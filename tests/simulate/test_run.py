@@ -59,3 +59,20 @@ def test_plot_returns_a_figure(straight):
 def test_negative_speed_is_refused(reference):
     with pytest.raises(InputError, match="speed_kmh"):
         simulate(reference, duration_s=1.0, speed_kmh=-5.0)
+
+
+def test_speed_bump_excites_the_suspension_and_it_settles():
+    """Crossing a 60 mm bump at the paper's 5 km/h (with Eq. 4's dampers): each wheel rises over it in turn,
+    the suspension compresses, and all settles back to the static state."""
+    from trikedyn.model.vehicle import speed_bump
+    from trikedyn.params import load_vehicle
+
+    run = simulate(load_vehicle("reference-etrike-eq4"), duration_s=12.0, speed_kmh=5.0, drive_torque_Nm=25.0, road=speed_bump(2.5))
+    frame = run.to_pandas()
+    front_pass = 2.5 - 1.95  # the front wheel starts 1.95 m ahead of the origin
+    t_front = front_pass / (5 / 3.6)
+    assert frame.front_travel_m.max() > 0.01
+    assert frame.front_travel_m.idxmax() == pytest.approx(t_front + 0.5, abs=0.6)
+    assert frame.rear_left_travel_m.idxmax() > frame.front_travel_m.idxmax() + 1.0  # the rear follows 1.95 m later
+    assert abs(frame.front_travel_m.iloc[-1] - frame.front_travel_m.iloc[0]) < 2e-3
+    assert (frame.front_fz_N > 0).all()
