@@ -21,7 +21,7 @@ from trikedyn import __version__  # noqa: E402
 from trikedyn.model.statics import rolling_state, static_equilibrium  # noqa: E402
 from trikedyn.model.vehicle import build_model  # noqa: E402
 from trikedyn.params import load_vehicle  # noqa: E402
-from trikedyn.simulate.integrator import rk4_loop  # noqa: E402
+from trikedyn.simulate.integrator import OPEN_LOOP, rk4_loop  # noqa: E402
 from trikedyn.simulate.run import input_table, simulate  # noqa: E402
 
 REPEATS = 7
@@ -56,7 +56,7 @@ def bench_sine_steer() -> dict:
     x0 = rolling_state(model, eq, 30 / 3.6)
     dt = 5e-3
     inputs = input_table(duration, dt, sine_steer, 50.0)
-    loop = best_of(lambda: rk4_loop(x0, 0.0, dt, int(duration / dt), 2, inputs, *model.arrays()))
+    loop = best_of(lambda: rk4_loop(x0, 0.0, dt, int(duration / dt), 2, inputs, *OPEN_LOOP, *model.arrays()))
     per_eval = loop / (4 * int(duration / dt))  # four RK4 stages a step
     return {
         "sine_steer_10s_30kmh": {

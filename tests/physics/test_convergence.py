@@ -7,7 +7,7 @@ from scipy.integrate import solve_ivp
 from trikedyn.model.rhs import N_WOUT, W_FZ, evaluate
 from trikedyn.model.statics import rolling_state, static_equilibrium
 from trikedyn.model.vehicle import build_model
-from trikedyn.simulate.integrator import STATUS_OK, rk4_loop
+from trikedyn.simulate.integrator import OPEN_LOOP, STATUS_OK, rk4_loop
 
 
 @pytest.mark.parametrize("dt", [1e-3, 2e-3, 3e-3, 4e-3, 5e-3])
@@ -28,7 +28,7 @@ def test_rk4_wheel_loads_match_dop853(reference, dt):
 
     duration = 5.0
     record = int(round(0.01 / dt))
-    times, states, _, _, status, rec, _ = rk4_loop(x0, 0.0, dt, int(round(duration / dt)), record, inputs, *arrays)
+    times, states, _, _, _, status, rec, _ = rk4_loop(x0, 0.0, dt, int(round(duration / dt)), record, inputs, *OPEN_LOOP, *arrays)
     assert status == STATUS_OK
     reference_run = solve_ivp(rhs, (0.0, duration), x0, method="DOP853", rtol=1e-10, atol=1e-12,
                               t_eval=times[:rec])

@@ -53,7 +53,7 @@ class Result:
     meta: dict = field(default_factory=dict)
 
     @classmethod
-    def from_arrays(cls, model, times, states, base, wheels, inputs, *, status, dt) -> Result:
+    def from_arrays(cls, model, times, states, base, wheels, commands, *, status, dt, meta=None) -> Result:
         channels = {name: base[:, i].copy() for i, name in enumerate(BASE_CHANNELS)}
         names = model.wheel_names
         for k, wname in enumerate(names):
@@ -68,15 +68,12 @@ class Result:
         channels["ri"] = rollover_index(fz[:, right], fz[:, left])
         channels["ltr"] = load_transfer_ratio(fz[:, ys < 0].sum(axis=1), fz[:, ys > 0].sum(axis=1))
         channels["min_wheel_load_N"] = fz.min(axis=1)
-        if inputs.shape[0] == 1:
-            channels["steer_cmd_rad"] = np.full(times.shape, inputs[0, 1])
-            channels["drive_torque_Nm"] = np.full(times.shape, inputs[0, 2])
-        else:
-            channels["steer_cmd_rad"] = np.interp(times, inputs[:, 0], inputs[:, 1])
-            channels["drive_torque_Nm"] = np.interp(times, inputs[:, 0], inputs[:, 2])
-        meta = {"vehicle": model.params.name, "dt_s": dt, "wheels": list(names), "left": names[left],
-                "right": names[right]}
-        return cls(times.copy(), channels, states.copy(), status, meta)
+        channels["steer_cmd_rad"] = commands[:, 0].copy()
+        channels["drive_torque_Nm"] = commands[:, 1].copy()
+        channels["brake_torque_Nm"] = commands[:, 2].copy()
+        info = {"vehicle": model.params.name, "dt_s": dt, "wheels": list(names), "left": names[left],
+                "right": names[right], **(meta or {})}
+        return cls(times.copy(), channels, states.copy(), status, info)
 
     def __getitem__(self, name: str) -> np.ndarray:
         if name == "time_s":

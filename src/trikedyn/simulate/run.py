@@ -17,7 +17,7 @@ from ..model.statics import rolling_state, static_equilibrium
 from ..model.vehicle import VehicleModel, build_model
 from ..params.io import ParameterSet
 from .channels import compute_channels
-from .integrator import STATUS_OK, STATUS_TEXT, rk4_loop
+from .integrator import OPEN_LOOP_DRIVER, OPEN_LOOP_PATH, OPEN_LOOP_SPEED, STATUS_OK, STATUS_TEXT, rk4_loop
 from .result import Result
 
 __all__ = ["simulate", "input_table", "max_stable_step", "run_model"]
@@ -85,8 +85,13 @@ def max_stable_step(model: VehicleModel, state: np.ndarray | None = None) -> tup
 
 
 def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, duration_s: float, dt: float,
-              output_rate_hz: float, raise_on_failure: bool = True) -> Result:
-    """Run the compiled loop from ``x0`` and compute the channels; raise :class:`SimulationError` on failure."""
+              output_rate_hz: float, raise_on_failure: bool = True, path=None, speed_profile=None,
+              driver=None, meta=None) -> Result:
+    """Run the compiled loop from ``x0`` and compute the channels; raise :class:`SimulationError` on failure.
+
+    With ``path`` (arrays ``PATH_COLUMNS``), ``speed_profile`` (``(time, speed)`` rows) and ``driver`` (a
+    :func:`~trikedyn.driver.preview.driver_array`) the driver closes the loop; otherwise ``inputs`` drive it.
+    """
     if dt <= 0 or duration_s <= 0:
         raise InputError("time step and duration must be > 0", where="dt" if dt <= 0 else "duration_s")
     limit, why = max_stable_step(model, x0)
@@ -94,13 +99,21 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
         raise SimulationError(f"time step too large: dt = {dt:g} s, but {why} needs dt <= {limit:.2g} s", 0.0)
     every = max(1, int(round(1.0 / (output_rate_hz * dt))))
     n_steps = int(round(duration_s / dt))
-    times, states, derivs, wheels, status, n_rec, t_stop = rk4_loop(x0, 0.0, dt, n_steps, every, inputs,
-                                                                    *model.arrays())
-    times, states, derivs, wheels = times[:n_rec], states[:n_rec], derivs[:n_rec], wheels[:n_rec]
+    closed = path is not None
+    out = rk4_loop(
+        x0, 0.0, dt, n_steps, every, inputs,
+        np.ascontiguousarray(path) if closed else OPEN_LOOP_PATH,
+        np.ascontiguousarray(speed_profile) if closed else OPEN_LOOP_SPEED,
+        driver if closed else OPEN_LOOP_DRIVER,
+        *model.arrays(),
+    )
+    times, states, derivs, wheels, commands, status, n_rec, t_stop = out
+    times, states, derivs, wheels, commands = (a[:n_rec] for a in (times, states, derivs, wheels, commands))
     steer = [w.steer_body for w in model.tree.wheels if w.steer_body >= 0]
     cg = model.tree.chassis_cg  # the sprung body's CG, fixed in the chassis
     base = compute_channels(states, derivs, cg, steer[0] if steer else -1, model.n_dof)
-    result = Result.from_arrays(model, times, states, base, wheels, inputs, status=STATUS_TEXT[status], dt=dt)
+    result = Result.from_arrays(model, times, states, base, wheels, commands, status=STATUS_TEXT[status], dt=dt,
+                                meta=meta)
     if status != STATUS_OK and raise_on_failure:
         err = SimulationError(STATUS_TEXT[status], t_stop)
         err.result = result

@@ -1,0 +1,1 @@
+"""The driver model: preview path-follower and speed controller, compiled into the time loop."""
