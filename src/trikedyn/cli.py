@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 from typing import Annotated
 
+import numpy as np
 import typer
 
 from . import __version__
@@ -374,6 +375,153 @@ def modes_cmd(
         share = ", ".join(f"{k} {v:.0%}" for k, v in list(m.participation.items())[:3])
         lines.append(f"{m.name:<24}{m.frequency_hz:>9.3f}{m.damping_ratio:>8.3f}   {share}")
     _emit(data, as_json, "\n".join(lines))
+
+
+def _manoeuvre_path(manoeuvre: str, params, radius_m: float):
+    """The path of a closed-loop manoeuvre by name, or from a CSV file."""
+    from .manoeuvres import paths
+
+    if manoeuvre == "dlc":
+        return paths.double_lane_change(params.body.overall_width_m)
+    if manoeuvre == "slc":
+        return paths.single_lane_change()
+    if manoeuvre == "circle":
+        return paths.circle(radius_m)
+    if manoeuvre.endswith(".csv"):
+        return paths.path_from_csv(manoeuvre)
+    raise InputError(f"unknown manoeuvre '{manoeuvre}'; expected dlc, slc, circle, step or a path .csv", where="--manoeuvre")
+
+
+def _write_run(result, out: Path) -> None:
+    frame = result.to_pandas().reset_index()
+    if out.suffix == ".parquet":
+        frame.to_parquet(out, index=False)
+    elif out.suffix == ".csv":
+        frame.to_csv(out, index=False)
+    else:
+        raise InputError("expected a .parquet or .csv file name", where=str(out))
+    meta = {k: v for k, v in result.meta.items() if k != "driver"}
+    out.with_suffix(".json").write_text(json.dumps(meta, indent=2, default=_json_default), encoding="utf-8")
+
+
+@app.command("simulate")
+def simulate_cmd(
+    vehicle: VehicleArg,
+    manoeuvre: Annotated[str, typer.Option("--manoeuvre", help="dlc (ISO 3888-1), slc (ISO 14791), circle (ISO 4138), step (ISO 7401, open loop) or a path .csv.")] = "dlc",
+    speed: Annotated[float, typer.Option("--speed", help="Target speed [km/h].")] = 30.0,
+    payload: Annotated[float, typer.Option("--payload", help="The paper's freight aboard [kg].")] = 0.0,
+    radius: Annotated[float, typer.Option("--radius", help="Circle radius [m].")] = 20.0,
+    steer_deg: Annotated[float, typer.Option("--steer-deg", help="Step steer angle about the steering axis [deg].")] = 5.0,
+    duration: Annotated[float | None, typer.Option("--duration", help="Simulated time [s] (default: the manoeuvre's).")] = None,
+    out: Annotated[Path | None, typer.Option("--out", help="Write the run (.parquet or .csv; a .json summary beside it).")] = None,
+    as_json: JsonOpt = False,
+):
+    """Drive a manoeuvre with the driver model and report how it went (cone strikes, RI, wheel loads, ...)."""
+    import numpy as np
+
+    from .errors import SimulationError
+    from .params import load_vehicle, with_freight
+    from .simulate.closed_loop import drive, summary
+    from .simulate.run import simulate
+
+    pset = with_freight(load_vehicle(vehicle), payload)
+    if not np.isfinite(speed) or speed <= 0:
+        raise InputError(f"must be > 0 km/h, got {speed!r}", where="--speed")
+    try:
+        if manoeuvre == "step":
+            delta = np.radians(steer_deg)
+            result = simulate(pset, duration_s=duration or 6.0, speed_kmh=speed,
+                              steer_rad=lambda t: delta * np.clip((t - 1.0) / 0.15, 0.0, 1.0), drive_torque_Nm=50.0)
+            result.meta["manoeuvre"] = "step steer (ISO 7401)"
+        else:
+            result = drive(pset, _manoeuvre_path(manoeuvre, pset.params, radius), speed, duration_s=duration)
+        failure = None
+    except SimulationError as err:
+        if getattr(err, "result", None) is None:
+            raise
+        result, failure = err.result, str(err)
+    data = summary(result) | {"vehicle": pset.name, "payload_kg": payload, "speed_kmh": speed}
+    if failure:
+        data["failure"] = failure
+    if out is not None:
+        _write_run(result, out)
+        data["out"] = str(out)
+    text = "\n".join(f"{k:<32} {v}" for k, v in data.items())
+    _emit(data, as_json, text)
+
+
+@app.command("plot")
+def plot_cmd(
+    run: Annotated[Path, typer.Argument(help="A run file written by `trikedyn simulate --out`.")],
+    out: Annotated[Path | None, typer.Option("--out", help="PNG to write (default: beside the run).")] = None,
+    channels: Annotated[str, typer.Option(help="Comma-separated channels to plot.")] = "speed_mps,ay_mps2,yaw_rate_radps,ri,min_wheel_load_N",
+    as_json: JsonOpt = False,
+):
+    """Time histories of a run (like the paper's Figs. 7-9)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from .analysis.compare import load_table
+
+    frame, kind = load_table(run)
+    names = [c.strip() for c in channels.split(",") if c.strip()]
+    missing = [c for c in names if c not in frame.columns]
+    if missing:
+        from difflib import get_close_matches
+
+        hint = get_close_matches(missing[0], list(frame.columns), n=1)
+        raise InputError(f"no channel '{missing[0]}'" + (f"; did you mean '{hint[0]}'?" if hint else ""), where=str(run))
+    fig, axes = plt.subplots(len(names), 1, sharex=True, figsize=(7, 1.8 * len(names)))
+    for ax, name in zip(np.atleast_1d(axes), names, strict=False):
+        ax.plot(frame["time_s"], frame[name])
+        ax.set_ylabel(name)
+        ax.grid(alpha=0.3)
+    np.atleast_1d(axes)[-1].set_xlabel("time [s]")
+    fig.tight_layout()
+    target = out or run.with_suffix(".png")
+    fig.savefig(target, dpi=110)
+    _emit({"wrote": str(target), "channels": names}, as_json, f"wrote {target}")
+
+
+@app.command("compare")
+def compare_cmd(
+    log: Annotated[Path, typer.Argument(help="Measured IMU log (any supported format) or a run file.")],
+    run: Annotated[Path, typer.Argument(help="Simulated run file (or another log).")],
+    channels: Annotated[str, typer.Option(help="Channels to compare (the paper compares lateral acceleration and yaw rate).")] = "ay_mps2,wz_radps",
+    max_offset: Annotated[float, typer.Option("--max-offset", help="Largest time offset searched [s].")] = 5.0,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Write measured over simulated (PNG), like Figs. 7-8.")] = None,
+    as_json: JsonOpt = False,
+):
+    """Compare a measured log with a simulation: time offset by cross-correlation, RMSE, NRMSE, peak error."""
+    from .analysis.compare import compare, load_table
+
+    measured, _ = load_table(log)
+    simulated, _ = load_table(run)
+    simulated = _imu_view(simulated)
+    names = [c.strip() for c in channels.split(",") if c.strip()]
+    result = compare(measured, simulated, channels=names, max_offset_s=max_offset)
+    data = result.to_dict()
+    if plot is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        result.plot().savefig(plot, dpi=110)
+        data["plot"] = str(plot)
+    lines = [f"time offset {data['offset_s']:+.3f} s (measured time + offset = simulated time)"]
+    for name, m in data["channels"].items():
+        lines.append(f"{name:<12} RMSE {m['rmse']:.4f}  NRMSE {m['nrmse']:.3f}  peak {m['peak_error']:.4f}  r {m['correlation']:.3f}")
+    _emit(data, as_json, "\n".join(lines))
+
+
+def _imu_view(frame):
+    """A run table seen as an IMU log: its emulated sensor channels under the log names."""
+    renamed = {c: c[len("imu_"):] for c in frame.columns if c.startswith("imu_")}
+    if not renamed:
+        return frame
+    keep = ["time_s", *renamed]
+    return frame[keep].rename(columns=renamed)
 
 
 @app.command("reproduce")

@@ -187,14 +187,14 @@ def _unknown(name: str, choices: list[str], what: str) -> str:
     return f"unknown channel {name!r}; {what} channels: {', '.join(choices) or 'none'}{hint}"
 
 
-def _check_time(t, where: str) -> np.ndarray:
-    """``t`` as a float array: finite, strictly increasing, at least :data:`MIN_SAMPLES` long."""
+def _check_time(t, where: str, min_samples: int = MIN_SAMPLES) -> np.ndarray:
+    """``t`` as a float array: finite, strictly increasing, at least ``min_samples`` long."""
     try:
         t = np.asarray(t, dtype=float)
     except (TypeError, ValueError):
         raise InputError("time holds values that are not numbers; expected seconds", where=where) from None
-    if t.ndim != 1 or t.size < MIN_SAMPLES:
-        raise InputError(f"too few samples ({t.size}); expected at least {MIN_SAMPLES}", where=where)
+    if t.ndim != 1 or t.size < min_samples:
+        raise InputError(f"too few samples ({t.size}); expected at least {min_samples}", where=where)
     bad = np.flatnonzero(~np.isfinite(t))
     if bad.size:
         raise InputError(f"time is not finite at row {bad[0]} ({t[bad[0]]}); expected finite seconds",
@@ -224,11 +224,11 @@ def _check_values(x, n: int, where: str, t: np.ndarray | None = None) -> np.ndar
 
 
 def _median_rate(t: np.ndarray) -> float:
-    """Median sample rate [Hz] of strictly increasing times ``t`` [s]."""
-    return float(1.0 / np.median(np.diff(t)))
+    """Median sample rate [Hz] of strictly increasing times ``t`` [s], to 6 significant digits."""
+    return float(f"{1.0 / np.median(np.diff(t)):.6g}")
 
 
-def default_rate(*times) -> float:
+def _default_rate(*times) -> float:
     """Default common rate [Hz]: 10 times the slowest median rate of ``times``, at most 1000 Hz."""
     return min(10.0 * min(_median_rate(np.asarray(t, float)) for t in times), MAX_RATE_HZ)
 
@@ -354,7 +354,7 @@ def find_offset(t_ref, x_ref, t_other, x_other, *, max_offset_s: float | None = 
 
 def _check_rate(rate_hz, *times) -> float:
     if rate_hz is None:
-        return default_rate(*times)
+        return _default_rate(*times)
     if not (isinstance(rate_hz, (int, float, np.number)) and math.isfinite(rate_hz) and rate_hz > 0):
         raise InputError(f"rate_hz={rate_hz!r} must be a positive number [Hz]", where="rate_hz")
     return float(rate_hz)
@@ -518,7 +518,7 @@ def load_table(path) -> tuple[pd.DataFrame, str]:
         except ImportError:
             raise InputError("reading Parquet needs pyarrow or fastparquet, which are not installed; install "
                              "one or write the run as CSV", where=where) from None
-        except Exception as e:  # noqa: BLE001 - any reader failure is a bad file here
+        except Exception as e:  # any reader failure is a bad file here
             raise InputError(f"cannot read as Parquet ({type(e).__name__}: {e})", where=where) from None
         return _run_table(frame, where), "run-parquet"
     fmt = detect_format(path)
@@ -551,5 +551,5 @@ def _run_table(frame: pd.DataFrame, where: str) -> pd.DataFrame:
         frame = frame.reset_index()
     if TIME not in frame.columns:
         raise InputError(f"no 'time_s' column; columns: {', '.join(map(str, frame.columns))}", where=where)
-    _check_time(frame[TIME].to_numpy(), f"{where}: {TIME!r}")
+    _check_time(frame[TIME].to_numpy(), f"{where}: {TIME!r}", min_samples=1)
     return frame[[TIME, *(c for c in frame.columns if c != TIME)]].reset_index(drop=True)

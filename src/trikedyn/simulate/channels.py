@@ -13,7 +13,11 @@ import numpy as np
 
 from .._jit import jit
 
-__all__ = ["BASE_CHANNELS", "WHEEL_CHANNELS", "compute_channels"]
+__all__ = ["BASE_CHANNELS", "WHEEL_CHANNELS", "IMU_CHANNELS", "compute_channels", "imu_readings"]
+
+IMU_CHANNELS = ("ax_mps2", "ay_mps2", "az_mps2", "wx_radps", "wy_radps", "wz_radps", "roll_rad", "pitch_rad", "yaw_rad")
+"""An IMU fixed to the chassis: specific force and angular rate in chassis axes, and its Euler angles
+(the names of :mod:`trikedyn.measure.logs`)."""
 
 BASE_CHANNELS = (
     "x_m",
@@ -63,3 +67,39 @@ def compute_channels(states, derivs, cg, steer_index, n):
         base[i, 15] = np.sqrt(vc[0] * vc[0] + vc[1] * vc[1])
         base[i, 16] = x[5 + steer_index] if steer_index > 0 else 0.0
     return base
+
+
+@jit
+def imu_readings(states, derivs, sensor, gravity, n):
+    """What an IMU fixed to the chassis at ``sensor`` (chassis axes [m]) reads at each recorded sample.
+
+    Accelerometer: the specific force ``a - g`` of the sensor point in chassis axes (reads ``+g`` up at
+    rest); gyroscope: the chassis angular velocity; angles: roll, pitch, yaw.
+
+    Returns
+    -------
+    ndarray (m, 9)
+        Columns as :data:`IMU_CHANNELS`.
+    """
+    m = states.shape[0]
+    out = np.empty((m, 9))
+    for i in range(m):
+        x = states[i]
+        w = x[n : n + 3]
+        v = x[n + 3 : n + 6]
+        wd = derivs[i, n : n + 3]
+        vd = derivs[i, n + 3 : n + 6]
+        vs = v + np.cross(w, sensor)
+        acc = vd + np.cross(wd, sensor) + np.cross(w, vs)
+        cr, sr = np.cos(x[3]), np.sin(x[3])
+        cp, sp = np.cos(x[4]), np.sin(x[4])
+        # gravity (0, 0, -g) in chassis axes: R^T (0, 0, -g) = -g (third row of R)
+        gx = gravity * sp
+        gy = -gravity * cp * sr
+        gz = -gravity * cp * cr
+        out[i, 0] = acc[0] - gx
+        out[i, 1] = acc[1] - gy
+        out[i, 2] = acc[2] - gz
+        out[i, 3:6] = w
+        out[i, 6:9] = x[3:6]
+    return out

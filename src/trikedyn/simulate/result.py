@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .channels import BASE_CHANNELS, WHEEL_CHANNELS
+from .channels import BASE_CHANNELS, IMU_CHANNELS, WHEEL_CHANNELS
 
 __all__ = ["Result", "rollover_index", "load_transfer_ratio"]
 
@@ -53,7 +53,7 @@ class Result:
     meta: dict = field(default_factory=dict)
 
     @classmethod
-    def from_arrays(cls, model, times, states, base, wheels, commands, *, status, dt, meta=None) -> Result:
+    def from_arrays(cls, model, times, states, base, wheels, commands, imu, *, status, dt, meta=None) -> Result:
         channels = {name: base[:, i].copy() for i, name in enumerate(BASE_CHANNELS)}
         names = model.wheel_names
         for k, wname in enumerate(names):
@@ -68,6 +68,8 @@ class Result:
         channels["ri"] = rollover_index(fz[:, right], fz[:, left])
         channels["ltr"] = load_transfer_ratio(fz[:, ys < 0].sum(axis=1), fz[:, ys > 0].sum(axis=1))
         channels["min_wheel_load_N"] = fz.min(axis=1)
+        for j, name in enumerate(IMU_CHANNELS):
+            channels[f"imu_{name}"] = imu[:, j].copy()
         channels["steer_cmd_rad"] = commands[:, 0].copy()
         channels["drive_torque_Nm"] = commands[:, 1].copy()
         channels["brake_torque_Nm"] = commands[:, 2].copy()
@@ -86,6 +88,41 @@ class Result:
             hint = get_close_matches(name, list(self.channels), n=1)
             raise InputError(f"no channel '{name}'" + (f"; did you mean '{hint[0]}'?" if hint else ""), where="channel")
         return self.channels[name]
+
+    def imu_log(self, rate_hz: float | None = None, *, noise_std: float = 0.0, gyro_noise_std: float = 0.0,
+                bias: tuple = (0.0, 0.0, 0.0), seed=None):
+        """The emulated IMU as a log table (``time_s`` and the SI names of :mod:`trikedyn.measure.logs`).
+
+        Parameters
+        ----------
+        rate_hz : float, optional
+            Output rate [Hz]; the run's own rate by default. Point-sampled (no anti-alias filter), by
+            linear interpolation of the recorded channels.
+        noise_std, gyro_noise_std : float
+            White noise on the accelerometer [m/s^2] and on the gyroscope [rad/s].
+        bias : tuple of 3 floats
+            Accelerometer bias (x, y, z) [m/s^2].
+        seed : int, optional
+            Seed of the noise.
+
+        Returns
+        -------
+        pandas.DataFrame
+            Writable with :func:`trikedyn.measure.logs.write_log`.
+        """
+        import pandas as pd
+
+        times = self.time_s if rate_hz is None else np.arange(self.time_s[0], self.time_s[-1] + 1e-9, 1.0 / rate_hz)
+        rng = np.random.default_rng(seed)
+        data = {"time_s": times - times[0]}
+        for j, name in enumerate(IMU_CHANNELS):
+            values = np.interp(times, self.time_s, self.channels[f"imu_{name}"])
+            if j < 3:
+                values = values + bias[j] + (rng.normal(0.0, noise_std, times.size) if noise_std else 0.0)
+            elif j < 6 and gyro_noise_std:
+                values = values + rng.normal(0.0, gyro_noise_std, times.size)
+            data[name] = values
+        return pd.DataFrame(data)
 
     def to_pandas(self):
         """All channels as a DataFrame indexed by time [s]."""

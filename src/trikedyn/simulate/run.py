@@ -14,9 +14,9 @@ import numpy as np
 
 from ..errors import InputError, SimulationError
 from ..model.statics import rolling_state, static_equilibrium
-from ..model.vehicle import VehicleModel, build_model
+from ..model.vehicle import S_G, VehicleModel, build_model
 from ..params.io import ParameterSet
-from .channels import compute_channels
+from .channels import compute_channels, imu_readings
 from .integrator import OPEN_LOOP_DRIVER, OPEN_LOOP_PATH, OPEN_LOOP_SPEED, STATUS_OK, STATUS_TEXT, rk4_loop
 from .result import Result
 
@@ -112,7 +112,9 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
     steer = [w.steer_body for w in model.tree.wheels if w.steer_body >= 0]
     cg = model.tree.chassis_cg  # the sprung body's CG, fixed in the chassis
     base = compute_channels(states, derivs, cg, steer[0] if steer else -1, model.n_dof)
-    result = Result.from_arrays(model, times, states, base, wheels, commands, status=STATUS_TEXT[status], dt=dt,
+    sensor = np.array([model.params.sensor.x_m, model.params.sensor.y_m, model.params.sensor.z_m])
+    imu = imu_readings(states, derivs, sensor, float(model.scalars[S_G]), model.n_dof)
+    result = Result.from_arrays(model, times, states, base, wheels, commands, imu, status=STATUS_TEXT[status], dt=dt,
                                 meta=meta)
     if status != STATUS_OK and raise_on_failure:
         err = SimulationError(STATUS_TEXT[status], t_stop)
