@@ -71,6 +71,19 @@ def bench_sine_steer() -> dict:
     }
 
 
+def bench_double_lane_change() -> dict:
+    """Issue 4: a 10 s closed-loop ISO 3888-1 double lane change at 30 km/h (driver in the loop)."""
+    from trikedyn.manoeuvres.paths import double_lane_change
+    from trikedyn.simulate.closed_loop import drive
+
+    pset = load_vehicle("reference-etrike")
+    model = build_model(pset)
+    path = double_lane_change(pset.params.body.overall_width_m)
+    duration = 10.0
+    wall = best_of(lambda: drive(model, path, 30.0, duration_s=duration))
+    return {"double_lane_change_10s_30kmh": {"simulated_s": duration, "wall_s": wall, "real_time_factor": duration / wall}}
+
+
 def main() -> int:
     results = {
         "trikedyn": __version__,
@@ -80,6 +93,7 @@ def main() -> int:
         "cpus": os.cpu_count(),
     }
     results.update(bench_sine_steer())
+    results.update(bench_double_lane_change())
     out = Path(__file__).with_name("results.json")
     out.write_text(json.dumps(results, indent=2))
     s = results["sine_steer_10s_30kmh"]
@@ -87,6 +101,9 @@ def main() -> int:
     print(f"  end to end  {s['wall_s'] * 1e3:7.1f} ms   real-time factor {s['real_time_factor']:6.0f}")
     print(f"  loop only   {s['loop_wall_s'] * 1e3:7.1f} ms   real-time factor {s['loop_real_time_factor']:6.0f}")
     print(f"  one right-hand-side evaluation (4 per step) {s['rhs_evaluation_us']:.2f} us")
+    d = results["double_lane_change_10s_30kmh"]
+    print("closed-loop ISO 3888-1 double lane change, 10 s at 30 km/h:")
+    print(f"  end to end  {d['wall_s'] * 1e3:7.1f} ms   real-time factor {d['real_time_factor']:6.0f}")
     print(f"wrote {out}")
     return 0
 

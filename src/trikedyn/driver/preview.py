@@ -5,7 +5,9 @@ of many driver studies. The reference point is the centre of the rear axle (the 
 point lies on the path a preview distance ``L_d = max(L_min, T_p v)`` ahead of the nearest path point
 (speed-dependent preview). With ``alpha`` the angle between the vehicle heading and the line to the goal
 point, the kinematic road steer angle is ``delta = atan(2 L sin(alpha) / L_d)`` (``L`` the wheelbase),
-optionally plus an understeer feed-forward ``K_us v^2 kappa``. The driver's own dynamics:
+optionally plus an understeer feed-forward ``K_us v^2 kappa``. Like MacAdam's (1981) preview driver, the
+driver looks from where the vehicle *will be* when the steering acts: the pose is predicted ahead by
+``T_pred`` (its delay plus its lag) at the current speed and yaw rate. The driver's own dynamics:
 
 * a reaction delay ``tau`` (a delay line at the step rate),
 * a first-order neuromuscular lag with time constant ``T_n`` (the few-Hz bandwidth of the arms),
@@ -48,8 +50,9 @@ __all__ = ["DriverSettings", "driver_array", "driver_step", "N_DRIVER", "N_DRIVE
     D_MAX_DRIVE,
     D_MAX_BRAKE,
     D_KUS,
-) = range(14)
-N_DRIVER = 14
+    D_PREDICT,
+) = range(15)
+N_DRIVER = 15
 # controller state: speed error integral, delayed-line write position, lagged steer, rate-limited steer, path index
 S_INTEGRAL, S_WRITE, S_LAGGED, S_OUTPUT, S_INDEX = range(5)
 N_DRIVER_STATE = 5
@@ -76,9 +79,11 @@ class DriverSettings:
         PI gains of the speed controller [N m / (m/s)], [N m / m].
     understeer_gradient_rad_per_mps2 : float
         Feed-forward ``K_us`` [rad / (m/s^2)]; 0 for a purely kinematic driver.
+    prediction_s : float, optional
+        ``T_pred`` [s]; the reaction delay plus the neuromuscular lag by default.
     """
 
-    preview_time_s: float = 0.55
+    preview_time_s: float = 0.3
     preview_min_m: float = 3.0
     reaction_delay_s: float = 0.05
     neuromuscular_lag_s: float = 0.05
@@ -86,6 +91,7 @@ class DriverSettings:
     speed_kp_Nm_per_mps: float = 300.0
     speed_ki_Nm_per_m: float = 150.0
     understeer_gradient_rad_per_mps2: float = 0.0
+    prediction_s: float | None = None
 
 
 def driver_array(settings: DriverSettings, params, dt: float) -> np.ndarray:
@@ -116,6 +122,8 @@ def driver_array(settings: DriverSettings, params, dt: float) -> np.ndarray:
     n_braked = sum(w.braked for w in params.wheels)
     out[D_MAX_BRAKE] = params.drive.max_brake_torque_Nm * n_braked
     out[D_KUS] = settings.understeer_gradient_rad_per_mps2
+    predict = settings.prediction_s
+    out[D_PREDICT] = settings.reaction_delay_s + settings.neuromuscular_lag_s if predict is None else predict
     return out
 
 
@@ -153,11 +161,16 @@ def _nearest(path, px, py, start):
 
 
 @jit
-def driver_step(t, dt, px, py, yaw, speed, path, speed_profile, drv, state, delay_line, n_braked):
+def driver_step(t, dt, px, py, yaw, yaw_rate, speed, path, speed_profile, drv, state, delay_line, n_braked):
     """One step of the driver: steer command about the steering axis [rad], drive torque [N m], brake
     torque per braked wheel [N m]. ``(px, py)`` is the rear-axle centre, ``yaw`` the heading, ``speed``
     the forward speed; ``state`` and ``delay_line`` carry the controller's memory between steps."""
-    # --- steering: pure pursuit on the path
+    # --- steering: pure pursuit on the path, from the pose predicted T_pred ahead
+    tp = drv[D_PREDICT]
+    mid = yaw + 0.5 * yaw_rate * tp
+    px = px + speed * tp * math.cos(mid)
+    py = py + speed * tp * math.sin(mid)
+    yaw = yaw + yaw_rate * tp
     idx = _nearest(path, px, py, int(state[S_INDEX]))
     state[S_INDEX] = idx
     m = path.shape[0]

@@ -174,7 +174,11 @@ class Path:
                 raise InputError(f"has {getattr(self, key).size} values, x_m has {n}", where=f"path.{key}")
         if np.any(np.diff(self.s_m) <= 0.0):
             raise InputError("arc length must increase strictly", where="path.s_m")
-        cones = np.ascontiguousarray(self.cones, dtype=np.float64).reshape(-1, 2) if np.size(self.cones) else np.zeros((0, 2))
+        cones = (
+            np.ascontiguousarray(self.cones, dtype=np.float64).reshape(-1, 2)
+            if np.size(self.cones)
+            else np.zeros((0, 2))
+        )
         if not np.all(np.isfinite(cones)):
             raise InputError("contains NaN or infinite values", where="path.cones")
         object.__setattr__(self, "cones", cones)
@@ -242,8 +246,9 @@ class Path:
 
         Notes
         -----
-        The nearest point sample (a k-d tree) is refined on its two adjacent segments (straight chords;
-        the chord error is ``ds^2 / (8 R)``, 6e-6 m at R = 50 m). Beyond the ends the foot is clamped to the
+        The nearest point sample (a k-d tree) is refined on its two adjacent segments (straight chords).
+        The offset is then exact to the chord's sagitta, ``ds^2 / (8 R)`` (6e-6 m at R = 50 m); the arc
+        length to ``|offset| ds / (2 R)`` (4 mm for a point 3 m off a 20 m circle). Beyond the ends the foot is clamped to the
         end point and the offset is the component normal to the end segment. Where the line passes a
         place twice (several laps of a circle) the nearer pass wins, and either may be returned.
         """
@@ -396,7 +401,13 @@ def _iso3888_track(w: float, standard: str):
         (("section 1",), edges[0], edges[1], -0.5 * a, 0.5 * a),
         (("section 3",), edges[2], edges[3], y3_min, y3_min + b),
         # exit lane: its right-hand limit continues that of section 1
-        (("section 5", "section 6") if len(lengths) == 6 else ("section 5",), edges[4], edges[-1], -0.5 * a, -0.5 * a + c),
+        (
+            ("section 5", "section 6") if len(lengths) == 6 else ("section 5",),
+            edges[4],
+            edges[-1],
+            -0.5 * a,
+            -0.5 * a + c,
+        ),
     ]
     return lengths, edges, lanes
 
@@ -432,8 +443,9 @@ def double_lane_change(
     Notes
     -----
     **ISO 3888-1** (Passenger cars -- Test track for a severe lane-change manoeuvre -- Part 1: Double
-    lane-change; editions 1999 and 2018), Table 1, as implemented in Project Chrono's ISO 3888 helper and
-    cited from the 1999 Table 1 in other public models (we could not read the standard's text):
+    lane-change), Table 1, as Project Chrono's ISO 3888 helper implements it and other public models cite
+    it from the 1999 edition (we could not read the standard's text; we assume the 2018 edition the paper
+    cites kept the track):
 
     ========  ==========  ==================  =====================================
     section   length [m]  lane width [m]      lateral position
@@ -453,8 +465,8 @@ def double_lane_change(
     limit of section 3 (centres 3.5 + (1.2 w + 0.25)/2 apart, 4.375 m for the e-trike), and simple models
     take it centre to centre; a reading of the standard's Figure 1 settles it.
 
-    **ISO 3888-2** (Part 2: Obstacle avoidance, 2011), clause 4.1 and Table 1: sections of 12, 13.5, 11,
-    12.5 and 12 m (total 61 m, as 4.1 states); lanes 1.1 w + 0.25 (section 1), w + 1 (section 3, its
+    **ISO 3888-2** (Part 2: Obstacle avoidance, 2011), clause 4.1 and Table 1, as Project Chrono and other
+    public tracks implement it: sections of 12, 13.5, 11, 12.5 and 12 m (total 61 m, as 4.1 states); lanes 1.1 w + 0.25 (section 1), w + 1 (section 3, its
     right-hand limit 1 m left of the left-hand limit of section 1) and 1.3 w + 0.25 but not less than 3 m
     (section 5, right-hand limit in line with section 1). *Uncertain*: public implementations disagree on
     section 5 (Project Chrono: 3 m; others: 1.3 w + 0.25 capped at 3 m); we take "not less than 3 m".
@@ -848,13 +860,13 @@ def _footprint(footprint):
     if not (math.isfinite(x_rear) and math.isfinite(x_front) and math.isfinite(half_width)):
         raise InputError("values must be finite", where="footprint")
     if x_front <= x_rear or half_width <= 0.0:
-        raise InputError(
-            f"expected x_rear_m < x_front_m and half_width_m > 0, got {footprint!r}", where="footprint"
-        )
+        raise InputError(f"expected x_rear_m < x_front_m and half_width_m > 0, got {footprint!r}", where="footprint")
     return x_rear, x_front, half_width
 
 
-def cone_strikes(path: Path, time_s, x_m, y_m, yaw_rad, footprint, *, cone_radius_m: float = CONE_RADIUS_M) -> list[dict]:
+def cone_strikes(
+    path: Path, time_s, x_m, y_m, yaw_rad, footprint, *, cone_radius_m: float = CONE_RADIUS_M
+) -> list[dict]:
     """Cones the vehicle footprint touches, each once, with the time of first contact.
 
     Parameters

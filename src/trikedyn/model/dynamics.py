@@ -356,9 +356,12 @@ def euler_rates_into(q, u, e0, out):
     """
     for i in range(3):
         out[i] = e0[0, i] * u[3] + e0[1, i] * u[4] + e0[2, i] * u[5]
-    sr, cr = np.sin(q[3]), np.cos(q[3])
-    cp = np.cos(q[4])
-    tp = np.tan(q[4])
+    # the angles' sines and cosines from the rotation already computed: R[2] = (-sp, cp sr, cp cr)
+    sp = -e0[0, 2]
+    cp = np.sqrt(1.0 - sp * sp)
+    sr = e0[1, 2] / cp
+    cr = e0[2, 2] / cp
+    tp = sp / cp
     wx, wy, wz = u[0], u[1], u[2]
     out[3] = wx + (wy * sr + wz * cr) * tp
     out[4] = wy * cr - wz * sr

@@ -146,7 +146,11 @@ def _tyre(k, wheel_f, wheel_i, tyre, sc, road, ew, pw, v, slip, xdot, slip_off, 
     e = ew[wb]
     cx, cy, cz = pw[wb, 0], pw[wb, 1], pw[wb, 2]
     ax, ay, az = e[1, 0], e[1, 1], e[1, 2]  # wheel spin axis in world coordinates
-    _, hx, hy = road_height(cx, cy, road)
+    flat = road[R_KIND] != ROAD_BUMP
+    if flat:
+        hx, hy = 0.0, 0.0
+    else:
+        _, hx, hy = road_height(cx, cy, road)
     nn = 1.0 / math.sqrt(hx * hx + hy * hy + 1.0)
     nx, ny, nz = -hx * nn, -hy * nn, nn
     dot = nx * ax + ny * ay + nz * az
@@ -154,7 +158,10 @@ def _tyre(k, wheel_f, wheel_i, tyre, sc, road, ew, pw, v, slip, xdot, slip_off, 
     dn = -radius / math.sqrt(dx * dx + dy * dy + dz * dz)
     rx, ry, rz = dx * dn, dy * dn, dz * dn  # centre -> contact point
     px, py, pz = cx + rx, cy + ry, cz + rz
-    hp, hpx, hpy = road_height(px, py, road)
+    if flat:
+        hp, hpx, hpy = 0.0, 0.0, 0.0
+    else:
+        hp, hpx, hpy = road_height(px, py, road)
     deflection = (hp - pz) * nz
     # wheel angular velocity and centre velocity in world coordinates
     vb = v[wb]

@@ -48,6 +48,13 @@ def static_equilibrium(model: VehicleModel, *, tol: float = 1e-10) -> Equilibriu
     SimulationError
         When the solver finds no equilibrium (e.g. the vehicle cannot stand).
     """
+    key = ("static_equilibrium", tol)
+    if key not in model.cache:
+        model.cache[key] = _solve_static(model, tol)
+    return model.cache[key]
+
+
+def _solve_static(model: VehicleModel, tol: float) -> Equilibrium:
     n = model.n_dof
     joints = _free_joints(model)
     unknown = [2, 3, 4, *joints]

@@ -8,7 +8,7 @@ time loop is a Python object.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -96,6 +96,8 @@ class VehicleModel:
     scalars: np.ndarray
     road: np.ndarray
     steer_inertia: float
+    cache: dict = field(default_factory=dict, compare=False, repr=False)
+    """Results that depend only on the model (static equilibrium, stability limit), kept across runs."""
 
     @property
     def n_dof(self) -> int:
@@ -115,7 +117,11 @@ class VehicleModel:
         return (*self.tree.arrays(), self.wheel_f, self.wheel_i, self.tyre, self.scalars, self.road)
 
     def with_road(self, road: Road) -> VehicleModel:
-        return replace(self, road=road.array())
+        return replace(self, road=road.array(), cache={})
+
+    def on_flat_road(self) -> VehicleModel:
+        """This model on a flat road (itself if its road is flat, keeping its cache)."""
+        return self if self.road[R_KIND] == ROAD_FLAT else self.with_road(flat_road())
 
     def variant(self, *, slip_forces: bool | None = None, damping: bool | None = None,
                 gravity: float | None = None, drag: bool | None = None) -> VehicleModel:
@@ -138,7 +144,7 @@ class VehicleModel:
             scalars[S_G] = gravity
         if drag is False:
             scalars[S_AERO] = 0.0
-        return replace(self, scalars=scalars, wheel_f=wheel_f, tyre=tyre)
+        return replace(self, scalars=scalars, wheel_f=wheel_f, tyre=tyre, cache={})
 
 
 def _steer_axis_inertia(tree: Tree, steer_body: int) -> float:

@@ -13,7 +13,7 @@ import numpy as np
 from ..driver.preview import DriverSettings, driver_array
 from ..errors import InputError
 from ..model.statics import rolling_state, static_equilibrium
-from ..model.vehicle import VehicleModel, build_model, flat_road
+from ..model.vehicle import VehicleModel, build_model
 from ..params.io import ParameterSet
 from .result import Result
 from .run import input_table, run_model
@@ -74,7 +74,7 @@ def drive(vehicle: ParameterSet | VehicleModel, path, speed, *, driver: DriverSe
     v0 = float(rows[0, 1])
     if duration_s is None:
         duration_s = float(path.s_m[-1]) / max(float(rows[:, 1].mean()), 0.5)
-    eq = static_equilibrium(model.with_road(flat_road()))
+    eq = static_equilibrium(model.on_flat_road())
     x0 = rolling_state(model, eq, v0, heading_rad=float(path.heading_rad[0]))
     x0[0], x0[1] = float(path.x_m[0]), float(path.y_m[0])
     arrays = np.column_stack([path.x_m, path.y_m, path.s_m, path.heading_rad, path.curvature_per_m])

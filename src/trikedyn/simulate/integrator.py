@@ -90,8 +90,8 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
     step = 0
     while True:
         if closed:
-            steer, drive, brake = driver_step(t, dt, x[0], x[1], x[5], x[n + 3], path, speed_profile, drv, dstate,
-                                              delay_line, n_braked)
+            steer, drive, brake = driver_step(t, dt, x[0], x[1], x[5], x[n + 2], x[n + 3], path, speed_profile, drv,
+                                              dstate, delay_line, n_braked)
             step_inputs[0, 1] = steer
             step_inputs[0, 2] = drive
             step_inputs[0, 3] = brake

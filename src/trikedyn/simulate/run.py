@@ -74,6 +74,9 @@ def max_stable_step(model: VehicleModel, state: np.ndarray | None = None) -> tup
 
     if state is None:
         state = static_equilibrium(model).state
+    key = ("max_stable_step", round(float(np.hypot(state[model.n_dof + 3], state[model.n_dof + 4])), 1))
+    if key in model.cache:  # the fastest modes hardly change with speed: cached per 0.1 m/s
+        return model.cache[key]
     a, _ = linearise(model, state)
     fastest = float(np.abs(np.linalg.eigvals(a)).max())
     limits = [(RK4_STABILITY / fastest, f"the fastest mode of the linearised model ({fastest:.0f} rad/s)")]
@@ -81,7 +84,8 @@ def max_stable_step(model: VehicleModel, state: np.ndarray | None = None) -> tup
         unsprung = model.tree.mass[w.wheel_body] + model.tree.mass[w.spring_body] * (1.0 if w.steer_body >= 0 else 0.5)
         omega = np.sqrt((model.tyre[0] + w.bump_stop_stiffness) / unsprung)
         limits.append((RK4_STABILITY / omega, f"{w.name} wheel hop on its bump stop ({omega:.0f} rad/s)"))
-    return min(limits)
+    model.cache[key] = min(limits)
+    return model.cache[key]
 
 
 def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, duration_s: float, dt: float,
@@ -157,8 +161,7 @@ def simulate(vehicle: ParameterSet | VehicleModel, *, duration_s: float, speed_k
         model = model.with_road(road)
     if not np.isfinite(speed_kmh) or speed_kmh < 0:
         raise InputError(f"speed must be >= 0 km/h, got {speed_kmh!r}", where="speed_kmh")
-    flat = model.with_road(type(road)()) if road is not None else model
-    eq = static_equilibrium(flat)
+    eq = static_equilibrium(model.on_flat_road())
     x0 = rolling_state(model, eq, speed_kmh / 3.6)
     inputs = input_table(duration_s, dt, steer_rad, drive_torque_Nm, brake_torque_Nm)
     return run_model(model, x0, inputs, duration_s=duration_s, dt=dt, output_rate_hz=output_rate_hz)
