@@ -122,3 +122,37 @@ def test_modes_command(capsys):
     assert code == 0 and sum(data["static_wheel_loads_N"].values()) == pytest.approx(583.0 * 9.80665, rel=1e-6)
     names = {m["name"] for m in data["modes"]}
     assert {"bounce", "pitch", "roll"} <= names
+
+
+def test_simulate_plot_and_compare_commands(capsys, tmp_path):
+    run_file = tmp_path / "run.parquet"
+    code, out, _ = run(capsys, "simulate", "reference-etrike", "--manoeuvre", "slc", "--speed", "30", "--out",
+                       str(run_file), "--json")
+    summary = json.loads(out)
+    assert code == 0
+    for key in ("cone_strikes", "max_abs_ri", "min_wheel_load_N", "max_lateral_acceleration_mps2",
+                "max_yaw_rate_radps", "max_path_error_m"):
+        assert key in summary
+    assert summary["cone_strikes"] == 0 and run_file.exists() and run_file.with_suffix(".json").exists()
+    code, out, _ = run(capsys, "plot", str(run_file), "--json")
+    assert code == 0 and (tmp_path / "run.png").stat().st_size > 10_000
+    code, out, _ = run(capsys, "compare", str(run_file), str(run_file), "--json")
+    result = json.loads(out)
+    assert code == 0 and result["offset_s"] == 0.0
+    assert result["channels"]["wz_radps"]["rmse"] == 0.0
+    code, out, _ = run(capsys, "simulate", "reference-etrike", "--manoeuvre", "step", "--speed", "30", "--json")
+    assert code == 0 and json.loads(out)["manoeuvre"].startswith("step steer")
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["simulate", "reference-etrike", "--manoeuvre", "zigzag"], "unknown manoeuvre 'zigzag'"),
+        (["simulate", "reference-etrike", "--speed", "-3"], "--speed"),
+        (["simulate", "reference-etrike", "--manoeuvre", "nowhere.csv"], "nowhere.csv"),
+        (["plot", "missing.parquet"], "missing.parquet"),
+    ],
+)
+def test_simulate_mistakes_exit_2(capsys, args, needle):
+    code, out, err = run(capsys, *args)
+    assert code == 2 and out == "" and err.count("\n") == 1 and needle in err

@@ -429,9 +429,10 @@ def simulate_cmd(
         raise InputError(f"must be > 0 km/h, got {speed!r}", where="--speed")
     try:
         if manoeuvre == "step":
-            delta = np.radians(steer_deg)
+            from .manoeuvres.steer import step_steer
+
             result = simulate(pset, duration_s=duration or 6.0, speed_kmh=speed,
-                              steer_rad=lambda t: delta * np.clip((t - 1.0) / 0.15, 0.0, 1.0), drive_torque_Nm=50.0)
+                              steer_rad=step_steer(np.radians(steer_deg)), drive_torque_Nm=50.0)
             result.meta["manoeuvre"] = "step steer (ISO 7401)"
         else:
             result = drive(pset, _manoeuvre_path(manoeuvre, pset.params, radius), speed, duration_s=duration)
@@ -497,9 +498,8 @@ def compare_cmd(
     """Compare a measured log with a simulation: time offset by cross-correlation, RMSE, NRMSE, peak error."""
     from .analysis.compare import compare, load_table
 
-    measured, _ = load_table(log)
-    simulated, _ = load_table(run)
-    simulated = _imu_view(simulated)
+    measured = _imu_view(load_table(log)[0])
+    simulated = _imu_view(load_table(run)[0])
     names = [c.strip() for c in channels.split(",") if c.strip()]
     result = compare(measured, simulated, channels=names, max_offset_s=max_offset)
     data = result.to_dict()
