@@ -82,3 +82,15 @@ def test_comparison_with_a_synthetic_measured_log(trike, tmp_path):
     same = compare(simulated, simulated, channels=["ay_mps2", "wz_radps"])
     assert same.offset_s == 0.0
     assert all(c.rmse == 0.0 and c.peak_error == 0.0 for c in same.channels)
+
+
+def test_speed_controller_follows_a_linear_profile(trike):
+    """The paper drove its double lane change with the throttle held, the speed rising about linearly."""
+    from trikedyn.manoeuvres import speed
+
+    profile = speed.linear(25.0, 35.0, 20.0)
+    run = drive(trike, paths.double_lane_change(1.25), profile, duration_s=18.0)
+    frame = run.to_pandas().loc[2.0:]
+    target = profile.at(frame.index.to_numpy()) * 3.6
+    assert np.abs(frame.speed_mps.to_numpy() * 3.6 - target).max() < 1.0
+    assert run.meta["summary"]["cone_strikes"] == 0
