@@ -524,6 +524,39 @@ def _imu_view(frame):
     return frame[keep].rename(columns=renamed)
 
 
+@app.command("threshold")
+def threshold_cmd(
+    vehicle: VehicleArg,
+    manoeuvre: Annotated[str, typer.Option("--manoeuvre", help="dlc (ISO 3888-1) or slc (ISO 14791).")] = "dlc",
+    payload: Annotated[float, typer.Option("--payload", help="The paper's freight aboard [kg].")] = 0.0,
+    stiffness: Annotated[float, typer.Option("--stiffness-scale", help="Suspension stiffness factor (Table 2).")] = 1.0,
+    damping: Annotated[float, typer.Option("--damping-scale", help="Suspension damping factor (Table 2).")] = 1.0,
+    low: Annotated[float, typer.Option("--low", help="Lowest speed searched [km/h].")] = 10.0,
+    high: Annotated[float, typer.Option("--high", help="Highest speed searched [km/h].")] = 90.0,
+    resolution: Annotated[float, typer.Option("--resolution", help="Resolution [km/h].")] = 0.1,
+    as_json: JsonOpt = False,
+):
+    """Threshold velocity: the highest speed with every wheel on the ground through the manoeuvre."""
+    from .analysis.threshold import threshold_velocity
+    from .params import load_vehicle, scale_suspension, with_freight
+
+    if manoeuvre not in ("dlc", "slc"):
+        raise InputError(f"expected dlc or slc, got '{manoeuvre}'", where="--manoeuvre")
+    pset = with_freight(scale_suspension(load_vehicle(vehicle), stiffness=stiffness, damping=damping), payload)
+    result = threshold_velocity(pset, manoeuvre, low_kmh=low, high_kmh=high, resolution_kmh=resolution)
+    data = result.to_dict(runs=True) | {"vehicle": pset.name, "manoeuvre": manoeuvre, "payload_kg": payload,
+                                        "stiffness_scale": stiffness, "damping_scale": damping}
+    if result.threshold_speed_kmh is None:
+        headline = f"no threshold: {result.detail}"
+    else:
+        headline = f"threshold velocity {result.threshold_speed_kmh:.1f} km/h ({result.limit or 'no limit found'})"
+    lines = [headline, f"  {result.detail}"]
+    if result.first_cone_strike_kmh is not None:
+        lines.append(f"  first cone strike seen at {result.first_cone_strike_kmh:.1f} km/h")
+    lines.append(f"  {len(result.runs)} runs")
+    _emit(data, as_json, "\n".join(lines))
+
+
 @app.command("reproduce")
 def reproduce_cmd(
     out: Annotated[Path, typer.Option("--out", help="Output folder (created; files in it are replaced).")] = Path(
