@@ -58,6 +58,8 @@ from .vehicle import (
     R_KIND,
     R_LENGTH,
     R_X0,
+    R_YMAX,
+    R_YMIN,
     ROAD_BUMP,
     S_AERO,
     S_AERO_Z,
@@ -99,7 +101,7 @@ N_WOUT = 9
 @jit(inline="always")
 def road_height(x, y, road):
     """Road height [m] and its slopes ``dh/dx``, ``dh/dy`` at ``(x, y)``."""
-    if road[R_KIND] == ROAD_BUMP:
+    if road[R_KIND] == ROAD_BUMP and road[R_YMIN] <= abs(y) <= road[R_YMAX]:
         s = (x - road[R_X0]) / road[R_LENGTH]
         if 0.0 < s < 1.0:
             height = road[R_HEIGHT]

@@ -49,7 +49,7 @@ N_WI = 5
 ) = range(18)
 N_S = 18
 # road
-R_KIND, R_X0, R_LENGTH, R_HEIGHT = range(4)
+R_KIND, R_X0, R_LENGTH, R_HEIGHT, R_YMIN, R_YMAX = range(6)
 ROAD_FLAT, ROAD_BUMP = 0.0, 1.0
 
 
@@ -62,16 +62,20 @@ class Road:
     kind : {"flat", "bump"}
     start_m, length_m, height_m : float
         Where the bump starts along x [m], its length [m] and its height [m].
+    lateral_m : (float, float)
+        The bump covers ``lateral_m[0] <= |y| <= lateral_m[1]`` [m]: the whole road by default; a narrow
+        central cushion, or two side cushions, let one axle cross it alone.
     """
 
     kind: str = "flat"
     start_m: float = 0.0
     length_m: float = 1.0
     height_m: float = 0.0
+    lateral_m: tuple[float, float] = (0.0, 1e9)
 
     def array(self) -> np.ndarray:
         kind = ROAD_FLAT if self.kind == "flat" else ROAD_BUMP
-        return np.array([kind, self.start_m, self.length_m, self.height_m])
+        return np.array([kind, self.start_m, self.length_m, self.height_m, *self.lateral_m])
 
 
 def flat_road() -> Road:
@@ -79,9 +83,10 @@ def flat_road() -> Road:
     return Road()
 
 
-def speed_bump(start_m: float, length_m: float = 0.9, height_m: float = 0.06) -> Road:
+def speed_bump(start_m: float, length_m: float = 0.9, height_m: float = 0.06,
+               lateral_m: tuple[float, float] = (0.0, 1e9)) -> Road:
     """A speed bump (defaults: 0.9 m long, 60 mm high, a common road hump) starting at ``start_m``."""
-    return Road("bump", start_m, length_m, height_m)
+    return Road("bump", start_m, length_m, height_m, tuple(lateral_m))
 
 
 @dataclass(frozen=True)
