@@ -84,6 +84,42 @@ def bench_double_lane_change() -> dict:
     return {"double_lane_change_10s_30kmh": {"simulated_s": duration, "wall_s": wall, "real_time_factor": duration / wall}}
 
 
+def bench_threshold() -> dict:
+    """Issue 5: one threshold search on the double lane change (reference-etrike, 0.1 km/h)."""
+    from trikedyn.analysis.threshold import threshold_velocity
+
+    model = build_model(load_vehicle("reference-etrike"))
+    holder = {}
+
+    def search():
+        holder["result"] = threshold_velocity(model, "dlc")
+
+    wall = best_of(search, 3)
+    r = holder["result"]
+    return {"threshold_search_dlc": {"wall_s": wall, "runs": len(r.runs), "threshold_speed_kmh": r.threshold_speed_kmh,
+                                     "limit": r.limit}}
+
+
+def bench_study_and_reproduce() -> dict:
+    """Issue 5: the built-in study on 2 workers, and `trikedyn reproduce`, each once from a fresh folder."""
+    import shutil
+    import subprocess
+    import tempfile
+
+    out = {}
+    folder = Path(tempfile.mkdtemp(prefix="trikedyn-bench-"))
+    start = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "trikedyn", "study", "paper", "--workers", "2", "--out", str(folder / "study")],
+                   check=True, capture_output=True)
+    out["study_paper_2_workers"] = {"wall_s": time.perf_counter() - start, "target_s": 60.0}
+    start = time.perf_counter()
+    subprocess.run([sys.executable, "-m", "trikedyn", "reproduce", "--out", str(folder / "reproduce")], check=True,
+                   capture_output=True)
+    out["reproduce"] = {"wall_s": time.perf_counter() - start, "target_s": 120.0}
+    shutil.rmtree(folder, ignore_errors=True)
+    return out
+
+
 def main() -> int:
     results = {
         "trikedyn": __version__,
@@ -94,6 +130,8 @@ def main() -> int:
     }
     results.update(bench_sine_steer())
     results.update(bench_double_lane_change())
+    results.update(bench_threshold())
+    results.update(bench_study_and_reproduce())
     out = Path(__file__).with_name("results.json")
     out.write_text(json.dumps(results, indent=2))
     s = results["sine_steer_10s_30kmh"]
@@ -104,6 +142,11 @@ def main() -> int:
     d = results["double_lane_change_10s_30kmh"]
     print("closed-loop ISO 3888-1 double lane change, 10 s at 30 km/h:")
     print(f"  end to end  {d['wall_s'] * 1e3:7.1f} ms   real-time factor {d['real_time_factor']:6.0f}")
+    t = results["threshold_search_dlc"]
+    print(f"threshold search, DLC: {t['wall_s']:.2f} s ({t['runs']} runs) -> {t['threshold_speed_kmh']} km/h ({t['limit']})")
+    st, rp = results["study_paper_2_workers"], results["reproduce"]
+    print(f"built-in study, 2 workers: {st['wall_s']:.1f} s (target 60 s)")
+    print(f"trikedyn reproduce: {rp['wall_s']:.1f} s (target 120 s)")
     print(f"wrote {out}")
     return 0
 

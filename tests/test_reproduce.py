@@ -10,14 +10,15 @@ from trikedyn.cli import main
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
     out = tmp_path_factory.mktemp("repro")
-    assert main(["reproduce", "--out", str(out)]) == 0
+    assert main(["reproduce", "--out", str(out), "--no-study"]) == 0  # the study has its own tests
     return out
 
 
 def test_writes_tables_figures_and_summary(run):
     names = {p.name for p in run.iterdir()}
-    assert {"table1_equations.csv", "table1_identified.csv", "table3.csv", "audit.json", "summary.md", "summary.json"} <= names
-    assert sum(n.endswith(".png") for n in names) == 4
+    assert {"table1_equations.csv", "table1_identified.csv", "table1_model_bump.csv", "table3.csv", "audit.json",
+            "manoeuvres.csv", "summary.md", "summary.json", "report.html"} <= names
+    assert {"fig7_slc.png", "fig8_dlc.png", "fig9_rollover_index.png", "fig2_model_bump_front.png"} <= names
     for png in run.glob("*.png"):
         assert png.stat().st_size > 10_000
 
@@ -39,3 +40,17 @@ def test_identification_recovers_the_models_suspension(run):
         assert abs(row["stiffness_error_pct"]) < 3.0, row
         assert abs(row["damping_error_pct"]) < 10.0, row
         assert row["identified_frequency_hz"] == pytest.approx(row["body_mode_frequency_hz"], rel=0.02)
+
+
+def test_model_bump_test_comes_close_to_the_models_suspension(run):
+    """Closing the loop on the multibody model: its seat sensor at 10 Hz gives back K within 10 %."""
+    summary = json.loads((run / "summary.json").read_text())
+    for row in summary["table1_model_bump"]:
+        assert abs(row["stiffness_error_pct"]) < 10.0, row
+
+
+def test_manoeuvres_completed_and_ri_static(run):
+    summary = json.loads((run / "summary.json").read_text())
+    assert all(row["cone_strikes"] == 0 and not row["wheel_lifted"] for row in summary["manoeuvres"])
+    assert summary["static_rollover_index"] == pytest.approx(-0.0518, abs=2e-3)
+    assert "data:image/png;base64," in (run / "report.html").read_text()

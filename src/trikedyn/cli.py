@@ -557,20 +557,37 @@ def threshold_cmd(
     _emit(data, as_json, "\n".join(lines))
 
 
+@app.command("study")
+def study_cmd(
+    spec: Annotated[str, typer.Argument(help="Study spec (TOML file), or 'paper' for the built-in Fig. 10 study.")],
+    workers: Annotated[int | None, typer.Option("--workers", help="Processes on this machine (default: all cores).")] = None,
+    dask_local: Annotated[int | None, typer.Option("--dask-local", help="Run on a local Dask cluster of N workers.")] = None,
+    scheduler: Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:port).")] = None,
+    out: Annotated[Path, typer.Option("--out", help="Output folder (its store makes a re-run resume).")] = Path("study-output"),
+    as_json: JsonOpt = False,
+):
+    """Parametric study of the threshold velocity: parallel, resumable, CSV and Parquet tables."""
+    from .study.runner import study_command
+
+    study_command(spec, workers, dask_local, scheduler, out, as_json)
+
+
 @app.command("reproduce")
 def reproduce_cmd(
     out: Annotated[Path, typer.Option("--out", help="Output folder (created; files in it are replaced).")] = Path(
         "trikedyn-output"
     ),
-    no_figures: Annotated[bool, typer.Option("--no-figures", help="Skip the PNG figures.")] = False,
+    no_figures: Annotated[bool, typer.Option("--no-figures", help="Skip the PNG figures and the report.")] = False,
+    no_study: Annotated[bool, typer.Option("--no-study", help="Skip the parametric study (Fig. 10).")] = False,
+    workers: Annotated[int | None, typer.Option("--workers", help="Processes for the study (default 2).")] = 2,
     as_json: JsonOpt = False,
 ):
-    """The reference paper's workflow on the built-in reference vehicle: tables, figures, verdicts."""
+    """The reference paper's workflow on the built-in reference vehicle: tables, figures, verdicts, report.html."""
     from .reproduce import reproduce
 
     if out.exists() and not out.is_dir():
         raise InputError("exists and is not a folder", where=str(out))
-    summary = reproduce(out, figures=not no_figures)
+    summary = reproduce(out, figures=not no_figures, study=not no_study, workers=workers)
     text = "\n".join(
         [f"wrote {len(summary['files'])} files to {out}"]
         + [f"- {s['verdict'].upper()}: {s['paper']}" for s in summary["statements"]]
