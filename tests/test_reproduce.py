@@ -54,3 +54,20 @@ def test_manoeuvres_completed_and_ri_static(run):
     assert all(row["cone_strikes"] == 0 and not row["wheel_lifted"] for row in summary["manoeuvres"])
     assert summary["static_rollover_index"] == pytest.approx(-0.0518, abs=2e-3)
     assert "data:image/png;base64," in (run / "report.html").read_text()
+
+
+def test_reproduce_report_renders_in_headless_chromium(run, tmp_path):
+    """The real report of `reproduce` in headless Chromium: no console message, every figure drawn."""
+    import numpy as np
+    from matplotlib import image as mpimg
+
+    from .report.test_html import _console_messages, _Images, _render
+
+    shot, dom, err = _render(run / "report.html", tmp_path)
+    assert _console_messages(err) == [], "\n".join(_console_messages(err))
+    images = _Images()
+    images.feed(dom)
+    assert len(images.sources) >= 6 and all(s.startswith("data:image/png;base64,") for s in images.sources)
+    rgb = mpimg.imread(shot)[..., :3]
+    assert len(np.unique((rgb * 255).round().astype(np.uint8).reshape(-1, 3), axis=0)) >= 256
+    assert rgb.std() >= 0.05

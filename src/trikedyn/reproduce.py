@@ -328,6 +328,21 @@ def reproduce(out_dir: str | Path, *, figures: bool = True, study: bool = True, 
     return summary
 
 
+_SECTION_TITLES = {
+    "Eq. 4, C = 2 xi sqrt": "Table 1: damping coefficients and Eq. 4",
+    "K = 4 pi^2 f_n^2 M_s": "Table 1: stiffness and Eq. 3",
+    "Table 3: CG against ": "Table 3: centre of gravity with freight",
+    "10 Hz sampling satis": "Identification from a 10 Hz record (quarter car)",
+    "The tyre's stiffness": "Tyre compliance in the quarter car",
+    "The CG is 16 mm to t": "Lateral CG offset and static tip-over",
+    "The suspension's K a": "Identification from the multibody model's seat sensor",
+    "The e-trike complete": "Lane changes (Figs. 7-8)",
+    "The rollover index i": "Rollover index (Fig. 9)",
+    "The threshold veloci": "Threshold velocity and freight (Fig. 10)",
+    "A stiffer suspension": "Threshold velocity and stiffness (Fig. 10a)",
+    "Damping affects the ": "Threshold velocity and damping (Fig. 10b)",
+}
+
 _SECTION_FILES = {
     "Eq. 4, C = 2 xi sqrt": ([], ["table1_equations.csv"]),
     "K = 4 pi^2 f_n^2 M_s": ([], ["audit_reference-etrike.txt"]),
@@ -353,7 +368,7 @@ def _report(out: Path, statements: list[dict], study: bool) -> Path:
     sections = []
     for s in statements:
         figs, tables = _SECTION_FILES.get(s["paper"][:20], ([], []))
-        section = {"title": s["paper"], "paper": s["paper"], "verdict": s["verdict"], "evidence": s["evidence"],
+        section = {"title": _SECTION_TITLES.get(s["paper"][:20], s["paper"]), "paper": s["paper"], "verdict": s["verdict"], "evidence": s["evidence"],
                    "figures": [(out / f, f) for f in figs if (out / f).exists()], "tables": []}
         for name in tables:
             path = out / name

@@ -1,0 +1,451 @@
+"""Study specifications: a TOML file that names a vehicle and the grids to sweep (paper Tables 2-3, Fig. 10).
+
+A study file::
+
+    name = "paper-fig10"
+    description = "..."
+    vehicle = "reference-etrike"        # preset name, or a .toml path relative to this file
+    manoeuvres = ["dlc", "slc"]
+    freight_kg = [0, 50, 100, 150, 200]
+    resolution_kmh = 0.1                # threshold search: bisection resolution [km/h]
+    # optional: low_kmh = 10, high_kmh = 90, step_kmh = 10 (search range and bracketing step [km/h])
+
+    [[groups]]                          # each group is a grid
+    name = "stiffness"
+    stiffness_scale = [0.8, 1.0, 1.2]
+    damping_scale = [1.0]
+    overrides = { "mass.driver_kg" = [75, 90] }   # optional; each listed value is a grid axis
+
+The scenarios are the union of the groups' grids (manoeuvre x stiffness x damping x overrides x freight);
+a scenario that two groups share is run once and carries both group names. Every scenario has a
+``scenario_id``: a short SHA-256 of its canonical JSON (vehicle, vehicle content digest, manoeuvre, freight,
+scales, overrides, search settings). The id is what the result store is keyed by, so a re-run of the same
+spec finds its finished scenarios, and a changed vehicle file gives new ids instead of stale results.
+
+:func:`load_spec` does the I/O (reads the file, loads the vehicle once to check override paths and to
+digest it); :func:`expand` is a pure function of the loaded spec.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import math
+import tomllib
+from dataclasses import dataclass
+from difflib import get_close_matches
+from importlib import resources
+from pathlib import Path
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+
+from ..errors import InputError
+
+__all__ = [
+    "GroupSpec",
+    "StudySpec",
+    "canonical_json",
+    "expand",
+    "list_specs",
+    "load_spec",
+    "parse_spec",
+    "scenario_id",
+]
+
+SCENARIO_KEYS = (
+    "scenario_id",
+    "groups",
+    "vehicle",
+    "vehicle_digest",
+    "manoeuvre",
+    "freight_kg",
+    "stiffness_scale",
+    "damping_scale",
+    "overrides",
+    "resolution_kmh",
+    "low_kmh",
+    "high_kmh",
+    "step_kmh",
+)
+"""Keys of a scenario dict, in this order."""
+
+
+# ------------------------------------------------------------------------------------------------
+# validation models (TOML -> checked values)
+# ------------------------------------------------------------------------------------------------
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+Scalar = float | int | bool | str
+
+
+class _Group(_Model):
+    name: str = Field(min_length=1)
+    stiffness_scale: list[float] = Field(default=[1.0], min_length=1)
+    damping_scale: list[float] = Field(default=[1.0], min_length=1)
+    overrides: dict[str, list[Scalar]] = Field(default_factory=dict)
+
+    @field_validator("stiffness_scale", "damping_scale")
+    @classmethod
+    def _positive(cls, values):
+        for v in values:
+            if not math.isfinite(v) or v <= 0:
+                raise ValueError(f"scale factors must be finite and > 0, got {v!r}")
+        return values
+
+    @field_validator("overrides")
+    @classmethod
+    def _non_empty(cls, values):
+        for key, axis in values.items():
+            if not axis:
+                raise ValueError(f"override '{key}' needs at least one value")
+        return values
+
+
+class _Spec(_Model):
+    name: str = Field(min_length=1)
+    description: str = ""
+    vehicle: str = "reference-etrike"
+    manoeuvres: list[Literal["dlc", "slc"]] = Field(default=["dlc", "slc"], min_length=1)
+    freight_kg: list[float] = Field(default=[0.0], min_length=1)
+    resolution_kmh: float = Field(default=0.1, gt=0, le=10)
+    low_kmh: float = Field(default=10.0, gt=0)
+    high_kmh: float = Field(default=90.0, gt=0, le=300)
+    step_kmh: float = Field(default=10.0, gt=0)
+    groups: list[_Group] = Field(default_factory=lambda: [_Group(name="base")], min_length=1)
+
+    @field_validator("freight_kg")
+    @classmethod
+    def _freight(cls, values):
+        for v in values:
+            if not math.isfinite(v) or v < 0:
+                raise ValueError(f"freight masses must be >= 0 kg, got {v!r}")
+        return values
+
+
+def _fields_at(loc: tuple) -> list[str]:
+    """Field names of the section at a validation-error location (for close-match hints)."""
+    if len(loc) >= 2 and loc[0] == "groups":
+        return list(_Group.model_fields)
+    return list(_Spec.model_fields)
+
+
+def _loc_text(loc: tuple, raw: dict) -> str:
+    parts: list[str] = []
+    node: Any = raw
+    for part in loc:
+        if isinstance(part, int):
+            label = node[part].get("name") if isinstance(node, list) and part < len(node) and isinstance(
+                node[part], dict) else None
+            parts.append(f"[{label or part}]")
+            node = node[part] if isinstance(node, list) and part < len(node) else None
+        else:
+            parts.append(("." if parts else "") + str(part))
+            node = node.get(part) if isinstance(node, dict) else None
+    return "".join(parts) or "(top level)"
+
+
+def _describe(exc: ValidationError, raw: dict) -> str:
+    """One line for the first validation error: the field and what is expected."""
+    errors = exc.errors()
+    err = next((e for e in errors if e["type"] == "extra_forbidden"), errors[0])
+    loc = tuple(err["loc"])
+    if err["type"] == "extra_forbidden":
+        section = _loc_text(loc[:-1], raw) if len(loc) > 1 else "the top level"
+        hint = get_close_matches(str(loc[-1]), _fields_at(loc), n=1, cutoff=0.5)
+        tip = f"; did you mean '{hint[0]}'?" if hint else ""
+        return f"unknown key '{loc[-1]}' in {section}{tip}"
+    where = _loc_text(loc, raw)
+    if err["type"] == "missing":
+        return f"{where}: missing (required)"
+    msg = err["msg"].removeprefix("Value error, ")
+    got = err.get("input")
+    shown = "" if isinstance(got, dict | list) or err["type"].startswith("value_error") else f" (got {got!r})"
+    return f"{where}: {msg[0].lower() + msg[1:]}{shown}"
+
+
+# ------------------------------------------------------------------------------------------------
+# the loaded spec
+# ------------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class GroupSpec:
+    """One grid of a study: suspension scale factors [-] and parameter overrides (dotted path -> values)."""
+
+    name: str
+    stiffness_scale: tuple[float, ...]
+    damping_scale: tuple[float, ...]
+    overrides: tuple[tuple[str, tuple[Any, ...]], ...]
+
+
+@dataclass(frozen=True)
+class StudySpec:
+    """A validated study, ready to expand into scenarios.
+
+    Attributes
+    ----------
+    name, description : str
+    vehicle : str
+        The vehicle as written in the spec (preset name or path relative to the spec file).
+    vehicle_source : str
+        What :func:`trikedyn.params.load_vehicle` reads: the preset name or the resolved file path.
+    vehicle_digest : str
+        Short SHA-256 of the vehicle's validated values; part of every scenario id.
+    manoeuvres : tuple of str
+        ``"dlc"`` (ISO 3888-1) and/or ``"slc"`` (ISO 14791).
+    freight_kg : tuple of float
+        The paper's freight in the trunk [kg] (Table 3).
+    resolution_kmh, low_kmh, high_kmh, step_kmh : float
+        Threshold search settings [km/h] (see :func:`trikedyn.analysis.threshold.threshold_velocity`).
+    groups : tuple of GroupSpec
+    origin : str
+        Spec name or file path it was read from.
+    """
+
+    name: str
+    description: str
+    vehicle: str
+    vehicle_source: str
+    vehicle_digest: str
+    manoeuvres: tuple[str, ...]
+    freight_kg: tuple[float, ...]
+    resolution_kmh: float
+    low_kmh: float
+    high_kmh: float
+    step_kmh: float
+    groups: tuple[GroupSpec, ...]
+    origin: str = "<string>"
+
+    def scenarios(self) -> list[dict]:
+        """The unique scenarios, in spec order (see :func:`expand`)."""
+        return expand(self)
+
+    def load_vehicle(self):
+        """The study's base vehicle (:class:`~trikedyn.params.io.ParameterSet`), before any variation."""
+        from ..params import load_vehicle
+
+        return load_vehicle(self.vehicle_source)
+
+
+def _spec_dir():
+    return resources.files("trikedyn.study") / "specs"
+
+
+def list_specs() -> list[str]:
+    """Names of the study specs shipped with trikedyn (``paper``: the paper's Fig. 10)."""
+    return sorted(p.name[:-5] for p in _spec_dir().iterdir() if p.name.endswith(".toml"))
+
+
+def load_spec(name_or_path: str | Path | StudySpec) -> StudySpec:
+    """Load a study spec by name (``"paper"``) or from a TOML file.
+
+    Raises
+    ------
+    InputError
+        Unknown spec name (with a close match), unreadable TOML, unknown key (with a close match), a value
+        out of range, an unknown vehicle or override path.
+    """
+    if isinstance(name_or_path, StudySpec):
+        return name_or_path
+    text = str(name_or_path)
+    path = Path(text)
+    if path.suffix == ".toml" or path.exists() or "/" in text:
+        if not path.is_file():
+            raise InputError("no such study spec file", where=text)
+        try:
+            raw = path.read_text(encoding="utf-8")
+        except UnicodeDecodeError as exc:
+            raise InputError(f"not UTF-8 text ({exc.reason} at byte {exc.start})", where=text) from None
+        return parse_spec(raw, origin=text, base_dir=path.resolve().parent)
+    names = list_specs()
+    if text not in names:
+        hint = get_close_matches(text, names, n=1)
+        tip = f"; did you mean '{hint[0]}'?" if hint else ""
+        raise InputError(f"unknown study '{text}'{tip} (built in: {', '.join(names)}; or give a .toml file)",
+                         where="study")
+    return parse_spec((_spec_dir() / f"{text}.toml").read_text(encoding="utf-8"), origin=text, base_dir=None)
+
+
+def parse_spec(source: str | dict, origin: str = "<string>", base_dir: str | Path | None = None) -> StudySpec:
+    """Validate a study given as TOML text or as a dict.
+
+    Parameters
+    ----------
+    source : str or dict
+        TOML text, or the table it parses to.
+    origin : str
+        Name shown in error messages.
+    base_dir : path, optional
+        Folder that a relative vehicle path is relative to (the spec file's; the working folder if None).
+    """
+    if isinstance(source, str):
+        try:
+            raw = tomllib.loads(source)
+        except tomllib.TOMLDecodeError as exc:
+            raise InputError(f"invalid TOML: {exc}", where=origin) from None
+    else:
+        raw = dict(source)
+    try:
+        model = _Spec.model_validate(raw)
+    except ValidationError as exc:
+        raise InputError(_describe(exc, raw), where=origin) from None
+    if model.low_kmh >= model.high_kmh:
+        raise InputError(f"low_kmh ({model.low_kmh:g}) must be below high_kmh ({model.high_kmh:g})", where=origin)
+    names = [g.name for g in model.groups]
+    dup = next((n for n in names if names.count(n) > 1), None)
+    if dup is not None:
+        raise InputError(f"groups: the name '{dup}' is used twice; group names must be unique", where=origin)
+
+    vehicle_source = _resolve_vehicle(model.vehicle, base_dir)
+    from ..errors import ParameterError
+    from ..params import load_vehicle
+
+    try:
+        pset = load_vehicle(vehicle_source)
+    except ParameterError as exc:
+        raise InputError(f"vehicle: {exc}", where=origin) from None
+    plain = pset.params.model_dump(mode="json")
+    for group in model.groups:
+        for dotted in group.overrides:
+            problem = _check_path(plain, dotted)
+            if problem:
+                raise InputError(f"groups[{group.name}].overrides: {problem}", where=origin)
+    digest = hashlib.sha256(pset.params.model_dump_json().encode()).hexdigest()[:12]
+
+    groups = tuple(
+        GroupSpec(
+            name=g.name,
+            stiffness_scale=tuple(float(v) for v in g.stiffness_scale),
+            damping_scale=tuple(float(v) for v in g.damping_scale),
+            overrides=tuple((k, tuple(_norm(v) for v in vals)) for k, vals in g.overrides.items()),
+        )
+        for g in model.groups
+    )
+    return StudySpec(
+        name=model.name,
+        description=model.description,
+        vehicle=model.vehicle,
+        vehicle_source=vehicle_source,
+        vehicle_digest=digest,
+        manoeuvres=tuple(model.manoeuvres),
+        freight_kg=tuple(float(v) for v in model.freight_kg),
+        resolution_kmh=float(model.resolution_kmh),
+        low_kmh=float(model.low_kmh),
+        high_kmh=float(model.high_kmh),
+        step_kmh=float(model.step_kmh),
+        groups=groups,
+        origin=origin,
+    )
+
+
+def _resolve_vehicle(vehicle: str, base_dir: str | Path | None) -> str:
+    """A preset name stays a name; a path is made relative to the spec file's folder."""
+    from ..params import list_presets
+
+    if vehicle in list_presets() and not vehicle.endswith(".toml"):
+        return vehicle
+    path = Path(vehicle)
+    if path.suffix == ".toml" or "/" in vehicle:
+        if not path.is_absolute() and base_dir is not None:
+            path = Path(base_dir) / path
+        return str(path)
+    return vehicle  # an unknown name: load_vehicle explains, with a close match
+
+
+def _check_path(plain: dict, dotted: str) -> str | None:
+    """Why a dotted parameter path does not exist in a parameter set (None if it does)."""
+    node: Any = plain
+    keys = dotted.split(".")
+    for i, key in enumerate(keys):
+        if isinstance(node, list):
+            names = [w.get("name") for w in node if isinstance(w, dict)]
+            nxt = next((w for w in node if isinstance(w, dict) and w.get("name") == key), None)
+        elif isinstance(node, dict):
+            names = list(node)
+            nxt = node.get(key) if key in node else None
+            if key in node and i == len(keys) - 1:
+                return None
+        else:
+            return f"no parameter '{dotted}' ('{'.'.join(keys[:i])}' is a value)"
+        if nxt is None:
+            hint = get_close_matches(key, [str(n) for n in names], n=1)
+            tip = f"; did you mean '{hint[0]}'?" if hint else ""
+            return f"no parameter '{dotted}' (no '{key}'){tip}"
+        node = nxt
+    if isinstance(node, dict | list):
+        return f"'{dotted}' is a section, not a value"
+    return None
+
+
+def _norm(value):
+    """Numbers as float (so that 75 and 75.0 give the same scenario), other scalars as they are."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return value
+    return float(value)
+
+
+# ------------------------------------------------------------------------------------------------
+# expansion (pure)
+# ------------------------------------------------------------------------------------------------
+def canonical_json(scenario: dict) -> str:
+    """The canonical JSON of a scenario's defining fields (sorted keys, no spaces): what its id hashes."""
+    keys = [k for k in SCENARIO_KEYS if k not in ("scenario_id", "groups")]
+    data = {k: scenario[k] for k in keys}
+    data["overrides"] = dict(sorted(data["overrides"].items()))
+    return json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=False)
+
+
+def scenario_id(scenario: dict) -> str:
+    """A short, deterministic id of a scenario: the first 16 hex digits of SHA-256 of its canonical JSON."""
+    return hashlib.sha256(canonical_json(scenario).encode()).hexdigest()[:16]
+
+
+def expand(spec: StudySpec) -> list[dict]:
+    """The unique scenarios of a study, in a fixed order.
+
+    The order is: manoeuvre (as listed), then group (as listed), then stiffness scale, damping scale,
+    overrides (each as listed) and freight. A scenario met again in a later group keeps its first place
+    and adds that group's name to ``groups`` (names joined by ``;``).
+
+    Returns
+    -------
+    list of dict
+        Each with the keys of ``SCENARIO_KEYS``: ``scenario_id`` (str), ``groups`` (str), ``vehicle`` (str),
+        ``vehicle_digest`` (str), ``manoeuvre`` (str), ``freight_kg`` [kg], ``stiffness_scale`` and
+        ``damping_scale`` [-], ``overrides`` (dict: dotted path -> value), ``resolution_kmh``, ``low_kmh``,
+        ``high_kmh``, ``step_kmh`` [km/h].
+    """
+    by_id: dict[str, dict] = {}
+    for manoeuvre in spec.manoeuvres:
+        for group in spec.groups:
+            paths = [p for p, _ in group.overrides]
+            axes = [vals for _, vals in group.overrides]
+            for k, c, combo, m in itertools.product(
+                group.stiffness_scale, group.damping_scale, itertools.product(*axes), spec.freight_kg
+            ):
+                scenario = {
+                    "scenario_id": "",
+                    "groups": group.name,
+                    "vehicle": spec.vehicle,
+                    "vehicle_digest": spec.vehicle_digest,
+                    "manoeuvre": manoeuvre,
+                    "freight_kg": m,
+                    "stiffness_scale": k,
+                    "damping_scale": c,
+                    "overrides": dict(zip(paths, combo, strict=True)),
+                    "resolution_kmh": spec.resolution_kmh,
+                    "low_kmh": spec.low_kmh,
+                    "high_kmh": spec.high_kmh,
+                    "step_kmh": spec.step_kmh,
+                }
+                sid = scenario_id(scenario)
+                if sid in by_id:
+                    seen = by_id[sid]["groups"].split(";")
+                    if group.name not in seen:
+                        by_id[sid]["groups"] = ";".join([*seen, group.name])
+                    continue
+                scenario["scenario_id"] = sid
+                by_id[sid] = scenario
+    return list(by_id.values())

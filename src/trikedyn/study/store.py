@@ -1,0 +1,312 @@
+"""The result store of a study: one embedded SQLite database per output folder (``study.sqlite``).
+
+Guarantees
+----------
+- **One row per finished scenario**, keyed by ``scenario_id`` (primary key). A row is written in its own
+  transaction, at once, as soon as the scenario finishes; it is either fully present or absent. A second
+  write of the same id is ignored, never duplicated or overwritten.
+- **Crash safety**: the database runs in WAL mode with ``synchronous=FULL``. A kill of the writing process
+  at any moment (SIGINT, SIGKILL; a power cut too, as far as the disk honours fsync) leaves the last
+  committed state; an interrupted transaction is rolled back when the database is next opened.
+- **Single writer**: only the main process of a run writes (the workers return rows to it). A run holds an
+  exclusive lock on ``study.lock`` (``fcntl.flock``, released by the OS even on SIGKILL), so two runs cannot
+  write into the same folder at once.
+- **Resumable**: a re-run asks :meth:`StudyStore.done_ids` and computes only what is missing.
+- **Reproducible exports**: :meth:`StudyStore.export` writes ``results.csv`` and ``results.parquet`` sorted in
+  the spec's scenario order and with the deterministic columns only (no wall times, pids or timestamps), so
+  two runs of a spec, in any order, on any executor, give byte-identical files. Files are written to a
+  temporary name and renamed, so a kill never leaves a half-written export.
+
+Tables
+------
+``results``: ``scenario_id`` (text, primary key), ``scenario`` (JSON: the scenario's fields), ``status``
+(``"ok"`` or ``"error"``), ``result`` (JSON: :meth:`ThresholdResult.to_dict`, null on error), ``error``
+(one line, null when ok), ``traceback``, ``wall_time_s`` [s], ``worker`` (host:pid), ``run_token`` (the run
+that computed it) and ``finished_at`` [s since the epoch].
+``runs``: one row per run (token, pid, executor, planned scenarios, start/end, how it ended).
+``meta``: the study name and the schema version.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import socket
+import sqlite3
+import time
+from pathlib import Path
+
+from ..errors import InputError
+
+__all__ = ["DB_NAME", "EXPORT_COLUMNS", "RESULT_KEYS", "StudyStore"]
+
+DB_NAME = "study.sqlite"
+LOCK_NAME = "study.lock"
+SCHEMA_VERSION = "1"
+
+SCENARIO_COLUMNS = ("scenario_id", "groups", "vehicle", "manoeuvre", "freight_kg", "stiffness_scale",
+                    "damping_scale")
+RESULT_KEYS = ("threshold_speed_kmh", "limit", "limiting_wheel", "lift_time_s", "first_failure_kmh",
+               "first_cone_strike_kmh", "n_runs", "detail")
+SEARCH_COLUMNS = ("resolution_kmh", "low_kmh", "high_kmh", "step_kmh")
+EXPORT_COLUMNS = (*SCENARIO_COLUMNS, "status", *RESULT_KEYS, *SEARCH_COLUMNS, "error")
+"""Columns of the exported table; override columns (named by their dotted parameter path) follow
+``damping_scale``."""
+RUN_INFO_COLUMNS = ("wall_time_s", "worker", "run_token", "finished_at")
+
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS results (
+    scenario_id TEXT PRIMARY KEY,
+    scenario    TEXT NOT NULL,
+    status      TEXT NOT NULL CHECK (status IN ('ok', 'error')),
+    result      TEXT,
+    error       TEXT,
+    traceback   TEXT,
+    wall_time_s REAL,
+    worker      TEXT,
+    run_token   TEXT,
+    finished_at REAL
+);
+CREATE TABLE IF NOT EXISTS runs (
+    run_token   TEXT PRIMARY KEY,
+    pid         INTEGER,
+    host        TEXT,
+    executor    TEXT,
+    planned     INTEGER,
+    started_at  REAL,
+    ended_at    REAL,
+    outcome     TEXT
+);
+CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+"""
+
+
+def _json(value) -> str:
+    return json.dumps(value, sort_keys=False, separators=(",", ":"), allow_nan=True)
+
+
+class StudyStore:
+    """The SQLite result store of one study folder (see the module docstring for its guarantees).
+
+    Parameters
+    ----------
+    folder : path
+        Output folder; created if missing. The database is ``folder/study.sqlite``.
+    study : str, optional
+        The study's name. A folder that holds another study's results is refused (``InputError``).
+    lock : bool
+        Take the folder's writer lock (a run does; a reader need not).
+    """
+
+    def __init__(self, folder: str | Path, study: str | None = None, *, lock: bool = False):
+        self.folder = Path(folder)
+        if self.folder.exists() and not self.folder.is_dir():
+            raise InputError("exists and is not a folder", where=str(self.folder))
+        self.folder.mkdir(parents=True, exist_ok=True)
+        self.path = self.folder / DB_NAME
+        self._lock_fh = self._take_lock() if lock else None
+        try:
+            self._conn = sqlite3.connect(self.path, isolation_level=None, timeout=30.0)
+            self._conn.execute("PRAGMA journal_mode=WAL")
+            self._conn.execute("PRAGMA synchronous=FULL")
+            with self._transaction():
+                for statement in _SCHEMA.split(";"):
+                    if statement.strip():
+                        self._conn.execute(statement)
+                self._conn.execute("INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)", (SCHEMA_VERSION,))
+                if study is not None:
+                    self._conn.execute("INSERT OR IGNORE INTO meta VALUES ('study', ?)", (study,))
+            stored = self.meta().get("study")
+            if study is not None and stored != study:
+                raise InputError(f"holds the results of study '{stored}', not '{study}'; use another folder",
+                                 where=str(self.folder))
+        except BaseException:
+            self.close()
+            raise
+
+    # -- plumbing ---------------------------------------------------------------------------------
+    def _take_lock(self):
+        try:
+            import fcntl
+        except ImportError:  # pragma: no cover - not POSIX: no cross-process lock
+            return None
+        fh = open(self.folder / LOCK_NAME, "a+")  # noqa: SIM115 - held for the store's lifetime
+        try:
+            fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            fh.close()
+            raise InputError("another study run is writing into this folder; wait for it or use another folder",
+                             where=str(self.folder)) from None
+        return fh
+
+    @contextlib.contextmanager
+    def _transaction(self):
+        """``BEGIN IMMEDIATE`` ... ``COMMIT``; rolled back on any exception."""
+        self._conn.execute("BEGIN IMMEDIATE")
+        try:
+            yield self._conn
+        except BaseException:
+            self._conn.execute("ROLLBACK")
+            raise
+        self._conn.execute("COMMIT")
+
+    def close(self) -> None:
+        """Close the database and release the writer lock."""
+        conn = getattr(self, "_conn", None)
+        if conn is not None:
+            conn.close()
+            self._conn = None
+        if getattr(self, "_lock_fh", None) is not None:
+            self._lock_fh.close()
+            self._lock_fh = None
+
+    def __enter__(self) -> StudyStore:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    # -- writing ----------------------------------------------------------------------------------
+    def put(self, row: dict) -> bool:
+        """Store one finished scenario's row, in its own transaction.
+
+        Parameters
+        ----------
+        row : dict
+            As :func:`trikedyn.study.runner.run_scenario` returns it, flat: the scenario's fields,
+            ``status``, the threshold result's keys (kept as the ``result`` JSON when ``status`` is
+            ``"ok"``), ``error``, ``traceback``, ``wall_time_s``, ``worker``, ``run_token``, ``finished_at``.
+
+        Returns
+        -------
+        bool
+            True if written, False if the scenario was stored already (the stored row is kept).
+        """
+        with self._transaction():
+            return self._insert(row)
+
+    def _insert(self, row: dict) -> bool:
+        from .spec import SCENARIO_KEYS
+
+        scenario = {k: row[k] for k in SCENARIO_KEYS}
+        if row["status"] == "ok":
+            skip = {*SCENARIO_KEYS, "status", "error", "traceback", *RUN_INFO_COLUMNS}
+            result = {k: v for k, v in row.items() if k not in skip}
+        else:
+            result = None
+        cur = self._conn.execute(
+            "INSERT OR IGNORE INTO results (scenario_id, scenario, status, result, error, traceback, wall_time_s,"
+            " worker, run_token, finished_at) VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+            (
+                row["scenario_id"], _json(scenario), row["status"],
+                None if result is None else _json(result),
+                row.get("error"), row.get("traceback"), row.get("wall_time_s"), row.get("worker"),
+                row.get("run_token"), row.get("finished_at", time.time()),
+            ),
+        )
+        return cur.rowcount == 1
+
+    def begin_run(self, token: str, planned: int, executor: str) -> None:
+        """Record the start of a run (``planned``: scenarios it will compute)."""
+        with self._transaction() as c:
+            c.execute("INSERT INTO runs VALUES (?, ?, ?, ?, ?, ?, NULL, 'running')",
+                      (token, os.getpid(), socket.gethostname(), executor, planned, time.time()))
+
+    def end_run(self, token: str, outcome: str) -> None:
+        """Record how a run ended: ``"completed"``, ``"interrupted"`` or ``"incomplete"``."""
+        with self._transaction() as c:
+            c.execute("UPDATE runs SET ended_at = ?, outcome = ? WHERE run_token = ?", (time.time(), outcome, token))
+
+    # -- reading ----------------------------------------------------------------------------------
+    def meta(self) -> dict[str, str]:
+        """The ``meta`` table as a dict."""
+        return dict(self._conn.execute("SELECT key, value FROM meta").fetchall())
+
+    def done_ids(self) -> set[str]:
+        """Ids of the scenarios stored (finished, ``ok`` or ``error``)."""
+        return {r[0] for r in self._conn.execute("SELECT scenario_id FROM results")}
+
+    def __len__(self) -> int:
+        return self._conn.execute("SELECT COUNT(*) FROM results").fetchone()[0]
+
+    def runs(self) -> list[dict]:
+        """The runs recorded, oldest first."""
+        cur = self._conn.execute("SELECT * FROM runs ORDER BY started_at")
+        names = [d[0] for d in cur.description]
+        return [dict(zip(names, r, strict=True)) for r in cur.fetchall()]
+
+    def rows(self) -> list[dict]:
+        """Every stored row, flat: scenario fields, ``status``, the result's keys, ``error`` and run info."""
+        cur = self._conn.execute(
+            "SELECT scenario, status, result, error, traceback, wall_time_s, worker, run_token, finished_at"
+            " FROM results")
+        out = []
+        for scenario, status, result, error, tb, wall, worker, token, finished in cur.fetchall():
+            row = json.loads(scenario)
+            row["status"] = status
+            row.update(json.loads(result) if result is not None else dict.fromkeys(RESULT_KEYS))
+            row.update(error=error, traceback=tb, wall_time_s=wall, worker=worker, run_token=token,
+                       finished_at=finished)
+            out.append(row)
+        return out
+
+    def to_pandas(self, order: list[str] | None = None, *, run_info: bool = False):
+        """The results as a tidy table, one row per scenario.
+
+        Parameters
+        ----------
+        order : list of str, optional
+            Scenario ids in the wanted order (the spec's); stored rows not listed are left out. All rows,
+            sorted by id, if None.
+        run_info : bool
+            Add ``wall_time_s`` [s], ``worker``, ``run_token`` and ``finished_at`` [s since the epoch]; these
+            differ from run to run, so the exports leave them out.
+
+        Returns
+        -------
+        pandas.DataFrame
+            Columns: ``EXPORT_COLUMNS`` with one column per override path (named by it) after
+            ``damping_scale``; ``n_runs`` is a nullable integer.
+        """
+        import pandas as pd
+
+        rows = {r["scenario_id"]: r for r in self.rows()}
+        ids = sorted(rows) if order is None else [i for i in order if i in rows]
+        chosen = [rows[i] for i in ids]
+        paths: list[str] = []
+        for r in chosen:
+            paths.extend(p for p in r["overrides"] if p not in paths)
+        columns = [*SCENARIO_COLUMNS, *paths, "status", *RESULT_KEYS, *SEARCH_COLUMNS, "error"]
+        if run_info:
+            columns += list(RUN_INFO_COLUMNS)
+        records = []
+        for r in chosen:
+            rec = {c: r.get(c) for c in columns if c not in paths}
+            rec.update({p: r["overrides"].get(p) for p in paths})
+            records.append(rec)
+        frame = pd.DataFrame.from_records(records, columns=columns)
+        frame["n_runs"] = frame["n_runs"].astype("Int64")
+        for col in ("freight_kg", "stiffness_scale", "damping_scale", "threshold_speed_kmh", "lift_time_s",
+                    "first_failure_kmh", "first_cone_strike_kmh", *SEARCH_COLUMNS):
+            frame[col] = frame[col].astype("float64")
+        return frame
+
+    def export(self, order: list[str], folder: str | Path | None = None) -> dict[str, Path]:
+        """Write ``results.csv`` and ``results.parquet`` (spec order, deterministic columns only).
+
+        Returns
+        -------
+        dict
+            ``{"csv": path, "parquet": path}``.
+        """
+        folder = Path(folder) if folder is not None else self.folder
+        frame = self.to_pandas(order)
+        out = {"csv": folder / "results.csv", "parquet": folder / "results.parquet"}
+        tmp_csv = out["csv"].with_name(f".{out['csv'].name}.{os.getpid()}.tmp")
+        tmp_pq = out["parquet"].with_name(f".{out['parquet'].name}.{os.getpid()}.tmp")
+        frame.to_csv(tmp_csv, index=False, lineterminator="\n")
+        frame.to_parquet(tmp_pq, index=False)
+        os.replace(tmp_csv, out["csv"])
+        os.replace(tmp_pq, out["parquet"])
+        return out

@@ -1,0 +1,39 @@
+"""The built-in study (the paper's Fig. 10) on our physics: the paper's three findings, pinned.
+
+This does not tune anything to the paper: it pins what the model gives (with a tolerance for numerical
+changes) and checks the paper's qualitative findings against it.
+"""
+
+import pytest
+
+from trikedyn.reproduce_model import study_findings
+from trikedyn.study.runner import run_study
+
+
+@pytest.fixture(scope="module")
+def table(tmp_path_factory):
+    return run_study("paper", tmp_path_factory.mktemp("paper-study"), workers=2, progress=False)
+
+
+def test_all_fifty_scenarios_ok(table):
+    assert len(table) == 50 and (table["status"] == "ok").all()
+
+
+def test_paper_findings_hold_on_our_model(table):
+    findings = study_findings(table)
+    assert findings["falls with freight"]["holds"]
+    assert findings["rises with stiffness"]["holds"]
+    damping = findings["damping matters less than stiffness"]
+    assert damping["holds"] and damping["mean_abs_change_damping_kmh"] < 0.3 * damping["mean_abs_change_stiffness_kmh"]
+
+
+@pytest.mark.parametrize(
+    ("manoeuvre", "freight", "stiffness", "expected_kmh"),
+    [("dlc", 0.0, 1.0, 43.8), ("dlc", 200.0, 1.0, 38.3), ("dlc", 0.0, 0.8, 41.4), ("slc", 0.0, 1.0, 85.5),
+     ("slc", 200.0, 1.0, 67.4), ("slc", 0.0, 1.2, 86.3)],
+)
+def test_pinned_thresholds(table, manoeuvre, freight, stiffness, expected_kmh):
+    row = table[(table.manoeuvre == manoeuvre) & (table.freight_kg == freight)
+                & (table.stiffness_scale == stiffness) & (table.damping_scale == 1.0)]
+    assert len(row) == 1
+    assert row.threshold_speed_kmh.iloc[0] == pytest.approx(expected_kmh, abs=1.0)
