@@ -42,6 +42,19 @@ WHEEL_CHANNELS = ("fx_N", "fy_N", "fz_N", "kappa", "alpha_rad", "deflection_m", 
 
 
 @jit
+def point_motion(state, deriv, point, n):
+    """Velocity and classical acceleration [m/s, m/s^2] of a point fixed in the chassis, chassis axes.
+
+    With the chassis' body-frame velocity ``(w, v)`` and its rate: ``v_p = v + w x p`` and
+    ``a_p = dv/dt + dw/dt x p + w x v_p``.
+    """
+    w = state[n : n + 3]
+    vp = state[n + 3 : n + 6] + np.cross(w, point)
+    ap = deriv[n + 3 : n + 6] + np.cross(deriv[n : n + 3], point) + np.cross(w, vp)
+    return vp, ap
+
+
+@jit
 def compute_channels(states, derivs, cg, steer_index, n):
     """Chassis channels from recorded states and their derivatives (no re-evaluation).
 
@@ -53,15 +66,9 @@ def compute_channels(states, derivs, cg, steer_index, n):
     base = np.empty((m, 17))
     for i in range(m):
         x = states[i]
-        w = x[n : n + 3]
-        v = x[n + 3 : n + 6]
-        wd = derivs[i, n : n + 3]
-        vd = derivs[i, n + 3 : n + 6]
-        # velocity and classical acceleration of the CG point fixed in the chassis, chassis axes
-        vc = v + np.cross(w, cg)
-        ac = vd + np.cross(wd, cg) + np.cross(w, vc)
+        vc, ac = point_motion(x, derivs[i], cg, n)
         base[i, 0:6] = x[0:6]
-        base[i, 6:9] = w
+        base[i, 6:9] = x[n : n + 3]
         base[i, 9:12] = vc
         base[i, 12:15] = ac
         base[i, 15] = np.sqrt(vc[0] * vc[0] + vc[1] * vc[1])
@@ -86,11 +93,7 @@ def imu_readings(states, derivs, sensor, gravity, n):
     for i in range(m):
         x = states[i]
         w = x[n : n + 3]
-        v = x[n + 3 : n + 6]
-        wd = derivs[i, n : n + 3]
-        vd = derivs[i, n + 3 : n + 6]
-        vs = v + np.cross(w, sensor)
-        acc = vd + np.cross(wd, sensor) + np.cross(w, vs)
+        _, acc = point_motion(x, derivs[i], sensor, n)
         cr, sr = np.cos(x[3]), np.sin(x[3])
         cp, sp = np.cos(x[4]), np.sin(x[4])
         # gravity (0, 0, -g) in chassis axes: R^T (0, 0, -g) = -g (third row of R)
