@@ -156,3 +156,19 @@ def test_simulate_plot_and_compare_commands(capsys, tmp_path):
 def test_simulate_mistakes_exit_2(capsys, args, needle):
     code, out, err = run(capsys, *args)
     assert code == 2 and out == "" and err.count("\n") == 1 and needle in err
+
+
+def test_study_command_runs_and_resumes(capsys, tmp_path):
+    spec = tmp_path / "tiny.toml"
+    spec.write_text('name = "tiny"\ndescription = "two scenarios"\nvehicle = "reference-etrike"\n'
+                    'manoeuvres = ["slc"]\nfreight_kg = [0, 200]\nresolution_kmh = 2.0\n')
+    out = tmp_path / "out"
+    code, text, _ = run(capsys, "study", str(spec), "--workers", "1", "--out", str(out), "--json")
+    first = json.loads(text)
+    assert code == 0 and first["scenarios"]["done"] == 2 and first["scenarios"]["computed"] == 2
+    code, text, _ = run(capsys, "study", str(spec), "--workers", "1", "--out", str(out), "--json")
+    again = json.loads(text)
+    assert code == 0 and again["scenarios"]["computed"] == 0 and again["scenarios"]["skipped"] == 2
+    spec.write_text(spec.read_text().replace("freight_kg", "freigth_kg"))
+    code, _, err = run(capsys, "study", str(spec), "--out", str(out))
+    assert code == 2 and "did you mean 'freight_kg'" in err
