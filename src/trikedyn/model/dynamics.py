@@ -38,8 +38,6 @@ __all__ = [
     "JOINT_REVOLUTE",
     "body_velocities_into",
     "cholesky_solve_into",
-    "dof_parents",
-    "ltl_solve_into",
     "crba",
     "crba_into",
     "euler_rates_into",
@@ -60,7 +58,7 @@ every equation, unchanged while saving the spin rotation in every transform."""
 
 # workspace slots
 (W_E, W_R, W_EW, W_PW, W_V, W_A, W_F, W_FEXT, W_MC, W_HC, W_IC, W_HMAT, W_LOW, W_VEC, W_T6A, W_T6B, W_T33,
- W_TAU, W_BIAS, W_ZERO, W_LAM) = range(21)
+ W_TAU, W_BIAS, W_ZERO) = range(20)
 
 
 @jit
@@ -89,7 +87,6 @@ def workspace(parent):
         np.empty(n),  # tau: applied generalised forces
         np.empty(n),  # bias: C(q, u, f_ext)
         np.zeros(n),  # zero accelerations (never written)
-        dof_parents(parent),  # DOF-level parent array for the sparse factorisation
     )
 
 
@@ -286,63 +283,6 @@ def cholesky_solve_into(a, b, low, y, x):
         for k in range(i + 1, n):
             s -= low[k, i] * x[k]
         x[i] = s / low[i, i]
-
-
-@jit
-def dof_parents(parent):
-    """The DOF-level parent array of the tree (Featherstone's lambda): the base's six DOF form a chain,
-    a joint's DOF hangs on its parent body's (the base's last DOF for a child of the base)."""
-    nb = parent.shape[0]
-    lam = np.empty(nb + 5, dtype=np.int64)
-    for i in range(6):
-        lam[i] = i - 1
-    for b in range(1, nb):
-        lam[5 + b] = 5 + parent[b] if parent[b] > 0 else 5
-    return lam
-
-
-@jit
-def ltl_solve_into(a, b, lam, x):
-    """Solve ``a x = b`` exploiting the tree's branch-induced sparsity (Featherstone 2008, 6.5).
-
-    ``a`` (the mass matrix) is factorised in place as ``L^T L`` touching only entries between a DOF and its
-    ancestors in ``lam``; ``x`` is NaN if ``a`` is not positive definite.
-    """
-    n = a.shape[0]
-    for k in range(n - 1, -1, -1):
-        d = a[k, k]
-        if d <= 0.0:
-            for i in range(n):
-                x[i] = np.nan
-            return
-        lkk = np.sqrt(d)
-        a[k, k] = lkk
-        i = lam[k]
-        while i != -1:
-            a[k, i] /= lkk
-            i = lam[i]
-        i = lam[k]
-        while i != -1:
-            j = i
-            aki = a[k, i]
-            while j != -1:
-                a[i, j] -= aki * a[k, j]
-                j = lam[j]
-            i = lam[i]
-    for i in range(n):
-        x[i] = b[i]
-    for i in range(n - 1, -1, -1):  # L^T y = b
-        x[i] /= a[i, i]
-        j = lam[i]
-        while j != -1:
-            x[j] -= a[i, j] * x[i]
-            j = lam[j]
-    for i in range(n):  # L x = y
-        j = lam[i]
-        while j != -1:
-            x[i] -= a[i, j] * x[j]
-            j = lam[j]
-        x[i] /= a[i, i]
 
 
 @jit(inline="always")

@@ -23,28 +23,18 @@ import numpy as np
 from .._jit import jit
 
 __all__ = [
-    "cross",
     "cross_into",
+    "euler_zyx_into",
     "euler_zyx_to_matrix",
-    "inertia_matrix6",
     "inertia_times_motion",
     "inertia_to_parent",
-    "mat_t_vec",
-    "mat_vec",
+    "inertia_translate_to_parent",
     "motion_cross_force",
     "motion_cross_motion",
-    "rot_axis",
+    "rot_axis_into",
     "xform_force_inv",
     "xform_motion",
 ]
-
-
-@jit(inline="always")
-def cross(a, b):
-    """Cross product of two 3-vectors (allocates; for setup code)."""
-    out = np.empty(3)
-    cross_into(a, b, out)
-    return out
 
 
 @jit(inline="always")
@@ -56,30 +46,8 @@ def cross_into(a, b, out):
 
 
 @jit(inline="always")
-def mat_vec(m, v, out):
-    """``out = m v`` for a 3x3 ``m``."""
-    for i in range(3):
-        out[i] = m[i, 0] * v[0] + m[i, 1] * v[1] + m[i, 2] * v[2]
-
-
-@jit(inline="always")
-def mat_t_vec(m, v, out):
-    """``out = m^T v`` for a 3x3 ``m``."""
-    for i in range(3):
-        out[i] = m[0, i] * v[0] + m[1, i] * v[1] + m[2, i] * v[2]
-
-
-@jit(inline="always")
-def rot_axis(axis, angle):
-    """Rotation matrix (Rodrigues) that turns vectors by ``angle`` [rad] about the unit ``axis``."""
-    out = np.empty((3, 3))
-    rot_axis_into(axis, angle, out)
-    return out
-
-
-@jit(inline="always")
 def rot_axis_into(axis, angle, out):
-    """:func:`rot_axis` into ``out``."""
+    """Rotation matrix (Rodrigues) turning vectors by ``angle`` [rad] about the unit ``axis``, into ``out``."""
     c = np.cos(angle)
     s = np.sin(angle)
     t = 1.0 - c
@@ -237,14 +205,3 @@ def inertia_translate_to_parent(r, m, h, ibar, h_out, ibar_out):
         ibar_out[i, i] += diag
 
 
-@jit(inline="always")
-def inertia_matrix6(m, h, ibar):
-    """The 6x6 spatial inertia matrix of ``(m, h, Ibar)`` (for tests and linear algebra)."""
-    out = np.zeros((6, 6))
-    hx = np.array([[0.0, -h[2], h[1]], [h[2], 0.0, -h[0]], [-h[1], h[0], 0.0]])
-    out[:3, :3] = ibar
-    out[:3, 3:] = hx
-    out[3:, :3] = hx.T
-    for i in range(3):
-        out[3 + i, 3 + i] = m
-    return out

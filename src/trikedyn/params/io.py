@@ -18,8 +18,9 @@ from importlib import resources
 from pathlib import Path
 
 import tomli_w
-from pydantic import BaseModel, ValidationError
+from pydantic import ValidationError
 
+from .._validation import describe_validation_error
 from ..errors import ParameterError
 from .schema import VehicleParameters
 
@@ -234,67 +235,6 @@ def _merge_notes(data: dict, notes: dict) -> None:
             node[keys[-1]] = {"value": node[keys[-1]], **note}
 
 
-def _fields_at(loc) -> list[str]:
-    """Field names of the schema section at a validation-error location."""
-    model: type[BaseModel] | None = VehicleParameters
-    for part in loc[:-1]:
-        if model is None:
-            return []
-        if isinstance(part, int):
-            continue
-        info = model.model_fields.get(part)
-        if info is None:
-            # dict-valued section (suspension.<name>): keep the value model
-            continue
-        ann = info.annotation
-        model = _model_in(ann)
-    return list(model.model_fields) if model is not None else []
-
-
-def _model_in(annotation):
-    """The BaseModel class inside an annotation like ``X``, ``tuple[X, ...]``, ``dict[str, X]``."""
-    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
-        return annotation
-    for arg in getattr(annotation, "__args__", ()):
-        found = _model_in(arg)
-        if found is not None:
-            return found
-    return None
-
-
-def _loc_text(loc, plain) -> str:
-    parts = []
-    node = plain
-    for part in loc:
-        if isinstance(part, int):
-            name = None
-            if isinstance(node, list) and part < len(node) and isinstance(node[part], dict):
-                name = node[part].get("name")
-            parts.append(f"[{name or part}]")
-            node = node[part] if isinstance(node, list) and part < len(node) else None
-        else:
-            parts.append(("." if parts else "") + str(part))
-            node = node.get(part) if isinstance(node, dict) else None
-    return "".join(parts) or "(top level)"
-
-
 def _describe(exc: ValidationError, plain: dict) -> str:
-    """One line for the first validation error, naming the field and what is expected."""
-    errors = exc.errors()
-    # a typo shows as an unknown key *and* a missing one: the unknown key, with its hint, says more
-    err = next((e for e in errors if e["type"] == "extra_forbidden"), errors[0])
-    loc = tuple(p for p in err["loc"] if p not in ("function-after", "function-before"))
-    where = _loc_text(loc, plain)
-    kind = err["type"]
-    if kind == "extra_forbidden":
-        section = _loc_text(loc[:-1], plain) if len(loc) > 1 else "the top level"
-        hint = get_close_matches(str(loc[-1]), _fields_at(loc), n=1, cutoff=0.5)
-        tip = f"; did you mean '{hint[0]}'?" if hint else ""
-        return f"unknown key '{loc[-1]}' in {section}{tip}"
-    if kind == "missing":
-        return f"{where}: missing (required)"
-    msg = err["msg"]
-    msg = msg.removeprefix("Value error, ")
-    got = err.get("input")
-    shown = "" if isinstance(got, dict | list) or kind.startswith("value_error") else f" (got {got!r})"
-    return f"{where}: {msg[0].lower() + msg[1:]}{shown}"
+    """One line for the first validation error of a parameter set."""
+    return describe_validation_error(exc, plain, VehicleParameters)

@@ -41,6 +41,7 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
+from .._validation import describe_validation_error
 from ..errors import InputError
 
 __all__ = [
@@ -126,45 +127,9 @@ class _Spec(_Model):
         return values
 
 
-def _fields_at(loc: tuple) -> list[str]:
-    """Field names of the section at a validation-error location (for close-match hints)."""
-    if len(loc) >= 2 and loc[0] == "groups":
-        return list(_Group.model_fields)
-    return list(_Spec.model_fields)
-
-
-def _loc_text(loc: tuple, raw: dict) -> str:
-    parts: list[str] = []
-    node: Any = raw
-    for part in loc:
-        if isinstance(part, int):
-            label = node[part].get("name") if isinstance(node, list) and part < len(node) and isinstance(
-                node[part], dict) else None
-            parts.append(f"[{label or part}]")
-            node = node[part] if isinstance(node, list) and part < len(node) else None
-        else:
-            parts.append(("." if parts else "") + str(part))
-            node = node.get(part) if isinstance(node, dict) else None
-    return "".join(parts) or "(top level)"
-
-
 def _describe(exc: ValidationError, raw: dict) -> str:
-    """One line for the first validation error: the field and what is expected."""
-    errors = exc.errors()
-    err = next((e for e in errors if e["type"] == "extra_forbidden"), errors[0])
-    loc = tuple(err["loc"])
-    if err["type"] == "extra_forbidden":
-        section = _loc_text(loc[:-1], raw) if len(loc) > 1 else "the top level"
-        hint = get_close_matches(str(loc[-1]), _fields_at(loc), n=1, cutoff=0.5)
-        tip = f"; did you mean '{hint[0]}'?" if hint else ""
-        return f"unknown key '{loc[-1]}' in {section}{tip}"
-    where = _loc_text(loc, raw)
-    if err["type"] == "missing":
-        return f"{where}: missing (required)"
-    msg = err["msg"].removeprefix("Value error, ")
-    got = err.get("input")
-    shown = "" if isinstance(got, dict | list) or err["type"].startswith("value_error") else f" (got {got!r})"
-    return f"{where}: {msg[0].lower() + msg[1:]}{shown}"
+    """One line for the first validation error of a study spec."""
+    return describe_validation_error(exc, raw, _Spec)
 
 
 # ------------------------------------------------------------------------------------------------
