@@ -141,7 +141,7 @@ def test_simulate_plot_and_compare_commands(capsys, tmp_path):
     assert code == 0 and result["offset_s"] == 0.0
     assert result["channels"]["wz_radps"]["rmse"] == 0.0
     code, out, _ = run(capsys, "simulate", "reference-etrike", "--manoeuvre", "step", "--speed", "30", "--json")
-    assert code == 0 and json.loads(out)["manoeuvre"].startswith("step steer")
+    assert code == 0 and json.loads(out)["manoeuvre"] == "ISO 7401 step steer"
 
 
 @pytest.mark.parametrize(

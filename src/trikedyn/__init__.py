@@ -24,7 +24,7 @@ def _numba_cache_dir() -> None:
         return
     here = Path(__file__).parent
     digest = hashlib.sha1(__version__.encode())
-    for sub in (".", "model", "tyre", "simulate", "driver", "manoeuvres"):
+    for sub in (".", "model", "tyre", "simulate", "driver"):
         for path in sorted((here / sub).glob("*.py")):
             digest.update(path.read_bytes())
     base = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))

@@ -377,22 +377,51 @@ def modes_cmd(
     _emit(data, as_json, "\n".join(lines))
 
 
-def _manoeuvre_path(manoeuvre: str, params, radius_m: float):
-    """The path of a closed-loop manoeuvre by name, or from a CSV file."""
-    from .manoeuvres import paths
-
-    if manoeuvre == "dlc":
-        return paths.double_lane_change(params.body.overall_width_m)
-    if manoeuvre == "slc":
-        return paths.single_lane_change()
-    if manoeuvre == "circle":
-        return paths.circle(radius_m)
-    if manoeuvre.endswith(".csv"):
-        return paths.path_from_csv(manoeuvre)
-    raise InputError(f"unknown manoeuvre '{manoeuvre}'; expected dlc, slc, circle, step or a path .csv", where="--manoeuvre")
+OptionOpt = Annotated[
+    list[str], typer.Option("--option", "-o", help="A manoeuvre option KEY=VALUE (see `trikedyn manoeuvres`); repeatable.")
+]
+ManoeuvreOpt = Annotated[
+    str, typer.Option("--manoeuvre", help="A registered manoeuvre (see `trikedyn manoeuvres`: dlc, slc, circle, step, "
+                      "fishhook, ...) or a path .csv file.")
+]
 
 
-def _write_run(result, out: Path) -> None:
+def _manoeuvre_options(manoeuvre: str, pairs: list[str], **legacy) -> dict:
+    """``-o KEY=VALUE`` pairs, plus the older shortcuts (``--radius``, ``--steer-deg``) where the manoeuvre
+    takes that option."""
+    from .manoeuvres.registry import get, parse_options
+
+    options = parse_options(pairs)
+    if manoeuvre.lower().endswith(".csv"):
+        return options
+    try:
+        kind = get(manoeuvre)
+    except InputError as exc:
+        raise InputError(exc.reason, where="--manoeuvre") from None
+    for key, value in legacy.items():
+        if value is not None and key not in options and any(o.name == key for o in kind.options):
+            options[key] = value
+    return options
+
+
+@app.command("manoeuvres")
+def manoeuvres_cmd(as_json: JsonOpt = False):
+    """List the registered manoeuvres and their options (units in the option names)."""
+    from .manoeuvres.registry import available
+
+    kinds = [k.to_dict() for k in available()]
+    lines = []
+    for k in kinds:
+        lines.append(f"{k['name']:<20} {k['title']} ({'closed loop' if k['closed_loop'] else 'open-loop steer'})")
+        lines.append(f"{'':<20} {k['summary']}")
+        for o in k["options"]:
+            unit = f" [{o['unit']}]" if o["unit"] else ""
+            lines.append(f"{'':<22}-o {o['name']}={o['default']}{unit}: {o['help']}")
+    lines.append("a path .csv file is driven as the 'path' manoeuvre (columns x_m, y_m)")
+    _emit(kinds, as_json, "\n".join(lines))
+
+
+def _write_run(result, out: Path, summary: dict) -> None:
     frame = result.to_pandas().reset_index()
     if out.suffix == ".parquet":
         frame.to_parquet(out, index=False)
@@ -400,52 +429,45 @@ def _write_run(result, out: Path) -> None:
         frame.to_csv(out, index=False)
     else:
         raise InputError("expected a .parquet or .csv file name", where=str(out))
-    meta = {k: v for k, v in result.meta.items() if k != "driver"}
+    meta = {k: v for k, v in result.meta.items() if k != "driver"} | {"summary": summary}
+    if result.manoeuvre is not None:
+        meta["manoeuvre_spec"] = result.manoeuvre.to_dict()
     out.with_suffix(".json").write_text(json.dumps(meta, indent=2, default=_json_default), encoding="utf-8")
 
 
 @app.command("simulate")
 def simulate_cmd(
     vehicle: VehicleArg,
-    manoeuvre: Annotated[str, typer.Option("--manoeuvre", help="dlc (ISO 3888-1), slc (ISO 14791), circle (ISO 4138), step (ISO 7401, open loop) or a path .csv.")] = "dlc",
+    manoeuvre: ManoeuvreOpt = "dlc",
     speed: Annotated[float, typer.Option("--speed", help="Target speed [km/h].")] = 30.0,
     payload: Annotated[float, typer.Option("--payload", help="The paper's freight aboard [kg].")] = 0.0,
-    radius: Annotated[float, typer.Option("--radius", help="Circle radius [m].")] = 20.0,
-    steer_deg: Annotated[float, typer.Option("--steer-deg", help="Step steer angle about the steering axis [deg].")] = 5.0,
+    option: OptionOpt = [],  # noqa: B006
+    radius: Annotated[float | None, typer.Option("--radius", help="Circle radius [m] (same as -o radius_m=...).")] = None,
+    steer_deg: Annotated[float | None, typer.Option("--steer-deg", help="Step steer angle about the steering axis [deg] "
+                                                    "(same as -o steer_deg=...).")] = None,
     duration: Annotated[float | None, typer.Option("--duration", help="Simulated time [s] (default: the manoeuvre's).")] = None,
     out: Annotated[Path | None, typer.Option("--out", help="Write the run (.parquet or .csv; a .json summary beside it).")] = None,
     as_json: JsonOpt = False,
 ):
-    """Drive a manoeuvre with the driver model and report how it went (cone strikes, RI, wheel loads, ...)."""
+    """Drive a manoeuvre and report how it went over its judged window (cone strikes, RI, wheel loads, ...)."""
     import numpy as np
 
-    from .errors import SimulationError
+    from .analysis.metrics import summary
     from .params import load_vehicle, with_freight
-    from .simulate.closed_loop import drive, summary
-    from .simulate.run import simulate
+    from .simulate.closed_loop import run
 
-    pset = with_freight(load_vehicle(vehicle), payload)
     if not np.isfinite(speed) or speed <= 0:
         raise InputError(f"must be > 0 km/h, got {speed!r}", where="--speed")
-    try:
-        if manoeuvre == "step":
-            from .manoeuvres.steer import step_steer
-
-            result = simulate(pset, duration_s=duration or 6.0, speed_kmh=speed,
-                              steer_rad=step_steer(np.radians(steer_deg)), drive_torque_Nm=50.0)
-            result.meta["manoeuvre"] = "step steer (ISO 7401)"
-        else:
-            result = drive(pset, _manoeuvre_path(manoeuvre, pset.params, radius), speed, duration_s=duration)
-        failure = None
-    except SimulationError as err:
-        if getattr(err, "result", None) is None:
-            raise
-        result, failure = err.result, str(err)
+    if duration is not None and (not np.isfinite(duration) or duration <= 0):
+        raise InputError(f"must be > 0 s, got {duration!r}", where="--duration")
+    options = _manoeuvre_options(manoeuvre, option, radius_m=radius, steer_deg=steer_deg)
+    pset = with_freight(load_vehicle(vehicle), payload)
+    result = run(pset, manoeuvre, speed_kmh=speed, duration_s=duration, **options)
     data = summary(result) | {"vehicle": pset.name, "payload_kg": payload, "speed_kmh": speed}
-    if failure:
-        data["failure"] = failure
+    if not result.success:
+        data["failure"] = result.message
     if out is not None:
-        _write_run(result, out)
+        _write_run(result, out, data)
         data["out"] = str(out)
     text = "\n".join(f"{k:<32} {v}" for k, v in data.items())
     _emit(data, as_json, text)
@@ -527,8 +549,9 @@ def _imu_view(frame):
 @app.command("threshold")
 def threshold_cmd(
     vehicle: VehicleArg,
-    manoeuvre: Annotated[str, typer.Option("--manoeuvre", help="dlc (ISO 3888-1) or slc (ISO 14791).")] = "dlc",
+    manoeuvre: ManoeuvreOpt = "dlc",
     payload: Annotated[float, typer.Option("--payload", help="The paper's freight aboard [kg].")] = 0.0,
+    option: OptionOpt = [],  # noqa: B006
     stiffness: Annotated[float, typer.Option("--stiffness-scale", help="Suspension stiffness factor (Table 2).")] = 1.0,
     damping: Annotated[float, typer.Option("--damping-scale", help="Suspension damping factor (Table 2).")] = 1.0,
     low: Annotated[float, typer.Option("--low", help="Lowest speed searched [km/h].")] = 10.0,
@@ -540,12 +563,11 @@ def threshold_cmd(
     from .analysis.threshold import threshold_velocity
     from .params import load_vehicle, scale_suspension, with_freight
 
-    if manoeuvre not in ("dlc", "slc"):
-        raise InputError(f"expected dlc or slc, got '{manoeuvre}'", where="--manoeuvre")
+    options = _manoeuvre_options(manoeuvre, option)
     pset = with_freight(scale_suspension(load_vehicle(vehicle), stiffness=stiffness, damping=damping), payload)
-    result = threshold_velocity(pset, manoeuvre, low_kmh=low, high_kmh=high, resolution_kmh=resolution)
-    data = result.to_dict(runs=True) | {"vehicle": pset.name, "manoeuvre": manoeuvre, "payload_kg": payload,
-                                        "stiffness_scale": stiffness, "damping_scale": damping}
+    result = threshold_velocity(pset, manoeuvre, options=options, low_kmh=low, high_kmh=high, resolution_kmh=resolution)
+    data = result.to_dict(runs=True) | {"vehicle": pset.name, "manoeuvre": manoeuvre, "options": options,
+                                        "payload_kg": payload, "stiffness_scale": stiffness, "damping_scale": damping}
     if result.threshold_speed_kmh is None:
         headline = f"no threshold: {result.detail}"
     else:
@@ -555,6 +577,45 @@ def threshold_cmd(
         lines.append(f"  first cone strike seen at {result.first_cone_strike_kmh:.1f} km/h")
     lines.append(f"  {len(result.runs)} runs")
     _emit(data, as_json, "\n".join(lines))
+
+
+@app.command("handling")
+def handling_cmd(
+    vehicle: VehicleArg,
+    radius: Annotated[float, typer.Option("--radius", help="Circle radius [m].")] = 20.0,
+    payload: Annotated[float, typer.Option("--payload", help="The paper's freight aboard [kg].")] = 0.0,
+    start_speed: Annotated[float, typer.Option("--start-speed", help="Speed at the start [km/h].")] = 15.0,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Write the handling diagram (PNG).")] = None,
+    as_json: JsonOpt = False,
+):
+    """ISO 4138 steady-state circular driving: handling diagram, understeer, roll and sideslip gradients [deg/g]."""
+    import numpy as np
+
+    from .analysis.handling_tests import steady_state_test
+    from .params import load_vehicle, with_freight
+
+    for value, where in ((radius, "--radius"), (start_speed, "--start-speed")):
+        if not np.isfinite(value) or value <= 0:
+            raise InputError(f"must be > 0, got {value!r}", where=where)
+    if plot is not None and plot.exists():
+        raise InputError("file exists; not overwriting it", where=str(plot))
+    pset = with_freight(load_vehicle(vehicle), payload)
+    test = steady_state_test(pset, radius_m=radius, start_speed_kmh=start_speed)
+    data = test.to_dict() | {"vehicle": pset.name, "payload_kg": payload}
+    if plot is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        test.plot().savefig(plot, dpi=120)
+        data["plot"] = str(plot)
+    text = "\n".join([
+        f"{pset.name}: ISO 4138 constant radius {radius:g} m",
+        f"understeer gradient   {data['understeer_gradient_deg_per_g']:+.3f} deg/g",
+        f"roll gradient         {data['roll_gradient_deg_per_g']:+.3f} deg/g",
+        f"sideslip gradient     {data['sideslip_gradient_deg_per_g']:+.3f} deg/g",
+        f"ends at a_y           {data['max_lateral_acceleration_mps2']:.2f} m/s^2: {data['limit']} ({data['limit_detail']})",
+    ])
+    _emit(data, as_json, text)
 
 
 @app.command("study")
@@ -594,6 +655,51 @@ def reproduce_cmd(
         + [f"see {out / 'summary.md'}"]
     )
     _emit({k: summary[k] for k in ("out_dir", "statements", "files")}, as_json, text)
+
+
+@app.command("tilt")
+def tilt_cmd(
+    vehicle: VehicleArg,
+    payload: Annotated[float, typer.Option("--payload", help="The paper's freight aboard \\[kg].")] = 0.0,
+    side: Annotated[str, typer.Option("--side", help="The side that goes down: left, right or both.")] = "both",
+    require_deg: Annotated[
+        float | None, typer.Option("--require-deg", help="Required tilt angle \\[deg] (e.g. 35): pass or fail.")
+    ] = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Write wheel loads \\[N] against table angle \\[deg] (PNG).")] = None,
+    as_json: JsonOpt = False,
+):
+    """Tilt-table test: the table angle at which the first wheel lifts, on the compliant model."""
+    from .analysis.tilt import tilt_table
+    from .params import load_vehicle, with_freight
+
+    if side not in ("left", "right", "both"):
+        raise InputError(f"expected left, right or both, got '{side}'", where="--side")
+    if not np.isfinite(payload) or payload < 0:
+        raise InputError(f"must be >= 0 kg, got {payload!r}", where="--payload")
+    if require_deg is not None and not (np.isfinite(require_deg) and 0.0 < require_deg < 90.0):
+        raise InputError(f"expected an angle between 0 and 90 deg, got {require_deg!r}", where="--require-deg")
+    if plot is not None and plot.exists():
+        raise InputError("file exists; not overwriting it", where=str(plot))
+    pset = with_freight(load_vehicle(vehicle), payload)
+    result = tilt_table(pset, side=side, require_deg=require_deg)
+    data = result.to_dict() | {"payload_kg": payload}
+    if plot is not None:
+        result.plot().savefig(plot, dpi=110)
+        data["plot"] = str(plot)
+    lines = [
+        f"tilt angle {result.tilt_angle_deg:.1f} deg ({result.side}; {result.first_lifting_wheel} lifts first); "
+        f"rigid {result.rigid_tilt_angle_deg:.1f} deg"
+    ]
+    for s in result.sides.values():
+        lines.append(
+            f"  {s.side:<6} {s.tilt_angle_deg:6.2f} deg  {s.first_lifting_wheel} lifts, body roll {s.body_roll_deg:.1f} deg; "
+            f"rigid {s.rigid_tilt_angle_deg:.2f} deg about {s.tip_axis}"
+        )
+    if result.passes is not None:
+        lines.append(f"  required {result.require_deg:g} deg: {'passes' if result.passes else 'FAILS'}")
+    if plot is not None:
+        lines.append(f"  wrote {plot}")
+    _emit(data, as_json, "\n".join(lines))
 
 
 # ------------------------------------------------------------------------------------------------

@@ -9,14 +9,15 @@ from pathlib import Path
 
 import numpy as np
 
-from .manoeuvres import paths, speed
+from .analysis.metrics import summary
+from .manoeuvres import registry, speed
 from .measure.suspension import identify_suspension
 from .model.statics import static_equilibrium
 from .model.vehicle import build_model, speed_bump
 from .params import load_vehicle
 from .params.audit import static_wheel_loads, unsprung_mass
 from .report import figures
-from .simulate.closed_loop import drive
+from .simulate.closed_loop import run
 from .simulate.result import rollover_index
 from .simulate.run import simulate
 from .units import STANDARD_GRAVITY
@@ -77,18 +78,19 @@ def manoeuvres(out: Path, figures_on: bool = True) -> tuple[dict, list[dict], fl
     """Both lane changes on reference-etrike (Figs. 7-9): time histories, rollover index, summaries."""
     pset = load_vehicle("reference-etrike")
     model = build_model(pset)
-    slc = drive(model, paths.single_lane_change(), SLC_SPEED_KMH)
-    dlc = drive(model, paths.double_lane_change(pset.params.body.overall_width_m), speed.linear(*DLC_SPEED_KMH, 22.0))
+    slc = run(model, "slc", speed_kmh=SLC_SPEED_KMH, raise_on_failure=True)
+    dlc_track = registry.build("dlc", pset.params, DLC_SPEED_KMH[0])
+    dlc = run(model, dlc_track.at_speed(speed.linear(*DLC_SPEED_KMH, 22.0)), raise_on_failure=True)
     runs = {f"single lane change (ISO 14791), {SLC_SPEED_KMH:g} km/h": slc,
             f"double lane change (ISO 3888-1), {DLC_SPEED_KMH[0]:g}-{DLC_SPEED_KMH[1]:g} km/h": dlc}
     eq = static_equilibrium(model)
     static_ri = float(rollover_index(eq.wheel_loads_N["rear_right"], eq.wheel_loads_N["rear_left"]))
     rows = []
-    for label, run in runs.items():
-        frame = run.to_pandas().reset_index()
+    for label, result in runs.items():
+        frame = result.to_pandas().reset_index()
         name = "slc" if label.startswith("single") else "dlc"
         frame.to_csv(out / f"run_{name}.csv", index=False)
-        rows.append({"manoeuvre": label, **run.meta["summary"]})
+        rows.append({**summary(result), "manoeuvre": label})
     if figures_on:
         figures.time_histories({k: v for k, v in runs.items() if k.startswith("single")}, out / "fig7_slc.png",
                                "single lane change: velocity, lateral acceleration, yaw rate (cf. Fig. 7)")

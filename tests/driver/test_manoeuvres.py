@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from trikedyn.analysis import metrics
 from trikedyn.analysis.compare import compare, load_table
 from trikedyn.driver.preview import DriverSettings
 from trikedyn.manoeuvres import paths
@@ -23,9 +24,9 @@ def test_reference_trike_completes_the_lane_changes(trike, manoeuvre, speed_kmh)
     """ISO 3888-1 (lanes from the 1.25 m width) and ISO 14791 without a cone strike, every wheel down."""
     path = paths.double_lane_change(trike.params.body.overall_width_m) if manoeuvre == "dlc" else paths.single_lane_change()
     run = drive(trike, path, speed_kmh)
-    summary = run.meta["summary"]
+    summary = metrics.summary(run)
     assert summary["status"] == "ok"
-    assert summary["cone_strikes"] == 0, run.meta["cone_strikes"]
+    assert summary["cone_strikes"] == 0, metrics.cone_strikes(run)
     assert not summary["wheel_lifted"] and summary["min_wheel_load_N"] > 200.0
     assert summary["min_speed_kmh"] > speed_kmh - 2.0 and summary["max_speed_kmh"] < speed_kmh + 2.0
     # the run really reached the end of the path
@@ -37,7 +38,7 @@ def test_reference_trike_completes_the_lane_changes(trike, manoeuvre, speed_kmh)
 def test_double_lane_change_at_50_kmh_lifts_a_wheel(trike):
     """Why the DLC is not driven faster: at 50 km/h a rear wheel lifts (lift-off, not the driver)."""
     run = drive(trike, paths.double_lane_change(trike.params.body.overall_width_m), 50.0)
-    summary = run.meta["summary"]
+    summary = metrics.summary(run)
     assert summary["wheel_lifted"] and summary["min_wheel_load_N"] == 0.0
     assert summary["max_abs_ri"] == pytest.approx(1.0)
 
@@ -93,4 +94,4 @@ def test_speed_controller_follows_a_linear_profile(trike):
     frame = run.to_pandas().loc[2.0:]
     target = profile.at(frame.index.to_numpy()) * 3.6
     assert np.abs(frame.speed_mps.to_numpy() * 3.6 - target).max() < 1.0
-    assert run.meta["summary"]["cone_strikes"] == 0
+    assert metrics.summary(run)["cone_strikes"] == 0

@@ -10,6 +10,10 @@ grows beyond ``lost_m``, or the run diverges). Cone strikes do not define the th
 definition is lift-off) but are judged: ``limit`` is ``"lift-off"`` when the first failing speed lifts a
 wheel with the driver still on the path, and ``"tracking"`` when the driver had already lost the path
 (a cone strike or a spin) before the first lift. The speed of the first cone strike is reported too.
+
+Any registered manoeuvre can be searched (closed-loop paths and open-loop steer inputs alike) and a path
+from a CSV file; each run is judged up to the manoeuvre's exit gate (:mod:`trikedyn.analysis.metrics`),
+never in the run-out beyond it, where the driver is no longer being tested.
 """
 
 from __future__ import annotations
@@ -24,20 +28,33 @@ from ..errors import InputError, SimulationError
 from ..model.vehicle import VehicleModel, build_model
 from ..params.io import ParameterSet
 
-__all__ = ["RunVerdict", "ThresholdResult", "judge_run", "threshold_velocity", "manoeuvre_path"]
+__all__ = ["RunVerdict", "ThresholdResult", "judge_run", "threshold_velocity", "manoeuvre_builder"]
 
 LIFT_OFF, TRACKING = "lift-off", "tracking"
 
 
-def manoeuvre_path(manoeuvre: str, params):
-    """The path of ``dlc`` (ISO 3888-1) or ``slc`` (ISO 14791) for a parameter set."""
-    from ..manoeuvres import paths
+def manoeuvre_builder(manoeuvre, options: dict | None = None):
+    """``speed_kmh -> Manoeuvre`` for a registered name, a path ``.csv`` file or a bare
+    :class:`~trikedyn.manoeuvres.paths.Path` (judged over its whole length); the name is checked now."""
+    from ..manoeuvres.base import Manoeuvre
+    from ..manoeuvres.paths import Path
 
-    if manoeuvre == "dlc":
-        return paths.double_lane_change(params.body.overall_width_m)
-    if manoeuvre == "slc":
-        return paths.single_lane_change()
-    raise InputError(f"unknown manoeuvre '{manoeuvre}'; expected dlc or slc", where="manoeuvre")
+    options = dict(options or {})
+    if isinstance(manoeuvre, Path):
+        from ..manoeuvres import speed as speeds
+        from ..manoeuvres.base import path_manoeuvre
+
+        return lambda params, v: path_manoeuvre(manoeuvre.name, manoeuvre.name, manoeuvre, speeds.constant(v, 1.0),
+                                                entry_m=0.0, exit_m=float(manoeuvre.s_m[-1]),
+                                                description=manoeuvre.description)
+    if isinstance(manoeuvre, Manoeuvre):
+        raise InputError("give the manoeuvre by name: a threshold search builds it at each speed", where="manoeuvre")
+    from ..manoeuvres import registry
+
+    name = str(manoeuvre)
+    if not name.lower().endswith(".csv"):
+        registry.get(name)  # unknown names fail before any run
+    return lambda params, v: registry.build(name, params, v, **options)
 
 
 @dataclass(frozen=True)
@@ -51,39 +68,49 @@ class RunVerdict:
     time_s: float | None
     detail: str
     cone_strikes: int = 0
+    min_wheel_load_N: float | None = None
 
     def to_dict(self) -> dict:
         return asdict(self)
 
 
-def judge_run(result, lost_m: float = 2.5) -> RunVerdict:
-    """Pass or fail of a closed-loop run (see the module docstring), and what went wrong first."""
-    speed_kmh = float(result.meta.get("target_speed_kmh", float("nan")))
-    wheels = result.meta["wheels"]
-    fz = np.column_stack([result[f"{w}_fz_N"] for w in wheels])
-    lifted = np.nonzero((fz <= 0.0).any(axis=1))[0]
-    t_lift = float(result.time_s[lifted[0]]) if lifted.size else math.inf
-    strikes = result.meta.get("cone_strikes", [])
+def judge_run(result, lost_m: float = 2.5, speed_kmh: float | None = None) -> RunVerdict:
+    """Pass or fail of a run (see the module docstring), and what went wrong first.
+
+    Judged up to the exit gate: a lift in the run-in counts, nothing in the run-out does. A run that
+    stopped early (rollover, divergence) fails.
+    """
+    from .metrics import cone_strikes, first_lift, judged_mask, until_exit
+
+    speed_kmh = float(result.meta.get("target_speed_kmh", float("nan")) if speed_kmh is None else speed_kmh)
+    lift = first_lift(result, from_start=True)
+    t_lift = lift.time_s if lift is not None else math.inf
+    strikes = cone_strikes(result)
     t_strike = min((float(s["time_s"]) for s in strikes), default=math.inf)
-    error = np.abs(result.channels.get("path_error_m", np.zeros(1)))
-    lost = np.nonzero(error > lost_m)[0]
+    scope = until_exit(result) if judged_mask(result).any() else np.ones(result.time_s.size, dtype=bool)
+    if "path_error_m" in result.channels and result.manoeuvre is not None and result.manoeuvre.closed_loop:
+        lost = np.nonzero((np.abs(result["path_error_m"]) > lost_m) & scope)[0]
+    else:
+        lost = np.zeros(0, dtype=int)
     t_lost = float(result.time_s[lost[0]]) if lost.size else math.inf
     if result.status != "ok" and math.isinf(t_lift):
         t_lost = min(t_lost, float(result.time_s[-1]))
+    fz = np.column_stack([result[f"{w}_fz_N"] for w in result.meta["wheels"]])[scope]
+    min_load = float(fz.min()) if fz.size else None
     t_track = min(t_strike, t_lost)
     n = len(strikes)
     if math.isinf(t_lift) and math.isinf(t_lost):
         note = f", {n} cone strike(s) from {t_strike:.2f} s" if n else ""
-        return RunVerdict(speed_kmh, True, None, None, None, "every wheel down" + note, n)
+        return RunVerdict(speed_kmh, True, None, None, None, "every wheel down" + note, n, min_load)
     if not math.isinf(t_lift):
-        k = int(np.argmin(fz[lifted[0]]))
         limit = TRACKING if t_track < t_lift else LIFT_OFF
         lead = ""
         if limit == TRACKING:
             lead = (f"cone strike at {t_strike:.2f} s, then " if t_strike <= t_lost else f"path lost at {t_lost:.2f} s, then ")
-        return RunVerdict(speed_kmh, False, limit, wheels[k], t_lift, f"{lead}{wheels[k]} lifted at {t_lift:.2f} s", n)
+        return RunVerdict(speed_kmh, False, limit, lift.wheel, t_lift, f"{lead}{lift.wheel} lifted at {t_lift:.2f} s", n,
+                          min_load)
     why = result.status if result.status != "ok" else f"path lost (error > {lost_m:g} m) at {t_lost:.2f} s"
-    return RunVerdict(speed_kmh, False, TRACKING, None, t_lost, why, n)
+    return RunVerdict(speed_kmh, False, TRACKING, None, t_lost, why, n, min_load)
 
 
 @dataclass(frozen=True)
@@ -107,29 +134,32 @@ class ThresholdResult:
         return out
 
 
-def _run(model, path, speed_kmh, driver, dt):
-    from ..simulate.closed_loop import drive
+def _run(model, build, speed_kmh, driver, dt):
+    from ..simulate.closed_loop import run
 
     try:
-        result = drive(model, path, speed_kmh, driver=driver, dt=dt)
+        result = run(model, build(model.params, speed_kmh), driver=driver, dt=dt)
     except SimulationError as err:
         result = getattr(err, "result", None)
         if result is None:
             raise
-    result.meta["target_speed_kmh"] = speed_kmh
-    return judge_run(result)
+    return judge_run(result, speed_kmh=speed_kmh)
 
 
-def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre: str = "dlc", *, low_kmh: float = 10.0,
-                       high_kmh: float = 90.0, step_kmh: float = 10.0, resolution_kmh: float = 0.1,
-                       driver: DriverSettings | None = None, dt: float = 5e-3) -> ThresholdResult:
-    """The threshold velocity of a vehicle in ``manoeuvre`` (``"dlc"``, ``"slc"`` or a Path).
+def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *, options: dict | None = None,
+                       low_kmh: float = 10.0, high_kmh: float = 90.0, step_kmh: float = 10.0,
+                       resolution_kmh: float = 0.1, driver: DriverSettings | None = None,
+                       dt: float = 5e-3) -> ThresholdResult:
+    """The threshold velocity of a vehicle in a manoeuvre.
 
     Parameters
     ----------
     vehicle : ParameterSet or VehicleModel
         The vehicle with its payload.
     manoeuvre : str or Path
+        A registered manoeuvre's name (``trikedyn manoeuvres``), a path ``.csv`` file, or a bare Path.
+    options : dict, optional
+        The manoeuvre's options.
     low_kmh, high_kmh : float
         Search range [km/h]; ``low_kmh`` should pass.
     step_kmh : float
@@ -143,13 +173,16 @@ def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre: str = "d
         ``threshold_speed_kmh`` is None when even ``low_kmh`` fails, and ``high_kmh`` when nothing fails.
     """
     model = vehicle if isinstance(vehicle, VehicleModel) else build_model(vehicle)
-    path = manoeuvre_path(manoeuvre, model.params) if isinstance(manoeuvre, str) else manoeuvre
-    if not (0 < low_kmh < high_kmh) or step_kmh <= 0 or resolution_kmh <= 0:
-        raise InputError("need 0 < low_kmh < high_kmh and positive step and resolution", where="threshold search")
+    build = manoeuvre_builder(manoeuvre, options)
+    values = (low_kmh, high_kmh, step_kmh, resolution_kmh)
+    if not all(math.isfinite(v) for v in values) or not (0 < low_kmh < high_kmh) or step_kmh <= 0 \
+            or resolution_kmh <= 0:
+        raise InputError("need finite 0 < low_kmh < high_kmh and positive step and resolution",
+                         where="threshold search")
     runs = []
 
     def attempt(v):
-        verdict = _run(model, path, round(v, 6), driver, dt)
+        verdict = _run(model, build, round(v, 6), driver, dt)
         runs.append(verdict)
         return verdict
 

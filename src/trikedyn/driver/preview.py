@@ -32,8 +32,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._jit import jit
+from ..model.rhs import interpolate_inputs
 
-__all__ = ["DriverSettings", "driver_array", "driver_step", "N_DRIVER", "N_DRIVER_STATE", "PATH_COLUMNS"]
+__all__ = ["DriverSettings", "driver_array", "driver_step", "with_steering", "N_DRIVER", "N_DRIVER_STATE",
+           "PATH_COLUMNS"]
 
 (
     D_ON,
@@ -51,8 +53,10 @@ __all__ = ["DriverSettings", "driver_array", "driver_step", "N_DRIVER", "N_DRIVE
     D_MAX_BRAKE,
     D_KUS,
     D_PREDICT,
-) = range(15)
-N_DRIVER = 15
+    D_STEER_OPEN,
+    D_HOLD_AFTER,
+) = range(17)
+N_DRIVER = 17
 # controller state: speed error integral, delayed-line write position, lagged steer, rate-limited steer, path index
 S_INTEGRAL, S_WRITE, S_LAGGED, S_OUTPUT, S_INDEX = range(5)
 N_DRIVER_STATE = 5
@@ -124,6 +128,16 @@ def driver_array(settings: DriverSettings, params, dt: float) -> np.ndarray:
     out[D_KUS] = settings.understeer_gradient_rad_per_mps2
     predict = settings.prediction_s
     out[D_PREDICT] = settings.reaction_delay_s + settings.neuromuscular_lag_s if predict is None else predict
+    out[D_HOLD_AFTER] = -1.0
+    return out
+
+
+def with_steering(drv: np.ndarray, *, open_loop: bool = False, hold_after_s: float | None = None) -> np.ndarray:
+    """The driver array with its steering mode set: ``open_loop`` takes the steer command from the input
+    table (the driver only holds the speed); ``hold_after_s`` freezes the steering from that time on [s]."""
+    out = drv.copy()
+    out[D_STEER_OPEN] = 1.0 if open_loop else 0.0
+    out[D_HOLD_AFTER] = -1.0 if hold_after_s is None else float(hold_after_s)
     return out
 
 
@@ -161,11 +175,8 @@ def _nearest(path, px, py, start):
 
 
 @jit
-def driver_step(t, dt, px, py, yaw, yaw_rate, speed, path, speed_profile, drv, state, delay_line, n_braked):
-    """One step of the driver: steer command about the steering axis [rad], drive torque [N m], brake
-    torque per braked wheel [N m]. ``(px, py)`` is the rear-axle centre, ``yaw`` the heading, ``speed``
-    the forward speed; ``state`` and ``delay_line`` carry the controller's memory between steps."""
-    # --- steering: pure pursuit on the path, from the pose predicted T_pred ahead
+def _pursuit(t, dt, px, py, yaw, yaw_rate, speed, path, drv, state, delay_line):
+    """Pure pursuit from the pose predicted ``T_pred`` ahead, through the delay, lag and rate limit."""
     tp = drv[D_PREDICT]
     mid = yaw + 0.5 * yaw_rate * tp
     px = px + speed * tp * math.cos(mid)
@@ -202,6 +213,22 @@ def driver_step(t, dt, px, py, yaw, yaw_rate, speed, path, speed_profile, drv, s
     change = min(max(state[S_LAGGED] - state[S_OUTPUT], -step_max), step_max)
     steer = min(max(state[S_OUTPUT] + change, -drv[D_MAX_STEER]), drv[D_MAX_STEER])
     state[S_OUTPUT] = steer
+    return steer
+
+
+@jit
+def driver_step(t, dt, px, py, yaw, yaw_rate, speed, path, speed_profile, drv, state, delay_line, n_braked, inputs):
+    """One step of the driver: steer command about the steering axis [rad], drive torque [N m], brake
+    torque per braked wheel [N m]. ``(px, py)`` is the rear-axle centre, ``yaw`` the heading, ``speed``
+    the forward speed; ``state`` and ``delay_line`` carry the controller's memory between steps."""
+    # --- steering: held still, from the input table (open loop), or pure pursuit on the path
+    if drv[D_HOLD_AFTER] >= 0.0 and t >= drv[D_HOLD_AFTER]:
+        steer = state[S_OUTPUT]
+    elif drv[D_STEER_OPEN] > 0.0:
+        steer, _, _ = interpolate_inputs(t, inputs)
+        state[S_OUTPUT] = steer
+    else:
+        steer = _pursuit(t, dt, px, py, yaw, yaw_rate, speed, path, drv, state, delay_line)
     # --- speed: PI toward the target speed, with anti-windup
     if speed_profile.shape[0] == 1:
         target = speed_profile[0, 1]

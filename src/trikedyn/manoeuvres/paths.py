@@ -256,9 +256,32 @@ class Path:
         shape = px.shape
         px = px.ravel()
         py = py.ravel()
-        n = self.x_m.size
         _, i = self._tree.query(np.column_stack((px, py)))
-        i = np.asarray(i, dtype=np.int64)
+        s, off = self._foot(np.asarray(i, dtype=np.int64), px, py)
+        return s.reshape(shape), off.reshape(shape)
+
+    def track(self, x, y, *, back: int = 40, ahead: int = 400) -> tuple[np.ndarray, np.ndarray]:
+        """Like :meth:`project`, for the successive positions of a vehicle driving along the line.
+
+        The nearest point is searched near the previous one (``back`` points behind, ``ahead`` points
+        ahead), so the arc length grows lap after lap on a line that passes a place twice (a circle driven
+        several times), where :meth:`project` may return either pass.
+        """
+        px = np.asarray(x, dtype=np.float64).ravel()
+        py = np.asarray(y, dtype=np.float64).ravel()
+        n = self.x_m.size
+        idx = np.empty(px.size, dtype=np.int64)
+        j = 0
+        for k in range(px.size):
+            lo, hi = max(j - back, 0), min(j + ahead, n)
+            d2 = (self.x_m[lo:hi] - px[k]) ** 2 + (self.y_m[lo:hi] - py[k]) ** 2
+            j = lo + int(np.argmin(d2))
+            idx[k] = j
+        return self._foot(idx, px, py)
+
+    def _foot(self, i: np.ndarray, px: np.ndarray, py: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Refine the nearest points ``i`` on their two adjacent segments: arc length and signed offset."""
+        n = self.x_m.size
         best_s = np.empty_like(px)
         best_off = np.empty_like(px)
         best_d2 = np.full_like(px, np.inf)
@@ -276,7 +299,7 @@ class Path:
             best_d2 = np.where(better, d2, best_d2)
             best_s = np.where(better, self.s_m[a] + t * (self.s_m[b] - self.s_m[a]), best_s)
             best_off = np.where(better, ux * ry - uy * rx, best_off)
-        return best_s.reshape(shape), best_off.reshape(shape)
+        return best_s, best_off
 
 
 # --------------------------------------------------------------------------------------------------------------

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["step_steer", "sine_steer"]
+__all__ = ["step_steer", "sine_steer", "sweep_steer"]
 
 
 def step_steer(angle_rad: float, *, start_s: float = 1.0, ramp_s: float = 0.15):
@@ -38,5 +38,30 @@ def sine_steer(amplitude_rad: float, frequency_hz: float, *, start_s: float = 0.
         t = np.asarray(t, dtype=float)
         active = (t >= start_s) & (t <= end)
         return np.where(active, amplitude_rad * np.sin(2 * np.pi * frequency_hz * (t - start_s)), 0.0)
+
+    return steer
+
+
+def sweep_steer(amplitude_rad: float, f_start_hz: float, f_end_hz: float, duration_s: float, *,
+                start_s: float = 0.0, taper_s: float | None = None):
+    """A logarithmic sine sweep ``A w(t) sin(phi(t))`` [rad] from ``f_start_hz`` to ``f_end_hz``.
+
+    ``phi`` grows with the instantaneous frequency ``f(t) = f0 (f1/f0)^(t/T)``; ``w`` is a cosine taper over
+    ``taper_s`` (one period of the start frequency by default) at both ends, so the steer starts and ends
+    at zero without a jump in rate.
+    """
+    if not (0 < f_start_hz < f_end_hz) or duration_s <= 0:
+        raise InputError("needs 0 < f_start_hz < f_end_hz and duration_s > 0", where="sweep_steer")
+    if not np.isfinite(amplitude_rad):
+        raise InputError(f"must be finite, got {amplitude_rad!r}", where="amplitude_rad")
+    ratio = np.log(f_end_hz / f_start_hz)
+    taper = min(1.0 / f_start_hz, 0.25 * duration_s) if taper_s is None else taper_s
+
+    def steer(t):
+        tau = np.clip(np.asarray(t, dtype=float) - start_s, 0.0, duration_s)
+        phase = 2 * np.pi * f_start_hz * duration_s / ratio * (np.exp(ratio * tau / duration_s) - 1.0)
+        edge = np.minimum(tau, duration_s - tau)
+        window = np.where(edge < taper, 0.5 * (1 - np.cos(np.pi * np.clip(edge / taper, 0, 1))), 1.0)
+        return amplitude_rad * window * np.sin(phase)
 
     return steer

@@ -17,7 +17,7 @@ import numpy as np
 from .statics import Equilibrium, state_derivative
 from .vehicle import VehicleModel
 
-__all__ = ["Mode", "linearise", "modes"]
+__all__ = ["Mode", "SingleTrack", "linearise", "modes", "single_track"]
 
 
 @dataclass(frozen=True)
@@ -110,3 +110,61 @@ def modes(model: VehicleModel, equilibrium: Equilibrium | np.ndarray, *, min_hz:
         participation = {names[i]: float(share[i]) for i in order if share[i] >= 0.05}
         out.append(Mode(names[order[0]], w / (2 * np.pi), float(-lam.real / w), complex(lam), participation))
     return sorted(out, key=lambda md: md.frequency_hz)
+
+
+@dataclass(frozen=True)
+class SingleTrack:
+    """The linear single-track (bicycle) model of a vehicle at its static loads.
+
+    Attributes
+    ----------
+    wheelbase_m : float
+    mass_kg : float
+    front_load_N, rear_load_N : float
+        Static axle loads [N].
+    front_cornering_stiffness_N_per_rad, rear_cornering_stiffness_N_per_rad : float
+        Axle cornering stiffnesses at those loads (sum over the axle's tyres) [N/rad].
+    understeer_gradient_rad_per_mps2 : float
+        ``K = m_f / C_f - m_r / C_r`` [rad / (m/s^2)] (axle masses ``m = F_z / g``).
+    """
+
+    wheelbase_m: float
+    mass_kg: float
+    front_load_N: float
+    rear_load_N: float
+    front_cornering_stiffness_N_per_rad: float
+    rear_cornering_stiffness_N_per_rad: float
+    understeer_gradient_rad_per_mps2: float
+
+    def road_steer_rad(self, speed_mps: float, lateral_acceleration_mps2: float) -> float:
+        """Steady-state road-wheel steer angle for a lateral acceleration at a speed:
+        ``delta = (L / v^2 + K) a_y`` [rad]."""
+        return (self.wheelbase_m / speed_mps**2 + self.understeer_gradient_rad_per_mps2) * lateral_acceleration_mps2
+
+    @property
+    def understeer_gradient_deg_per_g(self) -> float:
+        return float(np.degrees(self.understeer_gradient_rad_per_mps2) * 9.80665)
+
+
+def single_track(model: VehicleModel) -> SingleTrack:
+    """The linear single-track model from the static wheel loads and the tyres' cornering stiffness."""
+    from ..tyre.magic_formula import cornering_stiffness
+    from .statics import static_equilibrium
+
+    key = ("single_track",)
+    if key in model.cache:
+        return model.cache[key]
+    eq = static_equilibrium(model.on_flat_road())
+    from .vehicle import S_G
+
+    g = float(model.scalars[S_G])
+    front = [w.name for w in model.tree.wheels if model.params.wheel(w.name).x_m > 0.5 * model.params.wheelbase_m]
+    loads = eq.wheel_loads_N
+    f_front = sum(loads[n] for n in front)
+    f_rear = sum(v for n, v in loads.items() if n not in front)
+    c_front = sum(cornering_stiffness(loads[n], model.tyre) for n in front)
+    c_rear = sum(cornering_stiffness(v, model.tyre) for n, v in loads.items() if n not in front)
+    k = f_front / g / c_front - f_rear / g / c_rear
+    out = SingleTrack(model.params.wheelbase_m, (f_front + f_rear) / g, f_front, f_rear, c_front, c_rear, k)
+    model.cache[key] = out
+    return out

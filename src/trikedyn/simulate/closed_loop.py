@@ -1,24 +1,29 @@
-"""Closed-loop runs: the driver follows a manoeuvre's path at a speed profile.
+"""Driving a manoeuvre: ``run(vehicle, manoeuvre, ...)``, the one entry point.
 
-``drive(vehicle, path, speed)`` starts the vehicle at the start of the path, rolling straight at the
-profile's first speed from static equilibrium, lets the driver (:mod:`trikedyn.driver.preview`) steer
-and hold the speed inside the compiled loop, and judges the run: lateral path error of the CG, cone
-strikes of the vehicle's footprint, the rollover index (Eq. 5), wheel loads and accelerations.
+``run`` starts the vehicle at the start of the manoeuvre, rolling straight at the target speed from static
+equilibrium, lets the driver (:mod:`trikedyn.driver.preview`) hold the speed and steer along the path (or,
+for an open-loop test, take the manoeuvre's steer command) inside the compiled loop, and returns a
+:class:`~trikedyn.simulate.result.Result`. With a path it records the CG's progress along it
+(``path_s_m``) and its lateral error (``path_error_m``); ``judged`` marks the manoeuvre's window. The
+figures a run is judged by come from :mod:`trikedyn.analysis.metrics`.
+
+``drive(vehicle, path, speed)`` is the older call for a bare :class:`~trikedyn.manoeuvres.paths.Path`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..driver.preview import DriverSettings, driver_array
+from ..driver.preview import DriverSettings, driver_array, with_steering
 from ..errors import InputError
+from ..manoeuvres.base import Manoeuvre, Window
 from ..model.statics import rolling_state, static_equilibrium
 from ..model.vehicle import VehicleModel, build_model
 from ..params.io import ParameterSet
 from .result import Result
-from .run import input_table, run_model
+from .run import run_model
 
-__all__ = ["drive", "footprint", "summary"]
+__all__ = ["run", "drive", "footprint"]
 
 
 def footprint(params) -> tuple[float, float, float]:
@@ -31,102 +36,131 @@ def footprint(params) -> tuple[float, float, float]:
     return -overhang, params.wheelbase_m + overhang, params.body.overall_width_m / 2
 
 
-def _speed_rows(speed) -> np.ndarray:
-    if hasattr(speed, "time_s") and hasattr(speed, "speed_mps"):
-        rows = np.column_stack([speed.time_s, speed.speed_mps])
-    else:
-        value = float(speed)
-        if not np.isfinite(value) or value <= 0:
-            raise InputError(f"speed must be > 0 km/h, got {speed!r}", where="speed")
-        rows = np.array([[0.0, value / 3.6]])
-    return np.ascontiguousarray(rows, dtype=float)
+def cg_track(params, x, y, yaw) -> tuple[np.ndarray, np.ndarray]:
+    """Plan-view position of the vehicle's CG from the chassis origin's position and heading [m]."""
+    cx, cy = params.mass.cg_x_m, params.mass.cg_y_m
+    return x + cx * np.cos(yaw) - cy * np.sin(yaw), y + cx * np.sin(yaw) + cy * np.cos(yaw)
+
+
+def _judging_channels(params, manoeuvre: Manoeuvre):
+    """``extra`` for :func:`run_model`: path progress and error of the CG, and the judged window."""
+
+    def extra(times, base):
+        out = {}
+        if manoeuvre.path is not None:
+            cx, cy = cg_track(params, base["x_m"], base["y_m"], base["yaw_rad"])
+            s, offset = manoeuvre.path.track(cx, cy)
+            out["path_s_m"], out["path_error_m"] = s, offset
+        w = manoeuvre.window
+        at = out["path_s_m"] if w.kind == "distance" else times
+        inside = (at >= w.start) & (at <= w.end)
+        if w.kind == "distance":  # once past the exit gate, stay out (a lap later the same s would return)
+            passed = np.maximum.accumulate(at) > w.end
+            inside &= ~passed
+        out["judged"] = inside.astype(float)
+        return out
+
+    return extra
+
+
+def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc", *, speed_kmh: float | None = None,
+        driver: DriverSettings | None = None, dt: float = 5e-3, output_rate_hz: float = 100.0,
+        raise_on_failure: bool = False, duration_s: float | None = None, **options) -> Result:
+    """Drive a manoeuvre and return the recorded run.
+
+    Parameters
+    ----------
+    vehicle : ParameterSet or VehicleModel
+        The vehicle with its payload.
+    manoeuvre : Manoeuvre or str
+        A built :class:`~trikedyn.manoeuvres.base.Manoeuvre`, or a registered name (``trikedyn manoeuvres``
+        lists them) or a path ``.csv`` file, built here at ``speed_kmh`` with ``options``.
+    speed_kmh : float, optional
+        Target speed [km/h]; needed when ``manoeuvre`` is a name.
+    driver : DriverSettings, optional
+        The driver's parameters; defaults otherwise.
+    dt, output_rate_hz : float
+        Time step [s] and output rate [Hz].
+    raise_on_failure : bool
+        Raise :class:`~trikedyn.errors.SimulationError` (with the partial ``.result``) when the run stops
+        early; by default the result says so (``success``, ``message``).
+    duration_s : float, optional
+        Simulated time [s]; the manoeuvre's own by default.
+    **options
+        The manoeuvre's options (see its entry in ``trikedyn manoeuvres``) when it is given by name.
+
+    Returns
+    -------
+    Result
+        With ``manoeuvre`` set, ``path_s_m``/``path_error_m`` when it has a path, and ``judged``.
+    """
+    model = vehicle if isinstance(vehicle, VehicleModel) else build_model(vehicle)
+    params = model.params
+    if not isinstance(manoeuvre, Manoeuvre):
+        from ..manoeuvres.registry import build
+
+        if speed_kmh is None:
+            raise InputError("a manoeuvre given by name needs speed_kmh", where="run")
+        manoeuvre = build(manoeuvre, params, speed_kmh, **options)
+    elif options:
+        raise InputError(f"options {sorted(options)} apply only to a manoeuvre given by name", where="run")
+    duration = manoeuvre.duration_s if duration_s is None else float(duration_s)
+    if not np.isfinite(duration) or duration <= 0:
+        raise InputError(f"must be > 0 s, got {duration_s!r}", where="duration_s")
+    settings = driver or DriverSettings()
+    v0 = float(manoeuvre.speed.speed_mps[0])
+    eq = static_equilibrium(model.on_flat_road())
+    path = manoeuvre.path
+    heading = float(path.heading_rad[0]) if path is not None else 0.0
+    x0 = rolling_state(model, eq, v0, heading_rad=heading)
+    if path is not None:
+        x0[0], x0[1] = float(path.x_m[0]), float(path.y_m[0])
+    drv = with_steering(driver_array(settings, params, dt), open_loop=not manoeuvre.closed_loop,
+                        hold_after_s=manoeuvre.steer_hold_s)
+    path_rows = path.as_array() if path is not None else np.zeros((2, 5))
+    inputs = np.zeros((1, 4))
+    if manoeuvre.steer is not None:
+        inputs = _steer_inputs(manoeuvre.steer, duration, dt)
+    meta = {"manoeuvre": manoeuvre.title, "manoeuvre_name": manoeuvre.name, "driver": settings.__dict__,
+            "target_speed_kmh": float(manoeuvre.speed.speed_mps.max() * 3.6),
+            "window": manoeuvre.window.to_dict(), "footprint_m": list(footprint(params))}
+    return run_model(model, x0, inputs, duration_s=duration, dt=dt, output_rate_hz=output_rate_hz,
+                     raise_on_failure=raise_on_failure, path=path_rows, speed_profile=manoeuvre.speed.as_array(),
+                     driver=drv, meta=meta, extra=_judging_channels(params, manoeuvre), manoeuvre=manoeuvre)
+
+
+def _steer_inputs(steer: np.ndarray, duration_s: float, dt: float) -> np.ndarray:
+    """The steer table on the loop's uniform grid (drive and brake columns unused: the driver sets them)."""
+    grid = np.arange(0.0, duration_s + dt, dt)
+    table = np.zeros((grid.size, 4))
+    table[:, 0] = grid
+    table[:, 1] = np.interp(grid, steer[:, 0], steer[:, 1]) if steer.shape[0] > 1 else steer[0, 1]
+    return table
 
 
 def drive(vehicle: ParameterSet | VehicleModel, path, speed, *, driver: DriverSettings | None = None,
           duration_s: float | None = None, dt: float = 5e-3, output_rate_hz: float = 100.0,
           raise_on_failure: bool = True) -> Result:
-    """Drive ``path`` at ``speed`` (km/h, or a :class:`~trikedyn.manoeuvres.speed.SpeedProfile`).
+    """Drive a bare ``path`` at ``speed`` (km/h, or a :class:`~trikedyn.manoeuvres.speed.SpeedProfile`).
 
-    Parameters
-    ----------
-    vehicle : ParameterSet or VehicleModel
-    path : Path
-        From :mod:`trikedyn.manoeuvres.paths` (reference line, cones, corridors).
-    speed : float or SpeedProfile
-        Constant target speed [km/h], or a target speed profile (the driver's PI controller follows it).
-    driver : DriverSettings, optional
-        The driver's parameters; defaults otherwise.
-    duration_s : float, optional
-        Simulated time [s]; by default until the rear axle has covered the path at the mean target speed.
-    dt, output_rate_hz : float
-        Time step [s] and output rate [Hz].
-
-    Returns
-    -------
-    Result
-        With the channels of :func:`~trikedyn.simulate.run.simulate` plus ``path_error_m``, and in
-        ``meta`` the cone strikes and the :func:`summary`.
+    The path is judged over its whole length and continued beyond its end (run-out); prefer
+    :func:`run` with a registered manoeuvre, which knows its own gates.
     """
-    model = vehicle if isinstance(vehicle, VehicleModel) else build_model(vehicle)
-    params = model.params
-    settings = driver or DriverSettings()
-    rows = _speed_rows(speed)
-    v0 = float(rows[0, 1])
-    if duration_s is None:
-        duration_s = float(path.s_m[-1]) / max(float(rows[:, 1].mean()), 0.5)
-    eq = static_equilibrium(model.on_flat_road())
-    x0 = rolling_state(model, eq, v0, heading_rad=float(path.heading_rad[0]))
-    x0[0], x0[1] = float(path.x_m[0]), float(path.y_m[0])
-    arrays = np.column_stack([path.x_m, path.y_m, path.s_m, path.heading_rad, path.curvature_per_m])
-    drv = driver_array(settings, params, dt)
-    meta = {"manoeuvre": path.name, "driver": settings.__dict__}
-    try:
-        result = run_model(model, x0, input_table(duration_s, dt), duration_s=duration_s, dt=dt,
-                           output_rate_hz=output_rate_hz, raise_on_failure=raise_on_failure, path=arrays,
-                           speed_profile=rows, driver=drv, meta=meta)
-    except Exception as err:  # judge what was driven before the failure too
-        partial = getattr(err, "result", None)
-        if partial is not None:
-            _judge(partial, path, params)
-        raise
-    _judge(result, path, params)
-    return result
+    from ..manoeuvres import speed as speeds
+    from ..manoeuvres.base import path_manoeuvre
 
-
-def _judge(result: Result, path, params) -> None:
-    """Add the path error, cone strikes and the summary to a result (in place: channels and meta)."""
-    x, y, yaw = result["x_m"], result["y_m"], result["yaw_rad"]
-    cg = np.asarray([params.mass.cg_x_m, params.mass.cg_y_m])
-    cx = x + cg[0] * np.cos(yaw) - cg[1] * np.sin(yaw)
-    cy = y + cg[0] * np.sin(yaw) + cg[1] * np.cos(yaw)
-    _, offset = path.project(cx, cy)
-    result.channels["path_error_m"] = np.asarray(offset, dtype=float)
-    strikes = []
-    if len(path.cones):
-        from ..manoeuvres.paths import cone_strikes
-
-        strikes = cone_strikes(path, result.time_s, x, y, yaw, footprint(params))
-    result.meta["cone_strikes"] = strikes
-    result.meta["summary"] = summary(result)
-
-
-def summary(result: Result) -> dict:
-    """The figures a run is judged by (``trikedyn simulate --json``)."""
-    fz = np.column_stack([result[f"{w}_fz_N"] for w in result.meta["wheels"]])
-    all_down = (fz > 0).all(axis=1)
-    ri = np.abs(result["ri"])
-    return {
-        "manoeuvre": result.meta.get("manoeuvre", "open loop"),
-        "status": result.status,
-        "duration_s": float(result.time_s[-1]),
-        "cone_strikes": len(result.meta.get("cone_strikes", [])),
-        "max_abs_ri": float(np.nanmax(ri)) if ri.size else float("nan"),
-        "max_abs_ri_all_wheels_down": float(np.nanmax(ri[all_down])) if all_down.any() else float("nan"),
-        "min_wheel_load_N": float(fz.min()),
-        "wheel_lifted": bool((fz <= 0).any()),
-        "max_lateral_acceleration_mps2": float(np.abs(result["ay_mps2"]).max()),
-        "max_yaw_rate_radps": float(np.abs(result["yaw_rate_radps"]).max()),
-        "max_path_error_m": float(np.abs(result.channels.get("path_error_m", np.zeros(1))).max()),
-        "max_speed_kmh": float(result["speed_mps"].max() * 3.6),
-        "min_speed_kmh": float(result["speed_mps"].min() * 3.6),
-    }
+    if hasattr(speed, "speed_mps"):
+        profile = speed
+    else:
+        value = float(speed)
+        if not np.isfinite(value) or value <= 0:
+            raise InputError(f"speed must be > 0 km/h, got {speed!r}", where="speed")
+        profile = speeds.constant(value, 1.0)
+    manoeuvre = path_manoeuvre(path.name, path.name, path, profile, entry_m=0.0, exit_m=float(path.s_m[-1]),
+                               description=path.description)
+    if duration_s is not None:
+        manoeuvre = Manoeuvre(manoeuvre.name, manoeuvre.title, profile, float(duration_s),
+                              Window("distance", 0.0, float(path.s_m[-1])), manoeuvre.path,
+                              description=manoeuvre.description)
+    return run(vehicle, manoeuvre, driver=driver, dt=dt, output_rate_hz=output_rate_hz,
+               raise_on_failure=raise_on_failure)

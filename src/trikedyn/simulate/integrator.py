@@ -37,8 +37,9 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
     """Integrate ``n_steps`` RK4 steps of ``dt`` [s] from ``x0`` at ``t0``.
 
     Open loop (``drv[0] == 0``): the inputs come from the ``inputs`` table. Closed loop: the driver
-    (:func:`~trikedyn.driver.preview.driver_step`) follows ``path`` at the target speeds of
-    ``speed_profile`` ``(time, speed)``; it runs once per step and holds its commands over the step.
+    (:func:`~trikedyn.driver.preview.driver_step`) holds the target speeds of ``speed_profile``
+    ``(time, speed)`` and steers along ``path`` (or, in its open-loop steering mode, takes the steer column
+    of ``inputs``); it runs once per step and holds its commands over the step.
     Every ``record_every`` steps (and at ``t0``) the loop records the state, its derivative, the per-wheel
     outputs and the commands; the derivative is the first RK stage of the next step, so recording costs no
     extra evaluation.
@@ -91,7 +92,7 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
     while True:
         if closed:
             steer, drive, brake = driver_step(t, dt, x[0], x[1], x[5], x[n + 2], x[n + 3], path, speed_profile, drv,
-                                              dstate, delay_line, n_braked)
+                                              dstate, delay_line, n_braked, inputs)
             step_inputs[0, 1] = steer
             step_inputs[0, 2] = drive
             step_inputs[0, 3] = brake

@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from types import MappingProxyType
 
 import numpy as np
 
 from .channels import BASE_CHANNELS, IMU_CHANNELS, WHEEL_CHANNELS
 
-__all__ = ["Result", "rollover_index", "load_transfer_ratio"]
+__all__ = ["Result", "rollover_index", "load_transfer_ratio", "state_names"]
 
 
 def rollover_index(fz_right, fz_left):
@@ -28,22 +29,43 @@ def load_transfer_ratio(fz_right_total, fz_left_total):
     return rollover_index(fz_right_total, fz_left_total)
 
 
+def state_names(model) -> tuple[str, ...]:
+    """Labels of the state vector: positions, velocities, transient slips.
+
+    ``x_m, y_m, z_m, roll_rad, pitch_rad, yaw_rad`` (chassis, road axes), one per joint (``<body>_q``),
+    the chassis velocities in its own axes (``vx_mps, vy_mps, vz_mps, wx_radps, wy_radps, wz_radps``),
+    one rate per joint (``<body>_qd``), then per wheel the transient slips ``<wheel>_kappa`` and
+    ``<wheel>_tan_alpha``.
+    """
+    bodies = model.tree.body_names[1:]
+    q = ["x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", *(f"{b}_q" for b in bodies)]
+    u = ["vx_mps", "vy_mps", "vz_mps", "wx_radps", "wy_radps", "wz_radps", *(f"{b}_qd" for b in bodies)]
+    slips = [f"{w.name}_{s}" for w in model.tree.wheels for s in ("kappa", "tan_alpha")]
+    return tuple(q + u + slips)
+
+
 @dataclass(frozen=True)
 class Result:
-    """A simulation's recorded channels.
+    """A simulation's recorded channels (immutable: judging a run returns figures, it never writes here).
 
     Attributes
     ----------
     time_s : ndarray
-    channels : dict[str, ndarray]
+    channels : Mapping[str, ndarray]
         ``BASE_CHANNELS`` by name; per wheel ``<wheel>_<quantity>`` (e.g. ``rear_left_fz_N``);
-        ``ri`` (Eq. 5 over the two-wheel axle) and ``ltr``.
+        ``ri`` (Eq. 5 over the two-wheel axle) and ``ltr``; for a manoeuvre with a path ``path_s_m``
+        (progress of the CG along it) and ``path_error_m``; ``judged`` (1 inside the judged window).
+        Read-only.
     states : ndarray
-        The raw state at each sample.
+        The raw state at each sample, labelled by ``state_names``.
     status : str
         ``"ok"`` or why the run stopped early.
     meta : dict
         Vehicle name, time step, wheel names.
+    state_names : tuple of str
+        Labels of the columns of ``states`` (see :func:`state_names`).
+    manoeuvre : Manoeuvre, optional
+        What was driven (None for open-loop :func:`~trikedyn.simulate.run.simulate` runs).
     """
 
     time_s: np.ndarray
@@ -51,9 +73,42 @@ class Result:
     states: np.ndarray
     status: str = "ok"
     meta: dict = field(default_factory=dict)
+    state_names: tuple = ()
+    manoeuvre: object = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "channels", MappingProxyType(dict(self.channels)))
+        for array in (self.time_s, self.states, *self.channels.values()):
+            array.setflags(write=False)
+
+    @property
+    def success(self) -> bool:
+        """True when the run went to its end (no rollover, no divergence)."""
+        return self.status == "ok"
+
+    @property
+    def message(self) -> str:
+        """What happened: ``"ok"`` or why the run stopped, with the time."""
+        if self.success:
+            return "ok"
+        return f"stopped at t = {float(self.time_s[-1]):.3f} s: {self.status}"
+
+    def state(self, name: str) -> np.ndarray:
+        """One column of ``states`` by its label."""
+        try:
+            return self.states[:, self.state_names.index(name)]
+        except ValueError:
+            from difflib import get_close_matches
+
+            from ..errors import InputError
+
+            hint = get_close_matches(name, list(self.state_names), n=1)
+            raise InputError(f"no state '{name}'" + (f"; did you mean '{hint[0]}'?" if hint else ""),
+                             where="state") from None
 
     @classmethod
-    def from_arrays(cls, model, times, states, base, wheels, commands, imu, *, status, dt, meta=None) -> Result:
+    def from_arrays(cls, model, times, states, base, wheels, commands, imu, *, status, dt, meta=None,
+                    extra=None, manoeuvre=None) -> Result:
         channels = {name: base[:, i].copy() for i, name in enumerate(BASE_CHANNELS)}
         names = model.wheel_names
         for k, wname in enumerate(names):
@@ -73,9 +128,10 @@ class Result:
         channels["steer_cmd_rad"] = commands[:, 0].copy()
         channels["drive_torque_Nm"] = commands[:, 1].copy()
         channels["brake_torque_Nm"] = commands[:, 2].copy()
+        channels.update(extra or {})
         info = {"vehicle": model.params.name, "dt_s": dt, "wheels": list(names), "left": names[left],
                 "right": names[right], **(meta or {})}
-        return cls(times.copy(), channels, states.copy(), status, info)
+        return cls(times.copy(), channels, states.copy(), status, info, state_names(model), manoeuvre)
 
     def __getitem__(self, name: str) -> np.ndarray:
         if name == "time_s":
@@ -128,7 +184,7 @@ class Result:
         """All channels as a DataFrame indexed by time [s]."""
         import pandas as pd
 
-        frame = pd.DataFrame(self.channels, index=pd.Index(self.time_s, name="time_s"))
+        frame = pd.DataFrame(dict(self.channels), index=pd.Index(self.time_s, name="time_s"))
         frame.attrs.update(self.meta, status=self.status)
         return frame
 

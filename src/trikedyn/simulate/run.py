@@ -90,11 +90,13 @@ def max_stable_step(model: VehicleModel, state: np.ndarray | None = None) -> tup
 
 def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, duration_s: float, dt: float,
               output_rate_hz: float, raise_on_failure: bool = True, path=None, speed_profile=None,
-              driver=None, meta=None) -> Result:
+              driver=None, meta=None, extra=None, manoeuvre=None) -> Result:
     """Run the compiled loop from ``x0`` and compute the channels; raise :class:`SimulationError` on failure.
 
     With ``path`` (arrays ``PATH_COLUMNS``), ``speed_profile`` (``(time, speed)`` rows) and ``driver`` (a
     :func:`~trikedyn.driver.preview.driver_array`) the driver closes the loop; otherwise ``inputs`` drive it.
+    ``extra(times, channels)`` returns more channels (a dict of arrays) computed from the base channels;
+    ``manoeuvre`` is kept in the result.
     """
     if dt <= 0 or duration_s <= 0:
         raise InputError("time step and duration must be > 0", where="dt" if dt <= 0 else "duration_s")
@@ -118,8 +120,13 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
     base = compute_channels(states, derivs, cg, steer[0] if steer else -1, model.n_dof)
     sensor = np.array([model.params.sensor.x_m, model.params.sensor.y_m, model.params.sensor.z_m])
     imu = imu_readings(states, derivs, sensor, float(model.scalars[S_G]), model.n_dof)
+    more = None
+    if extra is not None:
+        from .channels import BASE_CHANNELS
+
+        more = extra(times, {name: base[:, i] for i, name in enumerate(BASE_CHANNELS)})
     result = Result.from_arrays(model, times, states, base, wheels, commands, imu, status=STATUS_TEXT[status], dt=dt,
-                                meta=meta)
+                                meta=meta, extra=more, manoeuvre=manoeuvre)
     if status != STATUS_OK and raise_on_failure:
         err = SimulationError(STATUS_TEXT[status], t_stop)
         err.result = result

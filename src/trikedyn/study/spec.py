@@ -5,7 +5,7 @@ A study file::
     name = "paper-fig10"
     description = "..."
     vehicle = "reference-etrike"        # preset name, or a .toml path relative to this file
-    manoeuvres = ["dlc", "slc"]
+    manoeuvres = ["dlc", "slc"]         # registered manoeuvres (`trikedyn manoeuvres`), default options
     freight_kg = [0, 50, 100, 150, 200]
     resolution_kmh = 0.1                # threshold search: bisection resolution [km/h]
     # optional: low_kmh = 10, high_kmh = 90, step_kmh = 10 (search range and bracketing step [km/h])
@@ -37,7 +37,7 @@ from dataclasses import dataclass
 from difflib import get_close_matches
 from importlib import resources
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
@@ -110,13 +110,25 @@ class _Spec(_Model):
     name: str = Field(min_length=1)
     description: str = ""
     vehicle: str = "reference-etrike"
-    manoeuvres: list[Literal["dlc", "slc"]] = Field(default=["dlc", "slc"], min_length=1)
+    manoeuvres: list[str] = Field(default=["dlc", "slc"], min_length=1)
     freight_kg: list[float] = Field(default=[0.0], min_length=1)
     resolution_kmh: float = Field(default=0.1, gt=0, le=10)
     low_kmh: float = Field(default=10.0, gt=0)
     high_kmh: float = Field(default=90.0, gt=0, le=300)
     step_kmh: float = Field(default=10.0, gt=0)
     groups: list[_Group] = Field(default_factory=lambda: [_Group(name="base")], min_length=1)
+
+    @field_validator("manoeuvres")
+    @classmethod
+    def _registered(cls, values):
+        from ..manoeuvres.registry import get
+
+        for name in values:
+            try:
+                get(name)
+            except InputError as exc:
+                raise ValueError(exc.reason) from None
+        return values
 
     @field_validator("freight_kg")
     @classmethod

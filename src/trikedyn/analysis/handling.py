@@ -1,0 +1,545 @@
+"""Handling figures from time histories: ISO 4138 gradients, ISO 7401 transients, ISO 7975 braking in a turn.
+
+Pure array algorithms (NumPy/SciPy), no vehicle model; SI signals in ISO 8855 axes (a left turn has
+positive lateral acceleration, yaw rate and steer). The standards' text was not at hand: the definitions are
+the commonly published ones (SAE J266; ISO 4138, 7401, 7975 as summarised in the literature), stated by each
+function. Results are frozen dataclasses; ``to_dict()`` gives JSON-safe plain values (None for NaN). Bad
+input raises :class:`~trikedyn.errors.InputError`, a :class:`ValueError`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import signal
+
+from ..errors import InputError
+from ..units import STANDARD_GRAVITY as G
+
+__all__ = ["BrakingInTurn", "FrequencyResponse", "HandlingDiagram", "StepResponse", "braking_in_turn",
+           "frequency_response", "handling_diagram", "sine_sweep", "step_response"]
+
+FIT_LIMIT_G = 0.2  # default upper bound of the linear-range fit [g] ...
+FIT_LIMIT_FRACTION = 0.4  # ... or this fraction of the largest a_y reached, whichever is smaller
+MIN_FIT_POINTS = 10  # fewest samples of the linear-range fit
+STEADY_WINDOW_S = 1.0  # default final window of a step-steer record averaged as the steady state [s]
+OVERSHOOT_MIN = 0.005  # a step response has a peak if it exceeds its steady value by more than this [-]
+SEGMENT_S = 10.0  # default Welch segment [s] (resolution 0.1 Hz), at most a quarter of the record
+COHERENCE_MIN = 0.95  # default least coherence of a frequency kept in a frequency response [-]
+ENERGY_FRACTION = 0.03  # default least steer auto-spectral density kept, fraction of its maximum [-]
+
+
+def _jf(value):
+    value = float(value)
+    return value if math.isfinite(value) else None
+
+
+class _Result:
+    def to_dict(self) -> dict:
+        """JSON-safe plain values: floats (None for NaN or infinity), ints, lists of floats for arrays."""
+        out = {}
+        for f in dataclasses.fields(self):
+            v = getattr(self, f.name)
+            if isinstance(v, np.ndarray):
+                out[f.name] = [_jf(x) for x in v]
+            else:
+                out[f.name] = int(v) if isinstance(v, (int, np.integer)) else _jf(v)
+        return out
+
+
+def _time(t, min_samples=5) -> np.ndarray:
+    t = np.asarray(t, dtype=float)
+    if t.ndim != 1 or t.size < min_samples:
+        raise InputError(f"expected a 1-D array of at least {min_samples} samples, got shape {t.shape}", "time_s")
+    if not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
+        raise InputError("time must be finite and strictly increasing", "time_s")
+    return t
+
+
+def _values(x, n, where) -> np.ndarray:
+    x = np.asarray(x, dtype=float)
+    if x.shape != (n,):
+        raise InputError(f"has shape {x.shape}; expected ({n},), one value per sample", where)
+    if not np.all(np.isfinite(x)):
+        raise InputError(f"holds NaN or infinity at sample {int(np.flatnonzero(~np.isfinite(x))[0])}", where)
+    return x
+
+
+def _positive(value, where) -> float:
+    value = float(value)
+    if not (math.isfinite(value) and value > 0):
+        raise InputError(f"must be a positive finite number, got {value}", where)
+    return value
+
+
+def _crossing(t, y, level, start=0) -> float:
+    """Time ``y`` first reaches ``level`` at or after index ``start``, interpolated linearly; NaN if never."""
+    idx = np.flatnonzero(y[start:] >= level)
+    if idx.size == 0:
+        return math.nan
+    i = start + int(idx[0])
+    if i == 0 or y[i - 1] >= level:
+        return float(t[i])
+    return float(t[i - 1] + (level - y[i - 1]) / (y[i] - y[i - 1]) * (t[i] - t[i - 1]))
+
+
+# ------------------------------------------------------------------------------ ISO 4138 handling diagram
+@dataclass(frozen=True, eq=False)
+class HandlingDiagram(_Result):
+    """ISO 4138 constant-radius handling diagram, folded to a left turn.
+
+    Attributes
+    ----------
+    understeer_gradient_deg_per_g, sideslip_gradient_deg_per_g, roll_gradient_deg_per_g : float
+        Slopes of road-wheel steer, sideslip and roll against ``a_y / g`` in the linear range [deg/g].
+    steer_intercept_deg, sideslip_intercept_deg, roll_intercept_deg, ackermann_steer_deg : float
+        The fitted lines at ``a_y = 0`` (the steer one should be the Ackermann steer); ``L / R`` [deg].
+    max_lateral_acceleration_mps2, fit_limit_mps2 : float
+        Largest lateral acceleration of the record; upper bound of the fit [m/s^2].
+    n_fit, turn_direction : int
+        Number of samples fitted; the sign the record was folded with (+1 left turn, -1 right).
+    ay_bins_mps2, steer_deg, sideslip_deg, roll_deg : ndarray
+        The diagram: per non-empty lateral-acceleration bin, the means of a_y [m/s^2] and of road-wheel
+        steer, sideslip and roll [deg].
+    """
+
+    understeer_gradient_deg_per_g: float
+    sideslip_gradient_deg_per_g: float
+    roll_gradient_deg_per_g: float
+    steer_intercept_deg: float
+    sideslip_intercept_deg: float
+    roll_intercept_deg: float
+    ackermann_steer_deg: float
+    max_lateral_acceleration_mps2: float
+    fit_limit_mps2: float
+    n_fit: int
+    turn_direction: int
+    ay_bins_mps2: np.ndarray
+    steer_deg: np.ndarray
+    sideslip_deg: np.ndarray
+    roll_deg: np.ndarray
+
+    def plot(self):
+        """Road-wheel steer, sideslip and roll [deg] against lateral acceleration [m/s^2]: binned means
+        and the linear-range fits (dashed); returns the Figure."""
+        import matplotlib.pyplot as plt
+
+        fig, axes = plt.subplots(3, 1, sharex=True, figsize=(6, 7))
+        a = np.array([0.0, self.fit_limit_mps2])
+        rows = [("road-wheel steer", self.steer_deg, self.steer_intercept_deg, self.understeer_gradient_deg_per_g),
+                ("sideslip", self.sideslip_deg, self.sideslip_intercept_deg, self.sideslip_gradient_deg_per_g),
+                ("roll", self.roll_deg, self.roll_intercept_deg, self.roll_gradient_deg_per_g)]
+        for ax, (name, y, c0, k) in zip(axes, rows, strict=True):
+            ax.plot(self.ay_bins_mps2, y, "o-", color="k", ms=3, lw=1.0, label="binned mean")
+            ax.plot(a, c0 + k * a / G, "--", color="tab:red", lw=1.2, label=f"fit: {k:.3g} deg/g")
+            ax.set_ylabel(f"{name} [deg]")
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=8)
+        axes[0].axhline(self.ackermann_steer_deg, color="0.5", lw=0.8, ls=":")
+        axes[-1].set_xlabel("lateral acceleration [m/s^2] (folded to a left turn)")
+        fig.tight_layout()
+        return fig
+
+
+def handling_diagram(lateral_acceleration_mps2, road_steer_rad, sideslip_rad, roll_rad, *, radius_m,
+                     wheelbase_m, fit_limit_mps2=None, n_bins=20) -> HandlingDiagram:
+    """ISO 4138 steady-state circular driving, constant-radius method: gradients and diagram.
+
+    The samples are quasi-steady states on a circle of constant radius, the speed rising slowly. As the
+    Ackermann steer ``L / R`` is then constant, the slope of road-wheel steer against lateral acceleration
+    *is* the understeer gradient ``d delta / d(a_y / g)`` [deg/g] (positive: understeer); the sideslip
+    (at the CG) and roll gradients are the slopes of those angles likewise.
+
+    *Folding.* A record holds one turn direction, ``sign(mean a_y)``; every channel is multiplied by it,
+    so a right turn gives the gradients of the mirrored left turn. A record whose folded a_y goes below
+    -25 % of its maximum mixes both directions and is refused: analyse each direction separately.
+    *Linear range.* Least-squares straight lines through the samples with folded ``|a_y| <=
+    fit_limit_mps2``, by default ``min(0.2 g, 0.4 max a_y)``; at least 10 samples spanning a quarter of
+    that range are needed. *Diagram.* Means over ``n_bins`` equal bins of the folded a_y.
+
+    Parameters
+    ----------
+    lateral_acceleration_mps2 : array_like
+        Lateral acceleration [m/s^2].
+    road_steer_rad, sideslip_rad, roll_rad : array_like
+        Road-wheel steer, CG sideslip and body roll angles [rad], one per a_y sample.
+    radius_m, wheelbase_m : float
+        Radius of the circle and wheelbase [m].
+    fit_limit_mps2 : float, optional
+        Upper bound of the fitted lateral accelerations [m/s^2].
+    n_bins : int
+        Number of bins of the diagram (empty ones are dropped).
+    """
+    n = np.size(lateral_acceleration_mps2)
+    ay = _values(lateral_acceleration_mps2, n, "lateral_acceleration_mps2")
+    chans = [_values(x, n, w) for x, w in ((road_steer_rad, "road_steer_rad"), (sideslip_rad, "sideslip_rad"),
+                                           (roll_rad, "roll_rad"))]
+    radius, wheelbase = _positive(radius_m, "radius_m"), _positive(wheelbase_m, "wheelbase_m")
+    direction = 1 if ay.mean() >= 0 else -1
+    a = direction * ay
+    deg = [np.degrees(direction * x) for x in chans]
+    a_max = float(a.max())
+    if a_max <= 0 or a.min() < -0.25 * a_max:
+        raise InputError("the record mixes left and right turns (or has no lateral acceleration); analyse "
+                         "each turn direction separately", "lateral_acceleration_mps2")
+    limit = (min(FIT_LIMIT_G * G, FIT_LIMIT_FRACTION * a_max) if fit_limit_mps2 is None
+             else _positive(fit_limit_mps2, "fit_limit_mps2"))
+    sel = np.abs(a) <= limit
+    span = float(np.ptp(a[sel])) if sel.any() else 0.0
+    if sel.sum() < MIN_FIT_POINTS or span < 0.25 * limit:
+        raise InputError(f"only {int(sel.sum())} samples spanning {span:.3g} m/s^2 with |a_y| <= {limit:.3g} "
+                         f"m/s^2; the linear-range fit needs at least {MIN_FIT_POINTS} samples spanning a "
+                         "quarter of that range: start the run slower or raise fit_limit_mps2",
+                         "lateral_acceleration_mps2")
+    fits = [np.polyfit(a[sel] / G, d[sel], 1) for d in deg]
+    nb = int(n_bins)
+    which = np.clip(np.digitize(a, np.linspace(a.min(), a_max, nb + 1)) - 1, 0, nb - 1)
+    counts = np.bincount(which, minlength=nb)
+
+    def binned(x):
+        return (np.bincount(which, weights=x, minlength=nb) / np.maximum(counts, 1))[counts > 0]
+
+    return HandlingDiagram(
+        understeer_gradient_deg_per_g=float(fits[0][0]), sideslip_gradient_deg_per_g=float(fits[1][0]),
+        roll_gradient_deg_per_g=float(fits[2][0]), steer_intercept_deg=float(fits[0][1]),
+        sideslip_intercept_deg=float(fits[1][1]), roll_intercept_deg=float(fits[2][1]),
+        ackermann_steer_deg=math.degrees(wheelbase / radius), max_lateral_acceleration_mps2=a_max,
+        fit_limit_mps2=float(limit), n_fit=int(sel.sum()), turn_direction=direction,
+        ay_bins_mps2=binned(a), steer_deg=binned(deg[0]), sideslip_deg=binned(deg[1]), roll_deg=binned(deg[2]))
+
+
+# ------------------------------------------------------------------------------ ISO 7401 step steer
+@dataclass(frozen=True)
+class StepResponse(_Result):
+    """ISO 7401 step-steer figures of one response channel, as defined in :func:`step_response`.
+
+    Attributes
+    ----------
+    steer_step, steady_state_value, peak_value : float
+        Steer change [steer unit]; steady and peak response [response unit] (no peak: the steady one).
+    steady_state_gain, overshoot : float
+        Response change over steer change [response unit / steer unit]; (peak - steady) / steady [-].
+    steer_50_time_s, response_time_s, rise_time_s, peak_response_time_s : float
+        Time of 50 % steer; from it to 90 % response; from 10 % to 90 % response; from 50 % steer to
+        the peak (NaN if no peak) [s].
+    """
+
+    steer_step: float
+    steady_state_value: float
+    steady_state_gain: float
+    steer_50_time_s: float
+    response_time_s: float
+    rise_time_s: float
+    peak_response_time_s: float
+    peak_value: float
+    overshoot: float
+
+
+def step_response(time_s, steer, response, *, steer_start_s=None, steady_window_s=STEADY_WINDOW_S) -> StepResponse:
+    """ISO 7401 step-steer response figures (SAE J266 definitions).
+
+    Initial levels: the first sample of steer and response, or their means over ``t <= steer_start_s``.
+    Steady levels: their means over the last ``steady_window_s`` seconds (default 1 s), or over the
+    interval ``(start, end)`` if a pair is given. The response is normalised, ``y = (r - r_0) / (r_ss -
+    r_0)``, so a negative step or gain gives the same times and overshoot. Crossing times are interpolated
+    linearly between samples. Response time: from the steer's 50 % instant to the first ``y >= 0.9``
+    (ISO 7401); rise time: first ``y >= 0.1`` to first ``y >= 0.9``. Peak: the largest ``y`` after the 50 %
+    steer instant, refined by a parabola through three samples; it counts if it lies before the steady
+    window and exceeds 1 by more than 0.5 %: then overshoot = ``y_peak - 1`` = (peak - steady) / steady
+    and the peak response time runs from 50 % steer; otherwise overshoot is 0 and the peak time NaN.
+
+    Parameters
+    ----------
+    time_s : array_like
+        Time [s], strictly increasing.
+    steer, response : array_like
+        Steer input (road-wheel angle [rad]) and response (yaw rate [rad/s] or lateral acc. [m/s^2]).
+    steer_start_s : float, optional
+        End of the initial state [s].
+    steady_window_s : float or (float, float)
+        Length [s] of the final steady window, or its (start, end) times [s].
+
+    Raises
+    ------
+    InputError
+        If the steer has no step (it changes by less than half its range) or its step does not end
+        before the steady window, or if the response does not change.
+    """
+    t = _time(time_s)
+    s, r = _values(steer, t.size, "steer"), _values(response, t.size, "response")
+    if steer_start_s is None:
+        s0, r0, start = s[0], r[0], 0
+    else:
+        pre = t <= float(steer_start_s)
+        if not pre.any():
+            raise InputError(f"no sample at or before {steer_start_s} s", "steer_start_s")
+        s0, r0, start = s[pre].mean(), r[pre].mean(), int(np.flatnonzero(pre)[-1])
+    if np.ndim(steady_window_s) == 0:
+        window = (t[-1] - _positive(steady_window_s, "steady_window_s"), t[-1])
+    else:
+        window = tuple(float(v) for v in steady_window_s)
+    ss = (t >= window[0] - 1e-12) & (t <= window[1] + 1e-12)
+    if not ss.any():
+        raise InputError(f"no sample in the steady window {window}", "steady_window_s")
+    ds, dr = s[ss].mean() - s0, r[ss].mean() - r0
+    if not abs(ds) > 0.5 * np.ptp(s) + 1e-12 * np.abs(s).max():
+        raise InputError("the steer has no step: its final level differs from its initial one by less than "
+                         "half its range", "steer")
+    t50 = _crossing(t, (s - s0) / ds, 0.5, start)
+    if not math.isfinite(t50) or t50 >= window[0]:
+        raise InputError("the steer step is not complete before the steady window; record longer", "time_s")
+    if not abs(dr) > 1e-9 * np.ptp(r):
+        raise InputError("the response does not change with the steer", "response")
+    y = (r - r0) / dr
+    t10, t90 = _crossing(t, y, 0.1, start), _crossing(t, y, 0.9, start)
+    after = np.flatnonzero(t >= t50)
+    k = int(after[np.argmax(y[after])])
+    y_pk, t_pk = y[k], t[k]
+    if 0 < k < t.size - 1 and y[k - 1] - 2 * y[k] + y[k + 1] < 0:  # vertex of the parabola
+        d = 0.5 * (y[k - 1] - y[k + 1]) / (y[k - 1] - 2 * y[k] + y[k + 1])
+        y_pk, t_pk = y[k] - 0.25 * (y[k - 1] - y[k + 1]) * d, t[k] + d * (t[k + 1] - t[k - 1]) / 2
+    peak = t_pk < window[0] and y_pk > 1 + OVERSHOOT_MIN
+    return StepResponse(
+        steer_step=float(ds), steady_state_value=float(r0 + dr), steady_state_gain=float(dr / ds),
+        steer_50_time_s=t50, response_time_s=t90 - t50, rise_time_s=t90 - t10,
+        peak_response_time_s=float(t_pk - t50) if peak else math.nan,
+        peak_value=float(r0 + dr * (y_pk if peak else 1.0)), overshoot=float(y_pk - 1) if peak else 0.0)
+
+
+# ------------------------------------------------------------------------------ ISO 7401 frequency response
+def sine_sweep(t, amplitude, f_start_hz, f_end_hz, duration_s, start_s=0.0, *, method="linear", taper_s=None):
+    """Sine-sweep (chirp) steer for the ISO 7401 frequency-response test.
+
+    ``amplitude w(tau) sin(phi(tau))`` for ``0 <= tau = t - start_s <= duration_s``, zero outside; phase
+    ``2 pi (f0 tau + (f1 - f0) tau^2 / (2 D))`` (linear) or ``2 pi f0 D (k^(tau/D) - 1) / ln k``, ``k = f1 /
+    f0`` (logarithmic: equal time per octave). ``w`` is a raised-cosine taper over ``taper_s`` at each end
+    (default: one period of ``f_start_hz``, at most 10 % of the duration): steer and steer rate start and
+    end at zero.
+
+    Parameters
+    ----------
+    t : array_like
+        Time [s].
+    amplitude : float
+        Steer amplitude [steer unit, e.g. rad]; the result has that unit, one value per ``t``.
+    f_start_hz, f_end_hz : float
+        Frequency at the start and at the end of the sweep [Hz].
+    duration_s, start_s, taper_s : float
+        Duration, start and length of each taper (optional) of the sweep [s].
+    method : {"linear", "logarithmic"}
+    """
+    t = np.asarray(t, dtype=float)
+    f0, f1, dur = (_positive(v, w) for v, w in ((f_start_hz, "f_start_hz"), (f_end_hz, "f_end_hz"),
+                                               (duration_s, "duration_s")))
+    taper = min(1.0 / f0, 0.1 * dur) if taper_s is None else float(taper_s)
+    if not 0 <= taper <= dur / 2:
+        raise InputError(f"must lie in [0, duration_s / 2], got {taper}", "taper_s")
+    tau = np.clip(t - float(start_s), 0.0, dur)
+    if method == "linear":
+        phase = 2 * np.pi * (f0 * tau + (f1 - f0) * tau**2 / (2 * dur))
+    elif method == "logarithmic":
+        k = f1 / f0
+        phase = 2 * np.pi * f0 * tau if k == 1 else 2 * np.pi * f0 * dur * (k ** (tau / dur) - 1) / math.log(k)
+    else:
+        raise InputError(f"unknown method {method!r}; expected 'linear' or 'logarithmic'", "method")
+    edge = np.minimum(tau, dur - tau)
+    w = np.where(edge < taper, 0.5 * (1 - np.cos(np.pi * edge / max(taper, 1e-300))), 1.0)
+    inside = (t >= float(start_s)) & (t <= float(start_s) + dur)
+    return np.where(inside, float(amplitude) * w * np.sin(phase), 0.0)
+
+
+@dataclass(frozen=True, eq=False)
+class FrequencyResponse(_Result):
+    """H1 frequency response of one response channel to the steer, over its reliable band.
+
+    Attributes
+    ----------
+    frequency_hz, gain, phase_deg, coherence : ndarray
+        Frequencies of the band [Hz]; ``|H1|`` [response unit / steer unit]; ``arg H1`` unwrapped along
+        the band [deg] (negative: the response lags); magnitude-squared coherence [-].
+    nperseg : int
+        Welch segment length [samples].
+    """
+
+    frequency_hz: np.ndarray
+    gain: np.ndarray
+    phase_deg: np.ndarray
+    coherence: np.ndarray
+    nperseg: int
+
+    def _at(self, values, f):
+        f = np.asarray(f, dtype=float)
+        if np.any((f < self.frequency_hz[0]) | (f > self.frequency_hz[-1])):
+            raise InputError(f"outside the band [{self.frequency_hz[0]:.4g}, {self.frequency_hz[-1]:.4g}] Hz",
+                             "frequency_hz")
+        out = np.interp(f, self.frequency_hz, values)
+        return float(out) if out.ndim == 0 else out
+
+    def gain_at(self, f_hz):
+        """Gain at ``f_hz`` [Hz], interpolated linearly along the band [response unit / steer unit]."""
+        return self._at(self.gain, f_hz)
+
+    def phase_at(self, f_hz):
+        """Phase at ``f_hz`` [Hz], interpolated linearly along the band [deg]."""
+        return self._at(self.phase_deg, f_hz)
+
+    def plot(self):
+        """Bode diagram: gain, phase [deg] and coherence against frequency [Hz] (log axis); the Figure."""
+        import matplotlib.pyplot as plt
+
+        fig, axes = plt.subplots(3, 1, sharex=True, figsize=(6, 7), gridspec_kw={"height_ratios": [3, 3, 1]})
+        axes[0].loglog(self.frequency_hz, self.gain, color="k")
+        axes[1].semilogx(self.frequency_hz, self.phase_deg, color="k")
+        axes[2].semilogx(self.frequency_hz, self.coherence, color="0.4")
+        for ax, label in zip(axes, ("gain [response / steer]", "phase [deg]", "coherence [-]"), strict=True):
+            ax.set_ylabel(label)
+            ax.grid(alpha=0.3, which="both")
+        axes[2].set_ylim(0, 1.05)
+        axes[2].set_xlabel("frequency [Hz]")
+        fig.tight_layout()
+        return fig
+
+
+def frequency_response(time_s, steer, response, *, f_min_hz=None, f_max_hz=None, nperseg=None,
+                       coherence_min=COHERENCE_MIN, energy_fraction=ENERGY_FRACTION) -> FrequencyResponse:
+    """ISO 7401 frequency response (sine sweep or random steer) by the H1 estimator.
+
+    ``H1 = G_xy / G_xx``, cross-spectral density of steer ``x`` and response ``y``
+    (:func:`scipy.signal.csd`) over the steer's auto-spectral density (:func:`scipy.signal.welch`);
+    coherence ``|G_xy|^2 / (G_xx G_yy)``. H1 is not biased by noise on the response. Welch: Hann window,
+    75 % overlap (the overlapped squared windows sum to a constant, which keeps a sweep, passing each
+    frequency once, from being weighted by where in a segment it passes), segment mean removed.
+    Band kept: ``0 < f``, within ``[f_min_hz, f_max_hz]``, where ``G_xx >= energy_fraction max G_xx``
+    (3 %) less the outermost bin at each end of each such run (its estimate is mostly window leakage),
+    and the coherence is at least ``coherence_min`` (0.95).
+
+    Parameters
+    ----------
+    time_s : array_like
+        Time [s], uniformly sampled (to 1 % of the step).
+    steer, response : array_like
+        Steer input and response channel.
+    f_min_hz, f_max_hz : float, optional
+        Limits of the band [Hz].
+    nperseg : int, optional
+        Welch segment [samples]; default 10 s, at most a quarter of the record.
+    coherence_min, energy_fraction : float
+        Thresholds of the band [-].
+    """
+    t = _time(time_s, min_samples=64)
+    x, y = _values(steer, t.size, "steer"), _values(response, t.size, "response")
+    dt = np.diff(t)
+    if np.ptp(dt) > 0.01 * dt.mean():
+        raise InputError("the sampling is not uniform; resample onto a uniform time base first", "time_s")
+    fs = 1.0 / dt.mean()
+    nperseg = int(min(round(SEGMENT_S * fs), t.size // 4) if nperseg is None else nperseg)
+    if not 16 <= nperseg <= t.size:
+        raise InputError(f"must lie in [16, {t.size}], got {nperseg}", "nperseg")
+    kw = dict(fs=fs, window="hann", nperseg=nperseg, noverlap=3 * nperseg // 4, detrend="constant")
+    f, pxx = signal.welch(x, **kw)
+    _, pyy = signal.welch(y, **kw)
+    _, pxy = signal.csd(x, y, **kw)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        coh, h = np.abs(pxy) ** 2 / (pxx * pyy), pxy / pxx
+    energy = pxx >= energy_fraction * pxx.max()
+    energy[1:-1] &= energy[:-2] & energy[2:]
+    keep = (f > 0) & energy & (np.nan_to_num(coh) >= coherence_min) & (pxx.max() > 0)
+    keep &= (f >= (f_min_hz or 0.0)) & (f <= (np.inf if f_max_hz is None else f_max_hz))
+    if not keep.any():
+        raise InputError("no frequency where the steer has energy and the coherence is high enough; check the "
+                         "input, the band or the thresholds", "steer")
+    return FrequencyResponse(frequency_hz=f[keep], gain=np.abs(h[keep]),
+                             phase_deg=np.degrees(np.unwrap(np.angle(h[keep]))), coherence=coh[keep],
+                             nperseg=nperseg)
+
+
+# ------------------------------------------------------------------------------ ISO 7975 braking in a turn
+@dataclass(frozen=True)
+class BrakingInTurn(_Result):
+    """ISO 7975 braking-in-a-turn figures, as defined in :func:`braking_in_turn`.
+
+    Attributes
+    ----------
+    speed_initial_mps, yaw_rate_initial_radps, lateral_acceleration_initial_mps2 : float
+        Values at brake start ``t0`` [m/s, rad/s, m/s^2].
+    path_deviation_m, initial_path_deviation_m, path_deviation_max_m : float
+        Path deviation at ``t1``, at ``t0``, and of largest magnitude after ``t0`` [m].
+    yaw_rate_ratio, lateral_acceleration_ratio : float
+        Values at ``t1`` over values at ``t0`` [-].
+    yaw_rate_excess_radps, yaw_rate_excess_max_radps, mean_deceleration_mps2 : float
+        Yaw-rate excess at ``t1`` and of largest magnitude after ``t0`` [rad/s]; mean deceleration [m/s^2].
+    """
+
+    speed_initial_mps: float
+    yaw_rate_initial_radps: float
+    lateral_acceleration_initial_mps2: float
+    path_deviation_m: float
+    initial_path_deviation_m: float
+    path_deviation_max_m: float
+    yaw_rate_ratio: float
+    lateral_acceleration_ratio: float
+    yaw_rate_excess_radps: float
+    yaw_rate_excess_max_radps: float
+    mean_deceleration_mps2: float
+
+
+def braking_in_turn(time_s, x_m, y_m, yaw_rate_radps, speed_mps, lateral_acceleration_mps2, *, brake_start_s,
+                    circle_centre_xy, radius_m, eval_after_s=1.0) -> BrakingInTurn:
+    """ISO 7975 braking in a turn (open loop), against the steady circle driven before braking.
+
+    ``t0`` is the brake start, ``t1 = t0 + eval_after_s``. Definitions chosen: path deviation ``d(t) = |p(t) - c| - R`` [m], the radial distance from the
+    initial circle (positive outside: running wide; negative: turning in); yaw-rate ratio ``psi_dot(t1) /
+    psi_dot(t0)`` (a vehicle keeping its path has the speed ratio); yaw-rate excess ``dir psi_dot(t) -
+    v(t) / R``, ``dir = sign psi_dot(t0)``: the yaw rate beyond that of a vehicle keeping the initial
+    curvature at the actual speed; lateral-acceleration ratio ``a_y(t1) / a_y(t0)``; mean deceleration
+    ``(v(t0) - v(t1)) / (t1 - t0)``. Maxima are the signed values of largest magnitude from ``t0`` to the
+    end of the record (end it when braking ends or the vehicle stops). Values between samples are
+    interpolated linearly.
+
+    Parameters
+    ----------
+    time_s : array_like
+        Time [s], strictly increasing.
+    x_m, y_m, yaw_rate_radps, speed_mps, lateral_acceleration_mps2 : array_like
+        Position of the CG in the ground frame [m], yaw rate [rad/s], speed [m/s], lateral acceleration
+        [m/s^2].
+    brake_start_s : float
+        Brake start ``t0`` [s].
+    circle_centre_xy, radius_m : (float, float), float
+        Centre and radius of the initial circle [m].
+    eval_after_s : float
+        ``t1 - t0`` [s]; ISO 7975 uses 1 s.
+    """
+    t = _time(time_s)
+    x, y, wz, v, ay = (_values(a, t.size, w) for a, w in (
+        (x_m, "x_m"), (y_m, "y_m"), (yaw_rate_radps, "yaw_rate_radps"), (speed_mps, "speed_mps"),
+        (lateral_acceleration_mps2, "lateral_acceleration_mps2")))
+    radius = _positive(radius_m, "radius_m")
+    t0 = float(brake_start_s)
+    t1 = t0 + _positive(eval_after_s, "eval_after_s")
+    if not t[0] <= t0 < t1 <= t[-1]:
+        raise InputError(f"brake start {t0} s and evaluation time {t1} s must lie within the record "
+                         f"[{t[0]}, {t[-1]}] s", "brake_start_s")
+    cx, cy = (float(c) for c in circle_centre_xy)
+    wz0 = float(np.interp(t0, t, wz))
+    if wz0 == 0:
+        raise InputError("the yaw rate at brake start is zero: the vehicle is not turning", "yaw_rate_radps")
+    dev, excess = np.hypot(x - cx, y - cy) - radius, math.copysign(1.0, wz0) * wz - v / radius
+
+    def at(sig, time):
+        return float(np.interp(time, t, sig))
+
+    def extreme(sig):
+        window = np.concatenate([[at(sig, t0)], sig[t > t0]])
+        return float(window[np.argmax(np.abs(window))])
+
+    ay0 = at(ay, t0)
+    return BrakingInTurn(
+        speed_initial_mps=at(v, t0), yaw_rate_initial_radps=wz0, lateral_acceleration_initial_mps2=ay0,
+        path_deviation_m=at(dev, t1), initial_path_deviation_m=at(dev, t0), path_deviation_max_m=extreme(dev),
+        yaw_rate_ratio=at(wz, t1) / wz0, lateral_acceleration_ratio=at(ay, t1) / ay0 if ay0 else math.nan,
+        yaw_rate_excess_radps=at(excess, t1), yaw_rate_excess_max_radps=extreme(excess),
+        mean_deceleration_mps2=(at(v, t0) - at(v, t1)) / (t1 - t0))

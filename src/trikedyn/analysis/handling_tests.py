@@ -1,0 +1,209 @@
+"""The handling tests engineers run first, on the model: drive the registered manoeuvre, then reduce it.
+
+- :func:`steady_state_test`: ISO 4138 constant radius, slowly rising speed -> handling diagram, understeer,
+  roll and sideslip gradients [deg/g], the lateral acceleration at the end and why the test ended;
+- :func:`step_steer_test`: ISO 7401 step steer, speed held -> yaw-rate and lateral-acceleration gains,
+  response times, overshoot;
+- :func:`frequency_response_test`: ISO 7401 sine sweep -> yaw-rate and lateral-acceleration gain and phase;
+- :func:`braking_in_turn_test`: ISO 7975 -> path deviation, yaw-rate change, wheel loads.
+
+The reductions are the pure functions of :mod:`trikedyn.analysis.handling`; the road-wheel steer angle is
+the steer about the raked axis times ``cos(rake)``; sideslip is that of the CG, ``atan(v_y / v_x)``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..model.vehicle import VehicleModel, build_model
+from ..simulate.closed_loop import run
+from . import handling, metrics
+
+__all__ = ["SteadyStateTest", "steady_state_test", "step_steer_test", "frequency_response_test",
+           "braking_in_turn_test"]
+
+LOST_PATH_M = 1.0
+"""Path error of the CG beyond which the driver is taken to have lost the circle [m]."""
+
+
+def _model(vehicle) -> VehicleModel:
+    return vehicle if isinstance(vehicle, VehicleModel) else build_model(vehicle)
+
+
+def road_steer(result, params) -> np.ndarray:
+    """Road-wheel steer angle [rad]: the steer joint angle times the cosine of the steering axis angle."""
+    return np.asarray(result["steer_rad"]) * math.cos(math.radians(params.steering.axis_angle_deg))
+
+
+def sideslip(result) -> np.ndarray:
+    """Sideslip angle of the CG [rad]."""
+    return np.arctan2(result["vy_mps"], np.maximum(np.abs(result["vx_mps"]), 1e-6))
+
+
+@dataclass(frozen=True)
+class SteadyStateTest:
+    """ISO 4138 on the model: the diagram, the end of the test and the run."""
+
+    diagram: handling.HandlingDiagram
+    radius_m: float
+    limit: str
+    limit_detail: str
+    max_lateral_acceleration_mps2: float
+    result: object = field(repr=False, default=None)
+
+    def to_dict(self) -> dict:
+        d = self.diagram.to_dict()
+        keys = ("understeer_gradient_deg_per_g", "roll_gradient_deg_per_g", "sideslip_gradient_deg_per_g",
+                "ackermann_steer_deg", "steer_intercept_deg", "fit_limit_mps2")
+        return {**{k: d[k] for k in keys}, "radius_m": self.radius_m,
+                "max_lateral_acceleration_mps2": self.max_lateral_acceleration_mps2,
+                "limit": self.limit, "limit_detail": self.limit_detail,
+                "diagram": {k: d[k] for k in ("ay_bins_mps2", "steer_deg", "sideslip_deg", "roll_deg")}}
+
+    def plot(self):
+        """The handling diagram (steer, sideslip, roll against lateral acceleration); the end marked."""
+        fig = self.diagram.plot()
+        for ax in fig.axes:
+            ax.axvline(self.max_lateral_acceleration_mps2, color="0.4", lw=0.8, ls=":")
+        fig.suptitle(f"ISO 4138 handling diagram, R = {self.radius_m:g} m; ends at "
+                     f"{self.max_lateral_acceleration_mps2:.2f} m/s^2 ({self.limit})", fontsize=10)
+        return fig
+
+
+def _why_it_ended(result, params, ay_target_end: float) -> tuple[str, str, int]:
+    """The limit of a steady-state run and the index of its last valid sample."""
+    judged = metrics.judged_mask(result)
+    idx = np.nonzero(judged)[0]
+    end = int(idx[-1]) if idx.size else result.time_s.size - 1
+    candidates = []
+    lift = metrics.first_lift(result)
+    if lift is not None:
+        candidates.append((lift.time_s, "lift-off", f"{lift.wheel} lifted at {lift.time_s:.2f} s"))
+    if "path_error_m" in result.channels:
+        lost = np.nonzero((np.abs(result["path_error_m"]) > LOST_PATH_M) & judged)[0]
+        if lost.size:
+            t = float(result.time_s[lost[0]])
+            candidates.append((t, "driver limit", f"the circle was lost (path error > {LOST_PATH_M:g} m) at {t:.2f} s"))
+    lock = math.radians(params.steering.max_angle_deg)
+    locked = np.nonzero((np.abs(result["steer_cmd_rad"]) >= 0.999 * lock) & judged)[0]
+    if locked.size:
+        t = float(result.time_s[locked[0]])
+        candidates.append((t, "steering lock", f"the steer reached its lock at {t:.2f} s"))
+    if not result.success:
+        t = float(result.time_s[-1])
+        candidates.append((t, "lift-off" if lift else "driver limit", result.message))
+    if candidates:
+        t, limit, detail = min(candidates)
+        end = min(end, int(np.searchsorted(result.time_s, t)) - 1)
+        return limit, detail, max(end, 0)
+    speed = np.asarray(result["speed_mps"])
+    target = result.manoeuvre.speed.at(result.time_s)
+    if speed[end] < target[end] - 0.5:
+        return "speed not reached", (f"the speed fell {3.6 * (target[end] - speed[end]):.1f} km/h short of the "
+                                     "target (drive torque or power)"), end
+    return "end of test", f"the target lateral acceleration {ay_target_end:g} m/s^2 was reached", end
+
+
+def steady_state_test(vehicle, *, radius_m: float = 20.0, start_speed_kmh: float = 15.0,
+                      ay_rate_mps2_per_s: float = 0.1, max_ay_mps2: float = 9.0, direction: str = "left",
+                      fit_limit_mps2: float | None = None, dt: float = 5e-3) -> SteadyStateTest:
+    """ISO 4138 steady-state circular driving at constant radius, the speed raised slowly.
+
+    Parameters
+    ----------
+    vehicle : ParameterSet or VehicleModel
+    radius_m : float
+        Circle radius [m].
+    start_speed_kmh : float
+        Speed at the start [km/h]. Below about 12 km/h the low-speed terms of the tyre model (slip
+        regularisation, rolling resistance) bend the diagram; 15 km/h on a 20 m circle starts at 0.09 g.
+    ay_rate_mps2_per_s : float
+        Rise of ``v^2 / R`` per second [m/s^2/s]: slow enough to be quasi-steady.
+    max_ay_mps2 : float
+        Where the rise stops [m/s^2] (a wheel lift, the driver or the drive normally ends it first).
+    fit_limit_mps2 : float, optional
+        Upper end of the linear-range fit (see :func:`~trikedyn.analysis.handling.handling_diagram`).
+
+    Returns
+    -------
+    SteadyStateTest
+        ``limit`` is ``"lift-off"``, ``"driver limit"`` (the circle was lost), ``"steering lock"``, ``"speed
+        not reached"`` (drive torque or power) or ``"end of test"``.
+    """
+    model = _model(vehicle)
+    params = model.params
+    result = run(model, "steady-state-circle", speed_kmh=start_speed_kmh, dt=dt, radius_m=radius_m,
+                 ay_rate_mps2_per_s=ay_rate_mps2_per_s, max_ay_mps2=max_ay_mps2, direction=direction)
+    limit, detail, end = _why_it_ended(result, params, max_ay_mps2)
+    keep = metrics.judged_mask(result).copy()
+    keep[end + 1:] = False
+    ay = np.asarray(result["ay_mps2"])
+    diagram = handling.handling_diagram(ay[keep], road_steer(result, params)[keep], sideslip(result)[keep],
+                                        np.asarray(result["roll_rad"])[keep], radius_m=radius_m,
+                                        wheelbase_m=params.wheelbase_m, fit_limit_mps2=fit_limit_mps2)
+    return SteadyStateTest(diagram, radius_m, limit, detail, float(np.abs(ay[keep]).max()), result)
+
+
+def step_steer_test(vehicle, speed_kmh: float, *, steer_deg: float = 2.0, hold_s: float = 4.0, dt: float = 5e-3):
+    """ISO 7401 step steer with the speed held: yaw-rate and lateral-acceleration step responses.
+
+    Returns
+    -------
+    dict
+        ``yaw_rate`` and ``lateral_acceleration``: :class:`~trikedyn.analysis.handling.StepResponse` figures
+        against the road-wheel steer [rad]; ``speed_drift_kmh`` (largest departure from the target in the
+        window); ``result``.
+    """
+    model = _model(vehicle)
+    result = run(model, "step", speed_kmh=speed_kmh, dt=dt, steer_deg=steer_deg, hold_s=hold_s)
+    judged = metrics.judged_mask(result)
+    start = result.manoeuvre.parameters["start_s"]
+    use = result.time_s >= start - 0.5
+    steer = road_steer(result, model.params)[use]
+    t = result.time_s[use]
+    yaw = handling.step_response(t, steer, np.asarray(result["yaw_rate_radps"])[use], steer_start_s=start)
+    ay = handling.step_response(t, steer, np.asarray(result["ay_mps2"])[use], steer_start_s=start)
+    drift = float(np.abs(np.asarray(result["speed_mps"])[judged] * 3.6 - speed_kmh).max())
+    return {"yaw_rate": yaw, "lateral_acceleration": ay, "speed_drift_kmh": drift, "result": result}
+
+
+def frequency_response_test(vehicle, speed_kmh: float, *, amplitude_deg: float = 1.0, f_start_hz: float = 0.2,
+                            f_end_hz: float = 3.0, sweep_s: float = 30.0, dt: float = 5e-3):
+    """ISO 7401 frequency response from a sine sweep: gain and phase of yaw rate and lateral acceleration
+    against the road-wheel steer."""
+    model = _model(vehicle)
+    result = run(model, "sweep", speed_kmh=speed_kmh, dt=dt, amplitude_deg=amplitude_deg, f_start_hz=f_start_hz,
+                 f_end_hz=f_end_hz, sweep_s=sweep_s)
+    judged = metrics.judged_mask(result)
+    t = result.time_s[judged]
+    steer = road_steer(result, model.params)[judged]
+    band = {"f_min_hz": f_start_hz, "f_max_hz": f_end_hz}
+    return {"yaw_rate": handling.frequency_response(t, steer, np.asarray(result["yaw_rate_radps"])[judged], **band),
+            "lateral_acceleration": handling.frequency_response(t, steer, np.asarray(result["ay_mps2"])[judged],
+                                                                **band),
+            "result": result}
+
+
+def braking_in_turn_test(vehicle, speed_kmh: float, *, radius_m: float = 20.0, deceleration_mps2: float = 3.0,
+                         dt: float = 5e-3):
+    """ISO 7975 braking in a turn: path deviation, yaw-rate change and wheel loads while braking."""
+    model = _model(vehicle)
+    result = run(model, "braking-in-turn", speed_kmh=speed_kmh, dt=dt, radius_m=radius_m,
+                 deceleration_mps2=deceleration_mps2)
+    params = model.params
+    from ..simulate.closed_loop import cg_track
+
+    cx, cy = cg_track(params, np.asarray(result["x_m"]), np.asarray(result["y_m"]), np.asarray(result["yaw_rad"]))
+    sign = 1.0 if result.manoeuvre.parameters["direction"] == "left" else -1.0
+    from ..manoeuvres.builtin.braking_in_turn import RUN_IN_M
+
+    figures = handling.braking_in_turn(result.time_s, cx, cy, np.asarray(result["yaw_rate_radps"]),
+                                       np.asarray(result["speed_mps"]), np.asarray(result["ay_mps2"]),
+                                       brake_start_s=result.manoeuvre.parameters["brake_start_s"],
+                                       circle_centre_xy=(RUN_IN_M, sign * radius_m), radius_m=radius_m)
+    judged = metrics.judged_mask(result)
+    loads = {w: float(np.asarray(result[f"{w}_fz_N"])[judged].min()) for w in result.meta["wheels"]}
+    return {"braking": figures, "min_wheel_loads_N": loads, "result": result}

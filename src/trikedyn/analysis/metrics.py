@@ -1,0 +1,240 @@
+"""The figures a run is judged by, over the manoeuvre's judged window only.
+
+Every metric is a function of a :class:`~trikedyn.simulate.result.Result` registered with :func:`metric`;
+:func:`summary` evaluates them all (``trikedyn simulate --json``), :func:`evaluate` one by name. They read
+the samples inside the manoeuvre's window (the ``judged`` channel: entry gate to exit gate), never the
+run-out beyond it; a run without a manoeuvre (open-loop :func:`~trikedyn.simulate.run.simulate`) is judged
+over all of it. Nothing is written into the result.
+
+Rollover index (paper Eq. 5): ``RI = (F_R - F_L) / (F_R + F_L)`` over the two-wheel axle, |RI| = 1 when a
+wheel of the pair lifts; load-transfer ratio likewise over all wheels.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import InputError
+from ..simulate.result import load_transfer_ratio, rollover_index
+
+__all__ = ["Lift", "MetricType", "cone_strikes", "evaluate", "first_lift", "judged_mask", "load_transfer_ratio",
+           "metric", "metrics", "rollover_index", "summary", "until_exit"]
+
+
+@dataclass(frozen=True)
+class MetricType:
+    """A registered metric: its name (with its unit), what it means, and the function."""
+
+    name: str
+    unit: str
+    help: str
+    fn: Callable
+
+
+_METRICS: dict[str, MetricType] = {}
+
+
+def metric(name: str, unit: str = "", help: str = ""):  # noqa: A002 - the word users see
+    """Decorator: register ``fn(result) -> number | None`` as a metric."""
+
+    def decorate(fn):
+        _METRICS[name] = MetricType(name, unit, help or (fn.__doc__ or "").strip().splitlines()[0], fn)
+        return fn
+
+    return decorate
+
+
+def metrics() -> list[MetricType]:
+    """Every registered metric."""
+    return list(_METRICS.values())
+
+
+def evaluate(result, name: str):
+    """The metric ``name`` of a run."""
+    if name not in _METRICS:
+        from difflib import get_close_matches
+
+        hint = get_close_matches(name, list(_METRICS), n=1)
+        raise InputError(f"unknown metric '{name}'" + (f"; did you mean '{hint[0]}'?" if hint else ""), where="metric")
+    return _METRICS[name].fn(result)
+
+
+# ------------------------------------------------------------------------------------------------------------
+# the window
+# ------------------------------------------------------------------------------------------------------------
+def judged_mask(result) -> np.ndarray:
+    """Boolean mask of the samples inside the judged window (all samples when the run has no window)."""
+    if "judged" in result.channels:
+        return np.asarray(result["judged"]) > 0.5
+    return np.ones(result.time_s.size, dtype=bool)
+
+
+def _judged(result, channel: str) -> np.ndarray:
+    return np.asarray(result[channel])[judged_mask(result)]
+
+
+def _wheel_loads(result) -> np.ndarray:
+    return np.column_stack([result[f"{w}_fz_N"] for w in result.meta["wheels"]])
+
+
+def _max_abs(values: np.ndarray) -> float | None:
+    values = values[np.isfinite(values)]
+    return float(np.abs(values).max()) if values.size else None
+
+
+# ------------------------------------------------------------------------------------------------------------
+# lift and cones
+# ------------------------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Lift:
+    """The first wheel lift inside the window: the wheel, the time [s]."""
+
+    wheel: str
+    time_s: float
+
+
+def until_exit(result) -> np.ndarray:
+    """Mask of the samples up to the exit gate: the run-in and the window, not the run-out."""
+    mask = judged_mask(result)
+    if not mask.any():
+        return mask
+    out = np.zeros_like(mask)
+    out[: int(np.nonzero(mask)[0][-1]) + 1] = True
+    return out
+
+
+def first_lift(result, *, from_start: bool = False) -> Lift | None:
+    """The first sample inside the window (or, with ``from_start``, from the start of the run up to the exit
+    gate) at which a wheel's vertical force is zero, or None."""
+    fz = _wheel_loads(result)
+    lifted = np.nonzero((fz <= 0.0).any(axis=1) & (until_exit(result) if from_start else judged_mask(result)))[0]
+    if not lifted.size:
+        return None
+    i = int(lifted[0])
+    return Lift(result.meta["wheels"][int(np.argmin(fz[i]))], float(result.time_s[i]))
+
+
+def cone_strikes(result) -> list[dict]:
+    """Cones the vehicle's plan-view footprint struck inside the window (time, cone, position)."""
+    man = result.manoeuvre
+    if man is None or man.path is None or not len(man.path.cones):
+        return []
+    from ..manoeuvres.paths import cone_strikes as strikes
+
+    mask = judged_mask(result)
+    if not mask.any():
+        return []
+    return strikes(man.path, result.time_s[mask], result["x_m"][mask], result["y_m"][mask], result["yaw_rad"][mask],
+                   tuple(result.meta["footprint_m"]))
+
+
+# ------------------------------------------------------------------------------------------------------------
+# the metrics
+# ------------------------------------------------------------------------------------------------------------
+@metric("max_abs_ri", "", "largest |rollover index| (Eq. 5) in the window")
+def _max_abs_ri(result):
+    return _max_abs(_judged(result, "ri"))
+
+
+@metric("max_abs_ri_all_wheels_down", "", "largest |RI| in the window while every wheel is on the ground")
+def _max_abs_ri_down(result):
+    down = (_wheel_loads(result) > 0).all(axis=1) & judged_mask(result)
+    return _max_abs(np.asarray(result["ri"])[down])
+
+
+@metric("max_abs_ltr", "", "largest |load-transfer ratio| in the window")
+def _max_abs_ltr(result):
+    return _max_abs(_judged(result, "ltr"))
+
+
+@metric("min_wheel_load_N", "N", "smallest vertical force of any wheel in the window")
+def _min_wheel_load(result):
+    fz = _wheel_loads(result)[judged_mask(result)]
+    return float(fz.min()) if fz.size else None
+
+
+@metric("wheel_lifted", "", "whether a wheel left the ground in the window")
+def _wheel_lifted(result):
+    return first_lift(result) is not None
+
+
+@metric("lift_time_s", "s", "time of the first wheel lift in the window")
+def _lift_time(result):
+    lift = first_lift(result)
+    return None if lift is None else lift.time_s
+
+
+@metric("lifted_wheel", "", "the wheel that lifted first in the window")
+def _lifted_wheel(result):
+    lift = first_lift(result)
+    return None if lift is None else lift.wheel
+
+
+@metric("cone_strikes", "", "cones struck in the window")
+def _cone_strikes(result):
+    return len(cone_strikes(result))
+
+
+@metric("max_lateral_acceleration_mps2", "m/s^2", "largest |lateral acceleration| at the CG in the window")
+def _max_ay(result):
+    return _max_abs(_judged(result, "ay_mps2"))
+
+
+@metric("max_yaw_rate_radps", "rad/s", "largest |yaw rate| in the window")
+def _max_yaw_rate(result):
+    return _max_abs(_judged(result, "yaw_rate_radps"))
+
+
+@metric("max_path_error_m", "m", "largest |lateral path error| of the CG in the window")
+def _max_path_error(result):
+    if "path_error_m" not in result.channels:
+        return None
+    return _max_abs(_judged(result, "path_error_m"))
+
+
+@metric("max_speed_kmh", "km/h", "highest speed in the window")
+def _max_speed(result):
+    v = _judged(result, "speed_mps")
+    return float(v.max() * 3.6) if v.size else None
+
+
+@metric("min_speed_kmh", "km/h", "lowest speed in the window")
+def _min_speed(result):
+    v = _judged(result, "speed_mps")
+    return float(v.min() * 3.6) if v.size else None
+
+
+@metric("max_abs_roll_deg", "deg", "largest |roll angle| in the window")
+def _max_roll(result):
+    value = _max_abs(_judged(result, "roll_rad"))
+    return None if value is None else math.degrees(value)
+
+
+@metric("window_complete", "", "whether the run reached the exit gate")
+def _window_complete(result):
+    man = result.manoeuvre
+    if man is None:
+        return result.success
+    w = man.window
+    reached = float(np.max(result["path_s_m"])) if w.kind == "distance" else float(result.time_s[-1])
+    return bool(reached >= w.end - 1e-9)
+
+
+def summary(result) -> dict:
+    """Every metric of a run, with the manoeuvre, status and judged window (``trikedyn simulate --json``)."""
+    mask = judged_mask(result)
+    times = result.time_s[mask]
+    out = {
+        "manoeuvre": result.meta.get("manoeuvre", "open loop"),
+        "status": result.status,
+        "success": result.success,
+        "duration_s": float(result.time_s[-1]),
+        "window_s": [float(times[0]), float(times[-1])] if times.size else None,
+    }
+    for m in _METRICS.values():
+        out[m.name] = m.fn(result)
+    return out

@@ -1,0 +1,210 @@
+"""The manoeuvre: what the vehicle is asked to do, and where it is judged.
+
+A :class:`Manoeuvre` is one of two kinds:
+
+- **closed loop**: a :class:`~trikedyn.manoeuvres.paths.Path` the driver model follows at a target speed
+  profile (ISO 3888-1, ISO 14791, ISO 4138, a path from a CSV file, ...);
+- **open loop**: a steer command against time (ISO 7401 step, a sine sweep, a fishhook), with the speed
+  held by the driver's speed controller; optionally the driver follows a path first and then holds the
+  steering still (ISO 7975 braking in a turn: ``steer_hold_s``).
+
+Every manoeuvre carries its **judged window** (:class:`Window`): where the test is scored, from the entry
+gate to the exit gate (distance along the path for closed-loop tests, time for open-loop ones). A
+closed-loop path goes on beyond the exit gate (its **run-out**, see :func:`with_run_out`) so that the
+driver never runs out of road: the run is simulated a little past the exit, and nothing outside the
+window is judged.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from .paths import DS_MAX_M, Path
+from .speed import SpeedProfile
+
+__all__ = ["Manoeuvre", "Window", "with_run_out", "time_to_cover"]
+
+AFTER_EXIT_S = 1.0
+"""Simulated time beyond the moment the vehicle is due at the exit gate [s] (a slower vehicle still
+reaches it; the steer command in the run-out is checked by the tests)."""
+
+
+@dataclass(frozen=True)
+class Window:
+    """Where a run is judged.
+
+    Parameters
+    ----------
+    kind : {"distance", "time"}
+        ``"distance"``: arc length of the path at the vehicle's CG [m]; ``"time"``: time [s].
+    start, end : float
+        Entry and exit gates [m or s].
+    """
+
+    kind: str
+    start: float
+    end: float
+
+    def __post_init__(self):
+        if self.kind not in ("distance", "time"):
+            raise InputError(f"expected 'distance' or 'time', got {self.kind!r}", where="window.kind")
+        if not (math.isfinite(self.start) and math.isfinite(self.end)) or self.end <= self.start:
+            raise InputError(f"needs finite start < end, got {self.start!r}, {self.end!r}", where="window")
+
+    def to_dict(self) -> dict:
+        return {"kind": self.kind, "start": self.start, "end": self.end,
+                "unit": "m" if self.kind == "distance" else "s"}
+
+
+@dataclass(frozen=True, eq=False)
+class Manoeuvre:
+    """A test for the vehicle: a path or open-loop steering, a target speed, a judged window.
+
+    Parameters
+    ----------
+    name : str
+        The registry name (``dlc``, ``slc``, ``circle``, ...).
+    title : str
+        Human-readable name with its standard.
+    speed : SpeedProfile
+        Target speed of the driver's speed controller.
+    duration_s : float
+        Simulated time [s].
+    window : Window
+        Where the run is judged.
+    path : Path, optional
+        The line the driver follows (closed loop), run-out included. Open-loop manoeuvres may give one to
+        judge the path error, or none.
+    steer : numpy.ndarray, optional
+        ``(n, 2)`` open-loop steer command table: time [s], angle about the steering axis [rad], positive
+        left. When given, the driver does not steer (open loop).
+    steer_hold_s : float, optional
+        From this time on the driver holds the steering still (the command it had then).
+    parameters : dict
+        The options it was built with (JSON-safe), for the record.
+    description : str
+        What the test is and the choices made.
+    """
+
+    name: str
+    title: str
+    speed: SpeedProfile
+    duration_s: float
+    window: Window
+    path: Path | None = None
+    steer: np.ndarray | None = None
+    steer_hold_s: float | None = None
+    parameters: dict = field(default_factory=dict)
+    description: str = ""
+
+    def __post_init__(self):
+        if self.path is None and self.steer is None:
+            raise InputError("a manoeuvre needs a path (closed loop) or a steer table (open loop)", where=self.name)
+        if not (math.isfinite(self.duration_s) and self.duration_s > 0):
+            raise InputError(f"duration must be > 0 s, got {self.duration_s!r}", where=self.name)
+        if self.steer is not None:
+            table = np.ascontiguousarray(self.steer, dtype=np.float64)
+            if table.ndim != 2 or table.shape[1] != 2 or table.shape[0] < 1 or not np.all(np.isfinite(table)):
+                raise InputError("steer must be finite (time, angle) rows", where=f"{self.name}.steer")
+            if table.shape[0] > 1 and np.any(np.diff(table[:, 0]) <= 0):
+                raise InputError("steer times must increase", where=f"{self.name}.steer")
+            object.__setattr__(self, "steer", table)
+        if self.window.kind == "distance" and self.path is None:
+            raise InputError("a distance window needs a path", where=f"{self.name}.window")
+
+    @property
+    def closed_loop(self) -> bool:
+        """True when the driver steers along the path."""
+        return self.steer is None
+
+    def at_speed(self, speed: SpeedProfile) -> Manoeuvre:
+        """The same closed-loop manoeuvre (distance window) driven at another target speed profile."""
+        if self.window.kind != "distance":
+            raise InputError("only a manoeuvre judged over distance can change its speed profile", where=self.name)
+        return path_manoeuvre(self.name, self.title, self.path, speed, entry_m=self.window.start,
+                              exit_m=self.window.end, parameters=self.parameters, description=self.description)
+
+    def to_dict(self) -> dict:
+        """JSON-safe summary."""
+        return {
+            "name": self.name,
+            "title": self.title,
+            "closed_loop": self.closed_loop,
+            "duration_s": self.duration_s,
+            "window": self.window.to_dict(),
+            "speed": self.speed.to_dict(),
+            "path": None if self.path is None else self.path.to_dict(),
+            "steer_hold_s": self.steer_hold_s,
+            "parameters": dict(self.parameters),
+            "description": self.description,
+        }
+
+
+def time_to_cover(speed: SpeedProfile, distance_m: float) -> float:
+    """Time [s] at which a vehicle at exactly the target speed has covered ``distance_m`` [m].
+
+    Beyond the profile's end the last speed holds.
+    """
+    t, v = speed.time_s, speed.speed_mps
+    covered = np.concatenate(([0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(t))))
+    if distance_m <= covered[-1]:
+        return float(np.interp(distance_m, covered, t))
+    if v[-1] <= 0:
+        raise InputError("the target speed ends at 0 before the manoeuvre is covered", where="speed")
+    return float(t[-1] + (distance_m - covered[-1]) / v[-1])
+
+
+def with_run_out(path: Path, length_m: float) -> Path:
+    """``path`` continued beyond its end by ``length_m`` [m] with its end curvature.
+
+    A straight end goes on straight; a circle goes on round the circle. The points keep the path's spacing.
+    """
+    if length_m <= 0:
+        return path
+    ds = min(path.ds_m, DS_MAX_M)
+    n = int(math.ceil(length_m / ds))
+    s_add = ds * np.arange(1, n + 1)
+    kappa = float(path.curvature_per_m[-1])
+    h0 = float(path.heading_rad[-1])
+    x0, y0 = float(path.x_m[-1]), float(path.y_m[-1])
+    if abs(kappa) < 1e-9:
+        heading = np.full(n, h0)
+        x = x0 + s_add * math.cos(h0)
+        y = y0 + s_add * math.sin(h0)
+    else:
+        heading = h0 + kappa * s_add
+        x = x0 + (np.sin(heading) - math.sin(h0)) / kappa
+        y = y0 - (np.cos(heading) - math.cos(h0)) / kappa
+    return Path(
+        name=path.name,
+        x_m=np.concatenate((path.x_m, x)),
+        y_m=np.concatenate((path.y_m, y)),
+        s_m=np.concatenate((path.s_m, path.s_m[-1] + s_add)),
+        heading_rad=np.concatenate((path.heading_rad, heading)),
+        curvature_per_m=np.concatenate((path.curvature_per_m, np.full(n, kappa))),
+        cones=path.cones,
+        corridors=path.corridors,
+        description=path.description + f" Run-out: the line goes on {length_m:.0f} m beyond its end.",
+    )
+
+
+def path_manoeuvre(name: str, title: str, path: Path, speed: SpeedProfile, *, entry_m: float, exit_m: float,
+                   parameters: dict | None = None, description: str = "", preview_s: float = 2.0) -> Manoeuvre:
+    """A closed-loop manoeuvre on ``path`` judged from ``entry_m`` to ``exit_m`` (arc length of the CG).
+
+    The run lasts until the vehicle, at its target speed, is due ``AFTER_EXIT_S`` past the exit gate; the
+    path is extended (:func:`with_run_out`) far enough that the driver's preview never reaches its end.
+    """
+    if not (0.0 <= entry_m < exit_m <= path.s_m[-1] + 1e-9):
+        raise InputError(f"gates {entry_m:g} .. {exit_m:g} m must lie on the path (0 .. {path.s_m[-1]:g} m)",
+                         where=name)
+    duration = time_to_cover(speed, exit_m) + AFTER_EXIT_S
+    v_max = float(speed.speed_mps.max())
+    needed = exit_m + v_max * (AFTER_EXIT_S + preview_s) + 10.0  # CG ahead of the start, preview, margin
+    full = with_run_out(path, max(0.0, needed - float(path.s_m[-1])))
+    return Manoeuvre(name=name, title=title, speed=speed, duration_s=duration, window=Window("distance", entry_m, exit_m),
+                     path=full, parameters=dict(parameters or {}), description=description)

@@ -1,0 +1,32 @@
+"""ISO 3888-1 double lane change (the paper's DLC), or ISO 3888-2 obstacle avoidance."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .. import paths, speed
+from ..base import path_manoeuvre
+from ..registry import Option, register
+
+OPTIONS = (
+    Option("standard", "ISO 3888-1", "", "ISO 3888-1 (double lane change) or ISO 3888-2 (obstacle avoidance)",
+           choices=("ISO 3888-1", "ISO 3888-2")),
+    Option("direction", "left", "", "side of the first lane change", choices=("left", "right")),
+    Option("run_in_m", 30.0, "m", "straight approach before the entry gate"),
+)
+
+
+@register("dlc", "ISO 3888-1 double lane change", options=OPTIONS)
+def build(params, speed_kmh: float, standard: str = "ISO 3888-1", direction: str = "left", run_in_m: float = 30.0):
+    """Double lane change through cones at a constant target speed; lanes from the vehicle's width.
+
+    Judged from the entry gate (start of section 1) to the exit gate (end of the last section).
+    """
+    path = paths.double_lane_change(params.body.overall_width_m, run_in_m=run_in_m, standard=standard,
+                                    direction=direction)
+    x_exit = max(c.x_end_m for c in path.corridors)
+    exit_m = float(np.interp(x_exit, path.x_m, path.s_m))
+    entry_m = float(np.interp(run_in_m, path.x_m, path.s_m))
+    return path_manoeuvre("dlc", path.name, path, speed.constant(speed_kmh, 1.0), entry_m=entry_m, exit_m=exit_m,
+                          parameters={"standard": standard, "direction": direction, "run_in_m": run_in_m},
+                          description=path.description)

@@ -1,0 +1,83 @@
+"""run(vehicle, manoeuvre): judged over the window, run-out, open-loop steer with the speed held."""
+
+import numpy as np
+import pytest
+
+from trikedyn.analysis import metrics
+from trikedyn.manoeuvres import registry
+from trikedyn.simulate.closed_loop import run
+
+
+def test_circle_reports_its_steady_rollover_index(reference):
+    """R = 15 m at 25 km/h: the max |RI| over the window is the steady-state RI within 2 % (the driver no
+    longer swerves at the end of the path)."""
+    result = run(reference, "circle", speed_kmh=25.0, radius_m=15.0)
+    assert result.success and result.message == "ok"
+    judged = metrics.judged_mask(result)
+    ri = result["ri"][judged]
+    steady = float(np.mean(ri[ri.size // 2:]))
+    assert abs(steady) > 0.3
+    assert metrics.evaluate(result, "max_abs_ri") == pytest.approx(abs(steady), rel=0.02)
+    assert metrics.summary(result)["window_complete"] is True
+
+
+@pytest.mark.parametrize(("name", "speed_kmh", "options"), [
+    ("dlc", 35.0, {}), ("slc", 40.0, {}), ("circle", 25.0, {"radius_m": 15.0}),
+    ("braking-in-turn", 25.0, {}),
+])
+def test_steer_in_the_run_out_stays_within_the_window_envelope(reference, name, speed_kmh, options):
+    """Below the threshold, nothing happens after the exit gate that did not happen inside it."""
+    result = run(reference, name, speed_kmh=speed_kmh, **options)
+    assert result.success
+    assert not metrics.evaluate(result, "wheel_lifted")
+    judged = metrics.judged_mask(result)
+    after = np.zeros_like(judged)
+    after[np.nonzero(judged)[0][-1] + 1:] = True
+    assert after.sum() >= 20, "the run should go on past the exit gate"
+    inside = result["steer_cmd_rad"][judged]
+    span = inside.max() - inside.min()
+    low, high = inside.min() - 0.1 * span - 1e-3, inside.max() + 0.1 * span + 1e-3
+    outside = result["steer_cmd_rad"][after]
+    assert outside.min() >= low and outside.max() <= high
+
+
+def test_metrics_ignore_the_run_out(reference):
+    """A window shorter than the run: the metrics see only the samples inside it."""
+    result = run(reference, "dlc", speed_kmh=30.0)
+    judged = metrics.judged_mask(result)
+    assert 0 < judged.sum() < judged.size
+    s = result["path_s_m"]
+    assert s[judged].min() >= result.manoeuvre.window.start - 0.5 and s[judged].max() <= result.manoeuvre.window.end
+    ay = np.abs(result["ay_mps2"][judged]).max()
+    assert metrics.evaluate(result, "max_lateral_acceleration_mps2") == pytest.approx(ay)
+
+
+def test_result_is_immutable_and_labelled(reference):
+    result = run(reference, "step", speed_kmh=20.0)
+    with pytest.raises(TypeError):
+        result.channels["ri"] = np.zeros(3)
+    with pytest.raises(ValueError):
+        result["ri"][0] = 1.0
+    assert result.state("x_m")[-1] == pytest.approx(result["x_m"][-1])
+    assert len(result.state_names) == result.states.shape[1]
+    assert "front_kappa" in result.state_names
+
+
+def test_step_steer_holds_the_speed(reference):
+    """ISO 7401 step: the driver's speed control holds the speed within 0.5 km/h while the steer is open
+    loop (the earlier fixed drive torque let it climb by 4 km/h)."""
+    result = run(reference, "step", speed_kmh=30.0, steer_deg=4.0)
+    speed = result["speed_mps"][metrics.judged_mask(result)] * 3.6
+    assert np.abs(speed - 30.0).max() < 0.5
+    start = result.manoeuvre.parameters["start_s"]
+    steer = result["steer_cmd_rad"]
+    assert np.allclose(steer[result.time_s < start], 0.0)
+    assert steer[-1] == pytest.approx(np.radians(4.0))
+
+
+def test_fishhook_amplitude_follows_the_reference_steer(reference):
+    m = registry.build("fishhook", reference.params, 20.0, scale=2.0)
+    p = m.parameters
+    assert p["amplitude_deg"] == pytest.approx(2.0 * p["reference_steer_deg"])
+    assert m.steer[:, 1].max() == pytest.approx(np.radians(p["amplitude_deg"]))
+    assert m.steer[:, 1].min() == pytest.approx(-np.radians(p["amplitude_deg"]))
