@@ -21,12 +21,25 @@ def test_circle_reports_its_steady_rollover_index(reference):
     assert metrics.summary(result)["window_complete"] is True
 
 
-@pytest.mark.parametrize(("name", "speed_kmh", "options"), [
-    ("dlc", 35.0, {}), ("slc", 40.0, {}), ("circle", 25.0, {"radius_m": 15.0}),
-    ("braking-in-turn", 25.0, {}),
-])
-def test_steer_in_the_run_out_stays_within_the_window_envelope(reference, name, speed_kmh, options):
-    """Below the threshold, nothing happens after the exit gate that did not happen inside it."""
+# speeds and options below each manoeuvre's threshold; a manoeuvre not listed is driven at 25 km/h
+BELOW_THRESHOLD = {"dlc": (35.0, {}), "slc": (40.0, {}), "circle": (25.0, {"radius_m": 15.0}),
+                   "steady-state-circle": (15.0, {"max_ay_mps2": 3.0, "ay_rate_mps2_per_s": 0.3})}
+
+
+def _line(tmp_path):
+    x = np.linspace(0.0, 100.0, 201)
+    file = tmp_path / "line.csv"
+    file.write_text("x_m,y_m\n" + "\n".join(f"{a:.3f},{2.0 * np.tanh((a - 50) / 8):.5f}" for a in x), encoding="utf-8")
+    return str(file)
+
+
+@pytest.mark.parametrize("name", [k.name for k in registry.available() if k.closed_loop])
+def test_steer_in_the_run_out_stays_within_the_window_envelope(reference, name, tmp_path):
+    """Every registered closed-loop manoeuvre, below its threshold: nothing happens after the exit gate
+    that did not happen inside it (the driver does not run out of road)."""
+    speed_kmh, options = BELOW_THRESHOLD.get(name, (25.0, {}))
+    if name == "path":
+        options = {"file": _line(tmp_path)}
     result = run(reference, name, speed_kmh=speed_kmh, **options)
     assert result.success
     assert not metrics.evaluate(result, "wheel_lifted")

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from .. import paths
-from ..base import Manoeuvre, Window, with_run_out
+from ..base import AFTER_EXIT_S, Manoeuvre, Window, with_run_out
 from ..registry import Option, register
 from ..speed import SpeedProfile
 
@@ -46,8 +46,8 @@ def build(params, speed_kmh: float, radius_m: float = 20.0, ay_rate_mps2_per_s: 
     distance = float(np.trapezoid(profile.speed_mps, grid))
     lap = 2 * math.pi * radius_m
     circle = paths.circle(radius_m, laps=max(1.0, (distance + 40.0) / lap), run_in_m=RUN_IN_M, direction=direction)
-    path = with_run_out(circle, 20.0)
-    return Manoeuvre("steady-state-circle", "ISO 4138 steady-state circular driving", profile, t_rise,
+    path = with_run_out(circle, 20.0 + AFTER_EXIT_S * float(profile.speed_mps[-1]))
+    return Manoeuvre("steady-state-circle", "ISO 4138 steady-state circular driving", profile, t_rise + AFTER_EXIT_S,
                      Window("time", t_start, t_rise), path=path,
                      parameters={"radius_m": radius_m, "ay_rate_mps2_per_s": ay_rate_mps2_per_s,
                                  "max_ay_mps2": max_ay_mps2, "settle_s": settle_s, "direction": direction},
