@@ -43,6 +43,21 @@ def sideslip(result) -> np.ndarray:
     return np.arctan2(result["vy_mps"], np.maximum(np.abs(result["vx_mps"]), 1e-6))
 
 
+def steer_at_nominal_radius(result, params, radius_m: float) -> np.ndarray:
+    """Road-wheel steer [rad] corrected for the driver's small departures from the nominal radius.
+
+    The driver holds the circle only to a few centimetres, and the radius it actually drives drifts as the
+    speed rises; the kinematic steer ``L_e / R`` drifts with it and would bias the gradient (by about
+    0.1 deg/g on reference-etrike). The measured path curvature ``r / v`` replaces ``1 / R``:
+    ``delta_c = delta - L (r / v - 1 / R)`` (``L`` the wheelbase: the front contact lies below the wheel
+    centre, the trail behind the steering axis' ground point). At constant radius this is the steer itself.
+    """
+    speed = np.maximum(np.asarray(result["speed_mps"]), 0.1)
+    curvature = np.asarray(result["yaw_rate_radps"]) / speed
+    sign = 1.0 if result.manoeuvre is None or result.manoeuvre.parameters.get("direction", "left") == "left" else -1.0
+    return road_steer(result, params) - params.wheelbase_m * (curvature - sign / radius_m)
+
+
 @dataclass(frozen=True)
 class SteadyStateTest:
     """ISO 4138 on the model: the diagram, the end of the test and the run."""
@@ -141,7 +156,8 @@ def steady_state_test(vehicle, *, radius_m: float = 20.0, start_speed_kmh: float
     keep = metrics.judged_mask(result).copy()
     keep[end + 1:] = False
     ay = np.asarray(result["ay_mps2"])
-    diagram = handling.handling_diagram(ay[keep], road_steer(result, params)[keep], sideslip(result)[keep],
+    steer = steer_at_nominal_radius(result, params, radius_m)
+    diagram = handling.handling_diagram(ay[keep], steer[keep], sideslip(result)[keep],
                                         np.asarray(result["roll_rad"])[keep], radius_m=radius_m,
                                         wheelbase_m=params.wheelbase_m, fit_limit_mps2=fit_limit_mps2)
     return SteadyStateTest(diagram, radius_m, limit, detail, float(np.abs(ay[keep]).max()), result)
