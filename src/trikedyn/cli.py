@@ -466,6 +466,16 @@ def simulate_cmd(
     data = summary(result) | {"vehicle": pset.name, "payload_kg": payload, "speed_kmh": speed}
     if not result.success:
         data["failure"] = result.message
+    elif duration is None:
+        from .analysis.handling_tests import manoeuvre_figures
+
+        try:  # the test's own figures (ISO 7401 step, sweep, ISO 7975, ISO 4138)
+            figures = manoeuvre_figures(result)
+        except InputError as exc:  # the run is fine; its reduction is not possible (say why)
+            data["figures_error"] = str(exc)
+        else:
+            if figures is not None:
+                data["figures"] = figures
     if out is not None:
         _write_run(result, out, data)
         data["out"] = str(out)

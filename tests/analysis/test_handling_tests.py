@@ -82,3 +82,19 @@ def test_handling_command(capsys, tmp_path):
         assert key in data
     assert main(["handling", "reference-etrike", "--radius", "-3"]) == 2
     assert "--radius" in capsys.readouterr().err
+
+
+def test_simulate_reports_each_tests_own_figures(capsys):
+    """`simulate` on a handling manoeuvre adds that test's figures (ISO 7401 step, sweep; ISO 7975)."""
+    assert main(["simulate", "reference-etrike", "--manoeuvre", "step", "-o", "steer_deg=2", "--speed", "25",
+                 "--json"]) == 0
+    step = json.loads(capsys.readouterr().out)["figures"]
+    assert step["yaw_rate"]["steady_state_gain"] > 0 and step["speed_drift_kmh"] < 0.5
+    assert 0 < step["yaw_rate"]["response_time_s"] < step["yaw_rate"]["peak_response_time_s"]
+    assert main(["simulate", "reference-etrike", "--manoeuvre", "sweep", "--speed", "25", "--json"]) == 0
+    sweep = json.loads(capsys.readouterr().out)["figures"]["yaw_rate"]
+    gain = np.asarray(sweep["gain"])
+    assert len(gain) >= 5 and gain[0] == pytest.approx(step["yaw_rate"]["steady_state_gain"], rel=0.05)
+    assert main(["simulate", "reference-etrike", "--manoeuvre", "braking-in-turn", "--speed", "25", "--json"]) == 0
+    braking = json.loads(capsys.readouterr().out)["figures"]
+    assert braking["braking"]["mean_deceleration_mps2"] > 1.0

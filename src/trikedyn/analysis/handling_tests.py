@@ -22,8 +22,8 @@ from ..model.vehicle import VehicleModel, build_model
 from ..simulate.closed_loop import run
 from . import handling, metrics
 
-__all__ = ["SteadyStateTest", "steady_state_test", "step_steer_test", "frequency_response_test",
-           "braking_in_turn_test"]
+__all__ = ["Figures", "SteadyStateTest", "braking_in_turn_test", "frequency_response_test", "manoeuvre_figures",
+           "reduces", "steady_state_test", "step_steer_test"]
 
 LOST_PATH_M = 1.0
 """Path error of the CG beyond which the driver is taken to have lost the circle [m]."""
@@ -148,11 +148,39 @@ def steady_state_test(vehicle, *, radius_m: float = 20.0, start_speed_kmh: float
         ``limit`` is ``"lift-off"``, ``"driver limit"`` (the circle was lost), ``"steering lock"``, ``"speed
         not reached"`` (drive torque or power) or ``"end of test"``.
     """
-    model = _model(vehicle)
-    params = model.params
-    result = run(model, "steady-state-circle", speed_kmh=start_speed_kmh, dt=dt, radius_m=radius_m,
+    result = run(_model(vehicle), "steady-state-circle", speed_kmh=start_speed_kmh, dt=dt, radius_m=radius_m,
                  ay_rate_mps2_per_s=ay_rate_mps2_per_s, max_ay_mps2=max_ay_mps2, direction=direction)
-    limit, detail, end = _why_it_ended(result, params, max_ay_mps2)
+    return reduce_steady_state(result, fit_limit_mps2=fit_limit_mps2)
+
+
+_REDUCERS: dict = {}
+
+
+def reduces(name: str):
+    """Decorator: ``fn(result) -> object with to_dict()`` gives the figures of manoeuvre ``name``."""
+
+    def decorate(fn):
+        _REDUCERS[name] = fn
+        return fn
+
+    return decorate
+
+
+def manoeuvre_figures(result) -> dict | None:
+    """The test's own figures for a run of a manoeuvre that has them (JSON-safe), else None."""
+    man = result.manoeuvre
+    if man is None or man.name not in _REDUCERS or not metrics.judged_mask(result).any():
+        return None
+    return _REDUCERS[man.name](result).to_dict()
+
+
+@reduces("steady-state-circle")
+def reduce_steady_state(result, *, fit_limit_mps2: float | None = None) -> SteadyStateTest:
+    """ISO 4138 figures of a ``steady-state-circle`` run (see :func:`steady_state_test`)."""
+    params = result.params
+    p = result.manoeuvre.parameters
+    radius_m = p["radius_m"]
+    limit, detail, end = _why_it_ended(result, params, p["max_ay_mps2"])
     keep = metrics.judged_mask(result).copy()
     keep[end + 1:] = False
     ay = np.asarray(result["ay_mps2"])
@@ -161,6 +189,71 @@ def steady_state_test(vehicle, *, radius_m: float = 20.0, start_speed_kmh: float
                                         np.asarray(result["roll_rad"])[keep], radius_m=radius_m,
                                         wheelbase_m=params.wheelbase_m, fit_limit_mps2=fit_limit_mps2)
     return SteadyStateTest(diagram, radius_m, limit, detail, float(np.abs(ay[keep]).max()), result)
+
+
+@dataclass(frozen=True)
+class Figures:
+    """A test's figures by name (each with ``to_dict()``, or a plain value)."""
+
+    values: dict
+
+    def __getitem__(self, key):
+        return self.values[key]
+
+    def to_dict(self) -> dict:
+        return {k: (v.to_dict() if hasattr(v, "to_dict") else v) for k, v in self.values.items()}
+
+
+@reduces("step")
+def reduce_step(result) -> Figures:
+    """ISO 7401 step figures: yaw-rate and lateral-acceleration responses against the road-wheel steer
+    [rad], and the speed drift [km/h] over the window."""
+    params = result.params
+    judged = metrics.judged_mask(result)
+    start = result.manoeuvre.parameters["start_s"]
+    use = result.time_s >= start - 0.5
+    steer = road_steer(result, params)[use]
+    t = result.time_s[use]
+    target = float(result.manoeuvre.speed.speed_mps[0] * 3.6)
+    return Figures({
+        "yaw_rate": handling.step_response(t, steer, np.asarray(result["yaw_rate_radps"])[use], steer_start_s=start),
+        "lateral_acceleration": handling.step_response(t, steer, np.asarray(result["ay_mps2"])[use],
+                                                       steer_start_s=start),
+        "speed_drift_kmh": float(np.abs(np.asarray(result["speed_mps"])[judged] * 3.6 - target).max()),
+    })
+
+
+@reduces("sweep")
+def reduce_sweep(result) -> Figures:
+    """ISO 7401 frequency response: yaw-rate and lateral-acceleration gain and phase against the road-wheel
+    steer, over the sweep's band."""
+    params = result.params
+    judged = metrics.judged_mask(result)
+    t = result.time_s[judged]
+    steer = road_steer(result, params)[judged]
+    p = result.manoeuvre.parameters
+    band = {"f_min_hz": p["f_start_hz"], "f_max_hz": p["f_end_hz"]}
+    return Figures({
+        "yaw_rate": handling.frequency_response(t, steer, np.asarray(result["yaw_rate_radps"])[judged], **band),
+        "lateral_acceleration": handling.frequency_response(t, steer, np.asarray(result["ay_mps2"])[judged], **band),
+    })
+
+
+@reduces("braking-in-turn")
+def reduce_braking_in_turn(result) -> Figures:
+    """ISO 7975 figures: path deviation, yaw-rate change, deceleration, and the least wheel loads [N]."""
+    from ..simulate.closed_loop import cg_track
+
+    params = result.params
+    p = result.manoeuvre.parameters
+    cx, cy = cg_track(params, np.asarray(result["x_m"]), np.asarray(result["y_m"]), np.asarray(result["yaw_rad"]))
+    braking = handling.braking_in_turn(result.time_s, cx, cy, np.asarray(result["yaw_rate_radps"]),
+                                       np.asarray(result["speed_mps"]), np.asarray(result["ay_mps2"]),
+                                       brake_start_s=p["brake_start_s"],
+                                       circle_centre_xy=(p["centre_x_m"], p["centre_y_m"]), radius_m=p["radius_m"])
+    judged = metrics.judged_mask(result)
+    loads = {w: float(np.asarray(result[f"{w}_fz_N"])[judged].min()) for w in result.meta["wheels"]}
+    return Figures({"braking": braking, "min_wheel_loads_N": loads})
 
 
 def step_steer_test(vehicle, speed_kmh: float, *, steer_deg: float = 2.0, hold_s: float = 4.0, dt: float = 5e-3):
@@ -173,53 +266,22 @@ def step_steer_test(vehicle, speed_kmh: float, *, steer_deg: float = 2.0, hold_s
         against the road-wheel steer [rad]; ``speed_drift_kmh`` (largest departure from the target in the
         window); ``result``.
     """
-    model = _model(vehicle)
-    result = run(model, "step", speed_kmh=speed_kmh, dt=dt, steer_deg=steer_deg, hold_s=hold_s)
-    judged = metrics.judged_mask(result)
-    start = result.manoeuvre.parameters["start_s"]
-    use = result.time_s >= start - 0.5
-    steer = road_steer(result, model.params)[use]
-    t = result.time_s[use]
-    yaw = handling.step_response(t, steer, np.asarray(result["yaw_rate_radps"])[use], steer_start_s=start)
-    ay = handling.step_response(t, steer, np.asarray(result["ay_mps2"])[use], steer_start_s=start)
-    drift = float(np.abs(np.asarray(result["speed_mps"])[judged] * 3.6 - speed_kmh).max())
-    return {"yaw_rate": yaw, "lateral_acceleration": ay, "speed_drift_kmh": drift, "result": result}
+    result = run(_model(vehicle), "step", speed_kmh=speed_kmh, dt=dt, steer_deg=steer_deg, hold_s=hold_s)
+    return {**reduce_step(result).values, "result": result}
 
 
 def frequency_response_test(vehicle, speed_kmh: float, *, amplitude_deg: float = 1.0, f_start_hz: float = 0.2,
                             f_end_hz: float = 3.0, sweep_s: float = 30.0, dt: float = 5e-3):
     """ISO 7401 frequency response from a sine sweep: gain and phase of yaw rate and lateral acceleration
     against the road-wheel steer."""
-    model = _model(vehicle)
-    result = run(model, "sweep", speed_kmh=speed_kmh, dt=dt, amplitude_deg=amplitude_deg, f_start_hz=f_start_hz,
-                 f_end_hz=f_end_hz, sweep_s=sweep_s)
-    judged = metrics.judged_mask(result)
-    t = result.time_s[judged]
-    steer = road_steer(result, model.params)[judged]
-    band = {"f_min_hz": f_start_hz, "f_max_hz": f_end_hz}
-    return {"yaw_rate": handling.frequency_response(t, steer, np.asarray(result["yaw_rate_radps"])[judged], **band),
-            "lateral_acceleration": handling.frequency_response(t, steer, np.asarray(result["ay_mps2"])[judged],
-                                                                **band),
-            "result": result}
+    result = run(_model(vehicle), "sweep", speed_kmh=speed_kmh, dt=dt, amplitude_deg=amplitude_deg,
+                 f_start_hz=f_start_hz, f_end_hz=f_end_hz, sweep_s=sweep_s)
+    return {**reduce_sweep(result).values, "result": result}
 
 
 def braking_in_turn_test(vehicle, speed_kmh: float, *, radius_m: float = 20.0, deceleration_mps2: float = 3.0,
                          dt: float = 5e-3):
     """ISO 7975 braking in a turn: path deviation, yaw-rate change and wheel loads while braking."""
-    model = _model(vehicle)
-    result = run(model, "braking-in-turn", speed_kmh=speed_kmh, dt=dt, radius_m=radius_m,
+    result = run(_model(vehicle), "braking-in-turn", speed_kmh=speed_kmh, dt=dt, radius_m=radius_m,
                  deceleration_mps2=deceleration_mps2)
-    params = model.params
-    from ..simulate.closed_loop import cg_track
-
-    cx, cy = cg_track(params, np.asarray(result["x_m"]), np.asarray(result["y_m"]), np.asarray(result["yaw_rad"]))
-    sign = 1.0 if result.manoeuvre.parameters["direction"] == "left" else -1.0
-    from ..manoeuvres.builtin.braking_in_turn import RUN_IN_M
-
-    figures = handling.braking_in_turn(result.time_s, cx, cy, np.asarray(result["yaw_rate_radps"]),
-                                       np.asarray(result["speed_mps"]), np.asarray(result["ay_mps2"]),
-                                       brake_start_s=result.manoeuvre.parameters["brake_start_s"],
-                                       circle_centre_xy=(RUN_IN_M, sign * radius_m), radius_m=radius_m)
-    judged = metrics.judged_mask(result)
-    loads = {w: float(np.asarray(result[f"{w}_fz_N"])[judged].min()) for w in result.meta["wheels"]}
-    return {"braking": figures, "min_wheel_loads_N": loads, "result": result}
+    return {**reduce_braking_in_turn(result).values, "result": result}

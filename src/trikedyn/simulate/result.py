@@ -66,6 +66,8 @@ class Result:
         Labels of the columns of ``states`` (see :func:`state_names`).
     manoeuvre : Manoeuvre, optional
         What was driven (None for open-loop :func:`~trikedyn.simulate.run.simulate` runs).
+    params : VehicleParameters
+        The vehicle that was driven (with its payload).
     """
 
     time_s: np.ndarray
@@ -75,6 +77,7 @@ class Result:
     meta: dict = field(default_factory=dict)
     state_names: tuple = ()
     manoeuvre: object = None
+    params: object = None
 
     def __post_init__(self):
         object.__setattr__(self, "channels", MappingProxyType(dict(self.channels)))
@@ -131,7 +134,7 @@ class Result:
         channels.update(extra or {})
         info = {"vehicle": model.params.name, "dt_s": dt, "wheels": list(names), "left": names[left],
                 "right": names[right], **(meta or {})}
-        return cls(times.copy(), channels, states.copy(), status, info, state_names(model), manoeuvre)
+        return cls(times.copy(), channels, states.copy(), status, info, state_names(model), manoeuvre, model.params)
 
     def __getitem__(self, name: str) -> np.ndarray:
         if name == "time_s":

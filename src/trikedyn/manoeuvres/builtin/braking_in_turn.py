@@ -46,7 +46,8 @@ def build(params, speed_kmh: float, radius_m: float = 20.0, deceleration_mps2: f
                      Window("time", t_brake, t_end), path=path, steer_hold_s=t_brake,
                      parameters={"radius_m": radius_m, "deceleration_mps2": deceleration_mps2, "settle_s": settle_s,
                                  "final_speed_ratio": final_speed_ratio, "direction": direction,
-                                 "brake_start_s": t_brake},
+                                 "brake_start_s": t_brake, "centre_x_m": RUN_IN_M,
+                                 "centre_y_m": radius_m if direction == "left" else -radius_m},
                      description=(f"ISO 7975 braking in a turn: circle R = {radius_m:g} m at {speed_kmh:g} km/h, "
                                   f"steering held and the target speed falling at {deceleration_mps2:g} m/s^2 from "
                                   f"{t_brake:.2f} s to {final_speed_ratio:g} of the initial speed."))
