@@ -17,6 +17,7 @@ import numpy as np
 from scipy import signal
 
 from ..errors import InputError
+from ..manoeuvres.steer import sine_sweep  # the sweep steer signal, re-exported
 from ..units import STANDARD_GRAVITY as G
 
 __all__ = ["BrakingInTurn", "FrequencyResponse", "HandlingDiagram", "StepResponse", "braking_in_turn",
@@ -310,47 +311,6 @@ def step_response(time_s, steer, response, *, steer_start_s=None, steady_window_
 
 
 # ------------------------------------------------------------------------------ ISO 7401 frequency response
-def sine_sweep(t, amplitude, f_start_hz, f_end_hz, duration_s, start_s=0.0, *, method="linear", taper_s=None):
-    """Sine-sweep (chirp) steer for the ISO 7401 frequency-response test.
-
-    ``amplitude w(tau) sin(phi(tau))`` for ``0 <= tau = t - start_s <= duration_s``, zero outside; phase
-    ``2 pi (f0 tau + (f1 - f0) tau^2 / (2 D))`` (linear) or ``2 pi f0 D (k^(tau/D) - 1) / ln k``, ``k = f1 /
-    f0`` (logarithmic: equal time per octave). ``w`` is a raised-cosine taper over ``taper_s`` at each end
-    (default: one period of ``f_start_hz``, at most 10 % of the duration): steer and steer rate start and
-    end at zero.
-
-    Parameters
-    ----------
-    t : array_like
-        Time [s].
-    amplitude : float
-        Steer amplitude [steer unit, e.g. rad]; the result has that unit, one value per ``t``.
-    f_start_hz, f_end_hz : float
-        Frequency at the start and at the end of the sweep [Hz].
-    duration_s, start_s, taper_s : float
-        Duration, start and length of each taper (optional) of the sweep [s].
-    method : {"linear", "logarithmic"}
-    """
-    t = np.asarray(t, dtype=float)
-    f0, f1, dur = (_positive(v, w) for v, w in ((f_start_hz, "f_start_hz"), (f_end_hz, "f_end_hz"),
-                                               (duration_s, "duration_s")))
-    taper = min(1.0 / f0, 0.1 * dur) if taper_s is None else float(taper_s)
-    if not 0 <= taper <= dur / 2:
-        raise InputError(f"must lie in [0, duration_s / 2], got {taper}", "taper_s")
-    tau = np.clip(t - float(start_s), 0.0, dur)
-    if method == "linear":
-        phase = 2 * np.pi * (f0 * tau + (f1 - f0) * tau**2 / (2 * dur))
-    elif method == "logarithmic":
-        k = f1 / f0
-        phase = 2 * np.pi * f0 * tau if k == 1 else 2 * np.pi * f0 * dur * (k ** (tau / dur) - 1) / math.log(k)
-    else:
-        raise InputError(f"unknown method {method!r}; expected 'linear' or 'logarithmic'", "method")
-    edge = np.minimum(tau, dur - tau)
-    w = np.where(edge < taper, 0.5 * (1 - np.cos(np.pi * edge / max(taper, 1e-300))), 1.0)
-    inside = (t >= float(start_s)) & (t <= float(start_s) + dur)
-    return np.where(inside, float(amplitude) * w * np.sin(phase), 0.0)
-
-
 @dataclass(frozen=True, eq=False)
 class FrequencyResponse(_Result):
     """H1 frequency response of one response channel to the steer, over its reliable band.

@@ -8,11 +8,13 @@ about the steering axis [rad], as the model's steering servo takes it.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["step_steer", "sine_steer", "sweep_steer"]
+__all__ = ["step_steer", "sine_steer", "sine_sweep"]
 
 
 def step_steer(angle_rad: float, *, start_s: float = 1.0, ramp_s: float = 0.15):
@@ -42,26 +44,44 @@ def sine_steer(amplitude_rad: float, frequency_hz: float, *, start_s: float = 0.
     return steer
 
 
-def sweep_steer(amplitude_rad: float, f_start_hz: float, f_end_hz: float, duration_s: float, *,
-                start_s: float = 0.0, taper_s: float | None = None):
-    """A logarithmic sine sweep ``A w(t) sin(phi(t))`` [rad] from ``f_start_hz`` to ``f_end_hz``.
+def sine_sweep(t, amplitude, f_start_hz, f_end_hz, duration_s, start_s=0.0, *, method="linear", taper_s=None):
+    """Sine-sweep (chirp) steer for the ISO 7401 frequency-response test.
 
-    ``phi`` grows with the instantaneous frequency ``f(t) = f0 (f1/f0)^(t/T)``; ``w`` is a cosine taper over
-    ``taper_s`` (one period of the start frequency by default) at both ends, so the steer starts and ends
-    at zero without a jump in rate.
+    ``amplitude w(tau) sin(phi(tau))`` for ``0 <= tau = t - start_s <= duration_s``, zero outside; phase
+    ``2 pi (f0 tau + (f1 - f0) tau^2 / (2 D))`` (linear) or ``2 pi f0 D (k^(tau/D) - 1) / ln k``, ``k = f1 /
+    f0`` (logarithmic: equal time per octave). ``w`` is a raised-cosine taper over ``taper_s`` at each end
+    (default: one period of ``f_start_hz``, at most 10 % of the duration): steer and steer rate start and
+    end at zero.
+
+    Parameters
+    ----------
+    t : array_like
+        Time [s].
+    amplitude : float
+        Steer amplitude [steer unit, e.g. rad]; the result has that unit, one value per ``t``.
+    f_start_hz, f_end_hz : float
+        Frequency at the start and at the end of the sweep [Hz].
+    duration_s, start_s, taper_s : float
+        Duration, start and length of each taper (optional) of the sweep [s].
+    method : {"linear", "logarithmic"}
     """
-    if not (0 < f_start_hz < f_end_hz) or duration_s <= 0:
-        raise InputError("needs 0 < f_start_hz < f_end_hz and duration_s > 0", where="sweep_steer")
-    if not np.isfinite(amplitude_rad):
-        raise InputError(f"must be finite, got {amplitude_rad!r}", where="amplitude_rad")
-    ratio = np.log(f_end_hz / f_start_hz)
-    taper = min(1.0 / f_start_hz, 0.25 * duration_s) if taper_s is None else taper_s
-
-    def steer(t):
-        tau = np.clip(np.asarray(t, dtype=float) - start_s, 0.0, duration_s)
-        phase = 2 * np.pi * f_start_hz * duration_s / ratio * (np.exp(ratio * tau / duration_s) - 1.0)
-        edge = np.minimum(tau, duration_s - tau)
-        window = np.where(edge < taper, 0.5 * (1 - np.cos(np.pi * np.clip(edge / taper, 0, 1))), 1.0)
-        return amplitude_rad * window * np.sin(phase)
-
-    return steer
+    t = np.asarray(t, dtype=float)
+    f0, f1, dur = (float(v) for v in (f_start_hz, f_end_hz, duration_s))
+    for value, where in ((f0, "f_start_hz"), (f1, "f_end_hz"), (dur, "duration_s")):
+        if not (math.isfinite(value) and value > 0):
+            raise InputError(f"must be a finite number > 0, got {value!r}", where=where)
+    taper = min(1.0 / f0, 0.1 * dur) if taper_s is None else float(taper_s)
+    if not 0 <= taper <= dur / 2:
+        raise InputError(f"must lie in [0, duration_s / 2], got {taper}", where="taper_s")
+    tau = np.clip(t - float(start_s), 0.0, dur)
+    if method == "linear":
+        phase = 2 * np.pi * (f0 * tau + (f1 - f0) * tau**2 / (2 * dur))
+    elif method == "logarithmic":
+        k = f1 / f0
+        phase = 2 * np.pi * f0 * tau if k == 1 else 2 * np.pi * f0 * dur * (k ** (tau / dur) - 1) / math.log(k)
+    else:
+        raise InputError(f"unknown method {method!r}; expected 'linear' or 'logarithmic'", where="method")
+    edge = np.minimum(tau, dur - tau)
+    w = np.where(edge < taper, 0.5 * (1 - np.cos(np.pi * edge / max(taper, 1e-300))), 1.0)
+    inside = (t >= float(start_s)) & (t <= float(start_s) + dur)
+    return np.where(inside, float(amplitude) * w * np.sin(phase), 0.0)

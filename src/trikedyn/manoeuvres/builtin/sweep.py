@@ -9,7 +9,7 @@ import numpy as np
 from .. import speed
 from ..base import Manoeuvre, Window
 from ..registry import Option, register
-from ..steer import sweep_steer
+from ..steer import sine_sweep
 
 OPTIONS = (
     Option("amplitude_deg", 1.0, "deg", "steer amplitude about the steering axis"),
@@ -17,20 +17,22 @@ OPTIONS = (
     Option("f_end_hz", 3.0, "Hz", "end frequency"),
     Option("sweep_s", 20.0, "s", "duration of the sweep"),
     Option("start_s", 1.0, "s", "start of the sweep"),
+    Option("method", "logarithmic", "", "frequency law: equal time per octave, or linear",
+           choices=("logarithmic", "linear")),
 )
 
 
 @register("sweep", "ISO 7401 sine-sweep steer (frequency response)", options=OPTIONS, closed_loop=False)
 def build(params, speed_kmh: float, amplitude_deg: float = 1.0, f_start_hz: float = 0.2, f_end_hz: float = 3.0,
-          sweep_s: float = 20.0, start_s: float = 1.0):
-    """A logarithmic sine sweep of the steer with tapered ends; speed held. Judged over the sweep."""
-    steer_fn = sweep_steer(math.radians(amplitude_deg), f_start_hz, f_end_hz, sweep_s, start_s=start_s)
+          sweep_s: float = 20.0, start_s: float = 1.0, method: str = "logarithmic"):
+    """A sine sweep of the steer with tapered ends; speed held. Judged over the sweep."""
     end = start_s + sweep_s
     t = np.arange(0.0, end + 0.5, 0.005)
-    table = np.column_stack((t, steer_fn(t)))
+    table = np.column_stack((t, sine_sweep(t, math.radians(amplitude_deg), f_start_hz, f_end_hz, sweep_s, start_s,
+                                           method=method)))
     return Manoeuvre("sweep", "ISO 7401 sine-sweep steer", speed.constant(speed_kmh, 1.0), end + 0.5,
                      Window("time", start_s, end), steer=table,
                      parameters={"amplitude_deg": amplitude_deg, "f_start_hz": f_start_hz, "f_end_hz": f_end_hz,
-                                 "sweep_s": sweep_s, "start_s": start_s},
-                     description=(f"Sine sweep {f_start_hz:g}-{f_end_hz:g} Hz over {sweep_s:g} s, amplitude "
+                                 "sweep_s": sweep_s, "start_s": start_s, "method": method},
+                     description=(f"{method.capitalize()} sine sweep {f_start_hz:g}-{f_end_hz:g} Hz over {sweep_s:g} s, amplitude "
                                   f"{amplitude_deg:g} deg about the steering axis; the driver holds {speed_kmh:g} km/h."))
