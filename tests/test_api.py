@@ -17,3 +17,11 @@ def test_tour_of_the_readme_runs(tmp_path):
     assert abs(run["ri"]).max() < 1.0
     found = td.modes(td.build_model(trike), td.static_equilibrium(td.build_model(trike)))
     assert found[0].frequency_hz > 0.5
+
+
+def test_manoeuvre_level_api():
+    trike = td.load_vehicle("reference-etrike")
+    result = td.run(trike, "slc", speed_kmh=30.0)
+    figures = td.summary(result)
+    assert result.success and figures["cone_strikes"] == 0 and not figures["wheel_lifted"]
+    assert "fishhook" in [m.name for m in td.list_manoeuvres()]

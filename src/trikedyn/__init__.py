@@ -61,6 +61,32 @@ from .params import (
 from .simulate.result import Result, rollover_index
 from .simulate.run import simulate
 
+
+def __getattr__(name):
+    """The manoeuvre-level API, imported when first used: ``run``, ``threshold_velocity``, ``tilt_table``,
+    ``summary`` (the metrics of a run) and ``list_manoeuvres`` (the registered manoeuvres)."""
+    if name == "run":
+        from .simulate.closed_loop import run
+
+        return run
+    if name == "threshold_velocity":
+        from .analysis.threshold import threshold_velocity
+
+        return threshold_velocity
+    if name == "tilt_table":
+        from .analysis.tilt import tilt_table
+
+        return tilt_table
+    if name == "summary":
+        from .analysis.metrics import summary
+
+        return summary
+    if name == "list_manoeuvres":
+        from .manoeuvres.registry import available
+
+        return available
+    raise AttributeError(f"module 'trikedyn' has no attribute {name!r}")
+
 __all__ = [
     "Box",
     "ImuLog",
@@ -82,7 +108,12 @@ __all__ = [
     "flat_road",
     "modes",
     "rollover_index",
+    "run",
     "simulate",
+    "summary",
+    "threshold_velocity",
+    "tilt_table",
+    "list_manoeuvres",
     "speed_bump",
     "static_equilibrium",
     "identify_suspension",

@@ -1,6 +1,7 @@
 """The paper's figures, redrawn from trikedyn's results (matplotlib, Agg, imported here only).
 
-* :func:`time_histories` -- longitudinal velocity, lateral acceleration and yaw rate (Figs. 7-8);
+* :func:`time_histories` -- longitudinal velocity, lateral acceleration and yaw rate (Figs. 7-8); the judged
+  window (entry to exit gate) shaded grey;
 * :func:`rollover_index` -- the rollover index of Eq. 5 over time, with its static value (Fig. 9);
 * :func:`threshold_study` -- threshold velocity against freight for each stiffness and each damping level
   (Fig. 10).
@@ -24,6 +25,15 @@ def _plt():
     return plt
 
 
+def shade_window(ax, result) -> None:
+    """Shade the judged window (entry to exit gate) of a run on a time axis."""
+    if "judged" not in result.channels:
+        return
+    inside = np.nonzero(np.asarray(result["judged"]) > 0.5)[0]
+    if inside.size:
+        ax.axvspan(result.time_s[inside[0]], result.time_s[inside[-1]], color="0.85", alpha=0.5, lw=0, zorder=0)
+
+
 def time_histories(runs: dict, path: Path, title: str = "") -> Path:
     """Figs. 7-8: speed [km/h], lateral acceleration [m/s^2] and yaw rate [deg/s] of each run.
 
@@ -37,6 +47,10 @@ def time_histories(runs: dict, path: Path, title: str = "") -> Path:
         axes[0].plot(t, run["speed_mps"] * 3.6, label=label)
         axes[1].plot(t, run["imu_ay_mps2"], label=label)
         axes[2].plot(t, np.degrees(run["imu_wz_radps"]), label=label)
+    if len(runs) == 1:
+        for ax in axes:
+            shade_window(ax, next(iter(runs.values())))
+        title = f"{title}\n(grey: the judged window, entry to exit gate)" if title else "grey: the judged window"
     for ax, name in zip(axes, ("(a) longitudinal velocity [km/h]", "(b) lateral acceleration [m/s²]",
                                "(c) yaw rate [deg/s]"), strict=True):
         ax.set_ylabel(name, fontsize=8)
@@ -55,6 +69,7 @@ def rollover_index(runs: dict, static_ri: float, path: Path, title: str = "") ->
     plt = _plt()
     fig, axes = plt.subplots(len(runs), 1, sharex=False, figsize=(7.5, 2.6 * len(runs)), squeeze=False)
     for ax, (label, run) in zip(axes[:, 0], runs.items(), strict=True):
+        shade_window(ax, run)
         ax.plot(run.time_s, run["ri"], label="RI")
         ax.axhline(static_ri, color="r", ls="--", lw=1, label=f"static {static_ri:+.3f}")
         ax.set_ylim(-1.05, 1.05)

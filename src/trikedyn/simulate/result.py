@@ -198,7 +198,10 @@ class Result:
         if axes is None:
             fig, axes = plt.subplots(len(channels), 1, sharex=True, figsize=(7, 1.8 * len(channels)))
         axes = np.atleast_1d(axes)
+        judged = np.nonzero(np.asarray(self.channels["judged"]) > 0.5)[0] if "judged" in self.channels else []
         for ax, name in zip(axes, channels, strict=False):
+            if len(judged):  # the judged window, entry to exit gate
+                ax.axvspan(self.time_s[judged[0]], self.time_s[judged[-1]], color="0.85", alpha=0.5, lw=0, zorder=0)
             ax.plot(self.time_s, self[name])
             ax.set_ylabel(name)
             ax.grid(alpha=0.3)
