@@ -63,3 +63,12 @@ def test_a_manoeuvre_needs_a_path_or_a_steer_table(reference):
         Manoeuvre("x", "x", constant(20.0, 1.0), 5.0, Window("time", 0.0, 5.0))
     with pytest.raises(InputError, match="start < end"):
         Window("time", 2.0, 1.0)
+
+
+def test_absurd_options_are_refused_before_any_run(reference):
+    with pytest.raises(InputError, match="<= 3600 s"):
+        registry.build("sweep", reference.params, 20.0, sweep_s=1e9)
+    with pytest.raises(InputError, match="<= 3600 s"):
+        registry.build("steady-state-circle", reference.params, 10.0, ay_rate_mps2_per_s=1e-9)
+    with pytest.raises(InputError, match="must be > 0"):
+        registry.build("circle", reference.params, 20.0, radius_m=-5)

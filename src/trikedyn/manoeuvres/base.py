@@ -26,7 +26,10 @@ from ..errors import InputError
 from .paths import DS_MAX_M, Path
 from .speed import SpeedProfile
 
-__all__ = ["Manoeuvre", "Window", "with_run_out", "time_to_cover"]
+__all__ = ["Manoeuvre", "Window", "check_duration", "path_manoeuvre", "time_to_cover", "with_run_out"]
+
+MAX_DURATION_S = 3600.0
+"""Longest manoeuvre accepted [s] (a longer one is almost certainly a unit mistake)."""
 
 AFTER_EXIT_S = 1.0
 """Simulated time beyond the moment the vehicle is due at the exit gate [s] (a slower vehicle still
@@ -104,8 +107,9 @@ class Manoeuvre:
     def __post_init__(self):
         if self.path is None and self.steer is None:
             raise InputError("a manoeuvre needs a path (closed loop) or a steer table (open loop)", where=self.name)
-        if not (math.isfinite(self.duration_s) and self.duration_s > 0):
-            raise InputError(f"duration must be > 0 s, got {self.duration_s!r}", where=self.name)
+        if not (math.isfinite(self.duration_s) and 0 < self.duration_s <= MAX_DURATION_S):
+            raise InputError(f"duration must be > 0 and <= {MAX_DURATION_S:g} s, got {self.duration_s!r}",
+                             where=self.name)
         if self.steer is not None:
             table = np.ascontiguousarray(self.steer, dtype=np.float64)
             if table.ndim != 2 or table.shape[1] != 2 or table.shape[0] < 1 or not np.all(np.isfinite(table)):
@@ -142,6 +146,13 @@ class Manoeuvre:
             "parameters": dict(self.parameters),
             "description": self.description,
         }
+
+
+def check_duration(name: str, seconds: float) -> float:
+    """``seconds`` if it is a duration a manoeuvre may last (before any array of that length is made)."""
+    if not (math.isfinite(seconds) and 0 < seconds <= MAX_DURATION_S):
+        raise InputError(f"duration must be > 0 and <= {MAX_DURATION_S:g} s, got {seconds:g} s", where=name)
+    return seconds
 
 
 def time_to_cover(speed: SpeedProfile, distance_m: float) -> float:
@@ -202,7 +213,7 @@ def path_manoeuvre(name: str, title: str, path: Path, speed: SpeedProfile, *, en
     if not (0.0 <= entry_m < exit_m <= path.s_m[-1] + 1e-9):
         raise InputError(f"gates {entry_m:g} .. {exit_m:g} m must lie on the path (0 .. {path.s_m[-1]:g} m)",
                          where=name)
-    duration = time_to_cover(speed, exit_m) + AFTER_EXIT_S
+    duration = check_duration(name, time_to_cover(speed, exit_m) + AFTER_EXIT_S)
     v_max = float(speed.speed_mps.max())
     needed = exit_m + v_max * (AFTER_EXIT_S + preview_s) + 10.0  # CG ahead of the start, preview, margin
     full = with_run_out(path, max(0.0, needed - float(path.s_m[-1])))

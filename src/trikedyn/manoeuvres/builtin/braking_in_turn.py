@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from .. import paths, speed
-from ..base import AFTER_EXIT_S, Manoeuvre, Window, time_to_cover, with_run_out
+from ..base import AFTER_EXIT_S, Manoeuvre, Window, check_duration, time_to_cover, with_run_out
 from ..registry import Option, register
 from ..speed import SpeedProfile
 
@@ -36,7 +36,7 @@ def build(params, speed_kmh: float, radius_m: float = 20.0, deceleration_mps2: f
     v0 = speed_kmh / 3.6
     circle = paths.circle(radius_m, laps=1.0, run_in_m=RUN_IN_M, direction=direction)
     t_brake = time_to_cover(speed.constant(speed_kmh, 1.0), RUN_IN_M + settle_s * v0)
-    t_end = t_brake + v0 * (1.0 - final_speed_ratio) / deceleration_mps2
+    t_end = check_duration("braking-in-turn", t_brake + v0 * (1.0 - final_speed_ratio) / deceleration_mps2 + 1.0) - 1.0
     grid = np.linspace(0.0, t_end + 1.0, int(math.ceil((t_end + 1.0) / 0.01)) + 1)
     target = np.clip(v0 - deceleration_mps2 * np.clip(grid - t_brake, 0.0, None), final_speed_ratio * v0, None)
     profile = SpeedProfile("record", grid, target)

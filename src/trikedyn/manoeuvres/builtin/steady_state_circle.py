@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from .. import paths
-from ..base import AFTER_EXIT_S, Manoeuvre, Window, with_run_out
+from ..base import AFTER_EXIT_S, Manoeuvre, Window, check_duration, with_run_out
 from ..registry import Option, register
 from ..speed import SpeedProfile
 
@@ -39,7 +39,8 @@ def build(params, speed_kmh: float, radius_m: float = 20.0, ay_rate_mps2_per_s: 
         raise InputError(f"max_ay_mps2 must exceed v^2/R = {a0:.2f} m/s^2 at the start speed",
                          where="steady-state-circle")
     t_start = RUN_IN_M / v0 + settle_s  # on the circle and settled
-    t_rise = t_start + (max_ay_mps2 - a0) / ay_rate_mps2_per_s
+    t_rise = check_duration("steady-state-circle", t_start + (max_ay_mps2 - a0) / ay_rate_mps2_per_s + AFTER_EXIT_S)
+    t_rise -= AFTER_EXIT_S
     grid = np.linspace(0.0, t_rise, int(math.ceil(t_rise / 0.01)) + 1)
     ay = a0 + ay_rate_mps2_per_s * np.clip(grid - t_start, 0.0, None)
     profile = SpeedProfile("record", grid, np.sqrt(radius_m * ay))

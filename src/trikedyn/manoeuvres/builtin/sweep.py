@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from .. import speed
-from ..base import Manoeuvre, Window
+from ..base import Manoeuvre, Window, check_duration
 from ..registry import Option, register
 from ..steer import sine_sweep
 
@@ -26,7 +26,7 @@ OPTIONS = (
 def build(params, speed_kmh: float, amplitude_deg: float = 1.0, f_start_hz: float = 0.2, f_end_hz: float = 3.0,
           sweep_s: float = 20.0, start_s: float = 1.0, method: str = "logarithmic"):
     """A sine sweep of the steer with tapered ends; speed held. Judged over the sweep."""
-    end = start_s + sweep_s
+    end = check_duration("sweep", start_s + sweep_s + 0.5) - 0.5
     t = np.arange(0.0, end + 0.5, 0.005)
     table = np.column_stack((t, sine_sweep(t, math.radians(amplitude_deg), f_start_hz, f_end_hz, sweep_s, start_s,
                                            method=method)))
