@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 OUT ?= trikedyn-output
 STAMP := $(VENV)/.installed
 
-.PHONY: run test bench lint clean
+.PHONY: run test bench fuzz lint clean
 
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
@@ -14,10 +14,13 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 run: $(STAMP)
-	$(BIN)/trikedyn reproduce --out $(OUT)
+	$(BIN)/trikedyn reproduce --out $(OUT) --force
 
 test: $(STAMP)
 	$(BIN)/python -m pytest -q
+
+fuzz: $(STAMP)
+	TRIKEDYN_FUZZ_EXAMPLES=$${FUZZ_EXAMPLES:-12500} $(BIN)/python -m pytest -q -p no:cacheprovider tests/fuzz
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/run.py

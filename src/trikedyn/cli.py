@@ -30,14 +30,27 @@ app.add_typer(vehicle_app, name="vehicle")
 app.add_typer(cg_app, name="cg")
 
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print machine-readable JSON instead of text.")]
+ForceOpt = Annotated[bool, typer.Option("--force", help="Replace output files that exist already.")]
 VehicleArg = Annotated[str, typer.Argument(help="Preset name (see `trikedyn vehicle list`) or a .toml file.")]
 
 
-def _emit(data, as_json: bool, text: str | None = None) -> None:
+_WARNINGS: list[str] = []
+"""Warnings raised while a command runs (printed as one line each, and listed under ``warnings`` in JSON)."""
+
+
+def _emit(data, as_json: bool, text=None) -> None:
+    """Print a command's result: JSON (always valid: non-finite numbers become null, with a warning), or
+    ``text`` (a string, or a function of nothing that makes it: text is only formatted when asked for)."""
     if as_json:
-        typer.echo(json.dumps(data, indent=2, default=_json_default))
+        clean, bad = _finite(data)
+        if isinstance(clean, dict) and (bad or _WARNINGS):
+            notes = [*_WARNINGS, *(f"{p or 'value'}: non-finite number replaced by null" for p in bad)]
+            clean = {**clean, "warnings": [*clean.get("warnings", []), *notes]}
+        typer.echo(json.dumps(clean, indent=2, default=_json_default, allow_nan=False))
+    elif text is not None:
+        typer.echo(text() if callable(text) else text)
     else:
-        typer.echo(text if text is not None else json.dumps(data, indent=2, default=_json_default))
+        typer.echo(json.dumps(_finite(data)[0], indent=2, default=_json_default, allow_nan=False))
 
 
 def _json_default(obj):
@@ -50,6 +63,30 @@ def _json_default(obj):
     if isinstance(obj, Path):
         return str(obj)
     raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
+
+
+def _finite(node, path: str = ""):
+    """``node`` with every non-finite float replaced by None, and the paths where that happened."""
+    import math
+
+    if isinstance(node, dict):
+        out, bad = {}, []
+        for key, value in node.items():
+            out[key], sub = _finite(value, f"{path}.{key}" if path else str(key))
+            bad += sub
+        return out, bad
+    if isinstance(node, list | tuple):
+        out, bad = [], []
+        for i, value in enumerate(node):
+            item, sub = _finite(value, f"{path}[{i}]")
+            out.append(item)
+            bad += sub
+        return out, bad
+    if hasattr(node, "tolist") and not isinstance(node, str):  # numpy arrays and scalars
+        return _finite(node.tolist(), path)
+    if isinstance(node, float) and not math.isfinite(node):
+        return None, [path]
+    return node, []
 
 
 def _version(value: bool):
@@ -134,14 +171,16 @@ def vehicle_check(vehicle: VehicleArg, as_json: JsonOpt = False):
 
 @vehicle_app.command("export")
 def vehicle_export(
-    vehicle: VehicleArg, file: Annotated[Path, typer.Argument(help="TOML file to write.")], as_json: JsonOpt = False
+    vehicle: VehicleArg, file: Annotated[Path, typer.Argument(help="TOML file to write.")], force: ForceOpt = False,
+    as_json: JsonOpt = False,
 ):
     """Write a parameter set to a TOML file (with its notes) to start your own vehicle from."""
+    from ._io import atomic_write, check_output
     from .params import load_vehicle, save_vehicle
 
-    if file.exists():
-        raise InputError("file exists; not overwriting it", where=str(file))
-    save_vehicle(load_vehicle(vehicle), file)
+    check_output(file, force=force, reads=[vehicle])
+    pset = load_vehicle(vehicle)
+    atomic_write(file, lambda tmp: save_vehicle(pset, tmp))
     _emit({"wrote": str(file)}, as_json, f"wrote {file}")
 
 
@@ -291,11 +330,15 @@ def log_convert(
     fmt: FormatOpt = "auto",
     sensor: SensorOpt = 1,
     rate: RateOpt = None,
+    force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
-    """Convert an IMU log to a plain CSV in SI units."""
+    """Convert an IMU log to a plain CSV in SI units (never onto the log itself)."""
+    from ._io import atomic_write, check_output
+
+    check_output(out, force=force, reads=[log])
     imu = _read(log, fmt, sensor, rate)
-    imu.data.to_csv(out, index=False)
+    atomic_write(out, lambda tmp: imu.data.to_csv(tmp, index=False))
     _emit({"wrote": str(out), "samples": len(imu.data)}, as_json, f"wrote {out} ({len(imu.data)} samples)")
 
 
@@ -314,6 +357,7 @@ def identify(
     sensor: SensorOpt = 1,
     rate: RateOpt = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Write the Fig. 2c-d style figure (PNG).")] = None,
+    force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
     """Suspension stiffness and damping from a speed-bump record (paper Eqs. 1-4).
@@ -325,6 +369,10 @@ def identify(
 
     if axis not in ("x", "y", "z"):
         raise InputError(f"expected x, y or z, got '{axis}'", where="--axis")
+    if plot is not None:
+        from ._io import check_output
+
+        check_output(plot, force=force, reads=[log])
     imu = _read(log, fmt, sensor, rate)
     result = identify_suspension(
         imu.data["time_s"].to_numpy(), imu.channel(f"a{axis}_mps2"), sprung_mass,
@@ -332,10 +380,9 @@ def identify(
     )
     data = result.to_dict() | {"file": str(log), "axis": axis}
     if plot is not None:
-        fig = result.plot()
-        fig.savefig(plot, dpi=120)
+        _save_figure(result.plot(), plot, dpi=120)
         data["plot"] = str(plot)
-    text = "\n".join(
+    text = lambda: "\n".join(  # noqa: E731 - formatted only when text is asked for
         [
             f"natural frequency  {data['natural_frequency_hz']:.3f} Hz",
             f"damping ratio      {data['damping_ratio']:.3f}   (log decrement {data['log_decrement']:.3f}, "
@@ -421,18 +468,43 @@ def manoeuvres_cmd(as_json: JsonOpt = False):
     _emit(kinds, as_json, "\n".join(lines))
 
 
+def _check_run_file(out: Path, force: bool, reads=()) -> None:
+    """A run file name (``.parquet`` or ``.csv``) and the ``.json`` beside it, checked before the run."""
+    from ._io import check_output
+
+    if out.suffix not in (".parquet", ".csv"):
+        raise InputError("expected a .parquet or .csv file name", where=str(out))
+    check_output(out, force=force, reads=reads)
+    check_output(out.with_suffix(".json"), force=force, reads=reads)
+
+
 def _write_run(result, out: Path, summary: dict) -> None:
+    from ._io import atomic_write
+
     frame = result.to_pandas().reset_index()
     if out.suffix == ".parquet":
-        frame.to_parquet(out, index=False)
-    elif out.suffix == ".csv":
-        frame.to_csv(out, index=False)
+        atomic_write(out, lambda tmp: frame.to_parquet(tmp, index=False))
     else:
-        raise InputError("expected a .parquet or .csv file name", where=str(out))
+        atomic_write(out, lambda tmp: frame.to_csv(tmp, index=False))
     meta = {k: v for k, v in result.meta.items() if k != "driver"} | {"summary": summary}
     if result.manoeuvre is not None:
         meta["manoeuvre_spec"] = result.manoeuvre.to_dict()
-    out.with_suffix(".json").write_text(json.dumps(meta, indent=2, default=_json_default), encoding="utf-8")
+    text = json.dumps(_finite(meta)[0], indent=2, default=_json_default, allow_nan=False)
+    atomic_write(out.with_suffix(".json"), lambda tmp: tmp.write_text(text, encoding="utf-8"))
+
+
+def _save_figure(fig, path: Path, dpi: int = 110) -> None:
+    """Save a matplotlib figure atomically and close it."""
+    import matplotlib.pyplot as plt
+
+    from ._io import atomic_write
+
+    try:
+        atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=path.suffix.lstrip(".").lower() or "png"))
+    except ValueError as exc:  # an unknown image format
+        raise InputError(f"cannot write this kind of figure: {exc}", where=str(path)) from None
+    finally:
+        plt.close(fig)
 
 
 @app.command("simulate")
@@ -447,6 +519,7 @@ def simulate_cmd(
                                                     "(same as -o steer_deg=...).")] = None,
     duration: Annotated[float | None, typer.Option("--duration", help="Simulated time [s] (default: the manoeuvre's).")] = None,
     out: Annotated[Path | None, typer.Option("--out", help="Write the run (.parquet or .csv; a .json summary beside it).")] = None,
+    force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
     """Drive a manoeuvre and report how it went over its judged window (cone strikes, RI, wheel loads, ...)."""
@@ -461,6 +534,8 @@ def simulate_cmd(
     if duration is not None and (not np.isfinite(duration) or duration <= 0):
         raise InputError(f"must be > 0 s, got {duration!r}", where="--duration")
     options = _manoeuvre_options(manoeuvre, option, radius_m=radius, steer_deg=steer_deg)
+    if out is not None:
+        _check_run_file(out, force, reads=[vehicle, manoeuvre, options.get("file")])
     pset = with_freight(load_vehicle(vehicle), payload)
     result = run(pset, manoeuvre, speed_kmh=speed, duration_s=duration, **options)
     data = summary(result) | {"vehicle": pset.name, "payload_kg": payload, "speed_kmh": speed}
@@ -479,8 +554,7 @@ def simulate_cmd(
     if out is not None:
         _write_run(result, out, data)
         data["out"] = str(out)
-    text = "\n".join(f"{k:<32} {v}" for k, v in data.items())
-    _emit(data, as_json, text)
+    _emit(data, as_json, lambda: "\n".join(f"{k:<32} {v}" for k, v in data.items()))
 
 
 @app.command("plot")
@@ -488,9 +562,14 @@ def plot_cmd(
     run: Annotated[Path, typer.Argument(help="A run file written by `trikedyn simulate --out`.")],
     out: Annotated[Path | None, typer.Option("--out", help="PNG to write (default: beside the run).")] = None,
     channels: Annotated[str, typer.Option(help="Comma-separated channels to plot.")] = "speed_mps,ay_mps2,yaw_rate_radps,ri,min_wheel_load_N",
+    force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
     """Time histories of a run (like the paper's Figs. 7-9)."""
+    from ._io import check_output
+
+    target = out or run.with_suffix(".png")
+    check_output(target, force=force, reads=[run])
     import matplotlib
 
     matplotlib.use("Agg")
@@ -513,8 +592,7 @@ def plot_cmd(
         ax.grid(alpha=0.3)
     np.atleast_1d(axes)[-1].set_xlabel("time [s]")
     fig.tight_layout()
-    target = out or run.with_suffix(".png")
-    fig.savefig(target, dpi=110)
+    _save_figure(fig, target, dpi=110)
     _emit({"wrote": str(target), "channels": names}, as_json, f"wrote {target}")
 
 
@@ -525,10 +603,16 @@ def compare_cmd(
     channels: Annotated[str, typer.Option(help="Channels to compare (the paper compares lateral acceleration and yaw rate).")] = "ay_mps2,wz_radps",
     max_offset: Annotated[float, typer.Option("--max-offset", help="Largest time offset searched [s].")] = 5.0,
     plot: Annotated[Path | None, typer.Option("--plot", help="Write measured over simulated (PNG), like Figs. 7-8.")] = None,
+    force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
     """Compare a measured log with a simulation: time offset by cross-correlation, RMSE, NRMSE, peak error."""
     from .analysis.compare import compare, load_table
+
+    if plot is not None:
+        from ._io import check_output
+
+        check_output(plot, force=force, reads=[log, run])
 
     measured = _imu_view(load_table(log)[0])
     simulated = _imu_view(load_table(run)[0])
@@ -539,7 +623,7 @@ def compare_cmd(
         import matplotlib
 
         matplotlib.use("Agg")
-        result.plot().savefig(plot, dpi=110)
+        _save_figure(result.plot(), plot, dpi=110)
         data["plot"] = str(plot)
     lines = [f"time offset {data['offset_s']:+.3f} s (measured time + offset = simulated time)"]
     for name, m in data["channels"].items():
@@ -596,6 +680,7 @@ def handling_cmd(
     payload: Annotated[float, typer.Option("--payload", help="The paper's freight aboard [kg].")] = 0.0,
     start_speed: Annotated[float, typer.Option("--start-speed", help="Speed at the start [km/h].")] = 15.0,
     plot: Annotated[Path | None, typer.Option("--plot", help="Write the handling diagram (PNG).")] = None,
+    force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
     """ISO 4138 steady-state circular driving: handling diagram, understeer, roll and sideslip gradients [deg/g]."""
@@ -607,8 +692,10 @@ def handling_cmd(
     for value, where in ((radius, "--radius"), (start_speed, "--start-speed")):
         if not np.isfinite(value) or value <= 0:
             raise InputError(f"must be > 0, got {value!r}", where=where)
-    if plot is not None and plot.exists():
-        raise InputError("file exists; not overwriting it", where=str(plot))
+    if plot is not None:
+        from ._io import check_output
+
+        check_output(plot, force=force, reads=[vehicle])
     pset = with_freight(load_vehicle(vehicle), payload)
     test = steady_state_test(pset, radius_m=radius, start_speed_kmh=start_speed)
     data = test.to_dict() | {"vehicle": pset.name, "payload_kg": payload}
@@ -616,9 +703,9 @@ def handling_cmd(
         import matplotlib
 
         matplotlib.use("Agg")
-        test.plot().savefig(plot, dpi=120)
+        _save_figure(test.plot(), plot, dpi=120)
         data["plot"] = str(plot)
-    text = "\n".join([
+    text = lambda: "\n".join([  # noqa: E731
         f"{pset.name}: ISO 4138 constant radius {radius:g} m",
         f"understeer gradient   {data['understeer_gradient_deg_per_g']:+.3f} deg/g",
         f"roll gradient         {data['roll_gradient_deg_per_g']:+.3f} deg/g",
@@ -635,9 +722,20 @@ def study_cmd(
     dask_local: Annotated[int | None, typer.Option("--dask-local", help="Run on a local Dask cluster of N workers.")] = None,
     scheduler: Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:port).")] = None,
     out: Annotated[Path, typer.Option("--out", help="Output folder (its store makes a re-run resume).")] = Path("study-output"),
+    dry_run: Annotated[bool, typer.Option("--dry-run", help="Check the spec and count its scenarios; run nothing.")] = False,
     as_json: JsonOpt = False,
 ):
     """Parametric study of the threshold velocity: parallel, resumable, CSV and Parquet tables."""
+    if dry_run:
+        from .study import expand, load_spec
+
+        loaded = load_spec(spec)
+        scenarios = expand(loaded)
+        data = {"study": loaded.name, "vehicle": loaded.vehicle, "manoeuvres": list(loaded.manoeuvres),
+                "scenarios": len(scenarios), "groups": [g.name for g in loaded.groups]}
+        _emit(data, as_json, lambda: (f"study '{loaded.name}': {len(scenarios)} scenarios on {loaded.vehicle} "
+                                      f"({', '.join(loaded.manoeuvres)}); nothing run"))
+        return
     from .study.runner import study_command
 
     study_command(spec, workers, dask_local, scheduler, out, as_json)
@@ -645,19 +743,22 @@ def study_cmd(
 
 @app.command("reproduce")
 def reproduce_cmd(
-    out: Annotated[Path, typer.Option("--out", help="Output folder (created; files in it are replaced).")] = Path(
+    out: Annotated[Path, typer.Option("--out", help="Output folder (created; a non-empty one needs --force).")] = Path(
         "trikedyn-output"
     ),
     no_figures: Annotated[bool, typer.Option("--no-figures", help="Skip the PNG figures and the report.")] = False,
     no_study: Annotated[bool, typer.Option("--no-study", help="Skip the parametric study (Fig. 10).")] = False,
     workers: Annotated[int | None, typer.Option("--workers", help="Processes for the study (default 2).")] = 2,
+    force: Annotated[bool, typer.Option("--force", help="Write into a folder that holds files (they are replaced).")] = False,
     as_json: JsonOpt = False,
 ):
     """The reference paper's workflow on the built-in reference vehicle: tables, figures, verdicts, report.html."""
+    from ._io import check_output_folder
     from .reproduce import reproduce
 
-    if out.exists() and not out.is_dir():
-        raise InputError("exists and is not a folder", where=str(out))
+    if workers is not None and not 1 <= workers <= 256:
+        raise InputError(f"expected 1 to 256 processes, got {workers}", where="--workers")
+    check_output_folder(out, force=force)
     summary = reproduce(out, figures=not no_figures, study=not no_study, workers=workers)
     text = "\n".join(
         [f"wrote {len(summary['files'])} files to {out}"]
@@ -676,6 +777,7 @@ def tilt_cmd(
         float | None, typer.Option("--require-deg", help="Required tilt angle \\[deg] (e.g. 35): pass or fail.")
     ] = None,
     plot: Annotated[Path | None, typer.Option("--plot", help="Write wheel loads \\[N] against table angle \\[deg] (PNG).")] = None,
+    force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
     """Tilt-table test: the table angle at which the first wheel lifts, on the compliant model."""
@@ -688,13 +790,18 @@ def tilt_cmd(
         raise InputError(f"must be >= 0 kg, got {payload!r}", where="--payload")
     if require_deg is not None and not (np.isfinite(require_deg) and 0.0 < require_deg < 90.0):
         raise InputError(f"expected an angle between 0 and 90 deg, got {require_deg!r}", where="--require-deg")
-    if plot is not None and plot.exists():
-        raise InputError("file exists; not overwriting it", where=str(plot))
+    if plot is not None:
+        from ._io import check_output
+
+        check_output(plot, force=force, reads=[vehicle])
     pset = with_freight(load_vehicle(vehicle), payload)
     result = tilt_table(pset, side=side, require_deg=require_deg)
     data = result.to_dict() | {"payload_kg": payload}
     if plot is not None:
-        result.plot().savefig(plot, dpi=110)
+        import matplotlib
+
+        matplotlib.use("Agg")
+        _save_figure(result.plot(), plot, dpi=110)
         data["plot"] = str(plot)
     lines = [
         f"tilt angle {result.tilt_angle_deg:.1f} deg ({result.side}; {result.first_lifting_wheel} lifts first); "
@@ -713,16 +820,69 @@ def tilt_cmd(
 
 
 # ------------------------------------------------------------------------------------------------
+def _fail(message: str, as_json: bool, where: str | None = None) -> int:
+    """One line on stderr (and, under --json, a JSON object on stdout); exit code 2."""
+    line = " ".join(message.split())
+    typer.echo(f"trikedyn: error: {line}", err=True)
+    if as_json:
+        typer.echo(json.dumps({"error": line, "where": where}, allow_nan=False))
+    return 2
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):  # noqa: ARG001
+    text = " ".join(str(message).split())
+    _WARNINGS.append(text)
+    typer.echo(f"trikedyn: warning: {category.__name__}: {text}", err=True)
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Entry point: runs the app; user mistakes -> one line on stderr and exit code 2."""
-    try:
-        app(args=argv, prog_name="trikedyn", standalone_mode=True)
-    except InputError as exc:
-        typer.echo(f"trikedyn: error: {exc}", err=True)
-        return 2
-    except SystemExit as exc:
-        return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
-    return 0
+    """Entry point: the one error boundary of the command line.
+
+    A user's mistake or environment (a bad file, field or value; a file that cannot be written; a
+    simulation that cannot start or that fails) prints one line ``trikedyn: error: WHERE: WHAT`` on stderr
+    and exits with code 2; with ``--json`` the same error is also a JSON object ``{"error", "where"}`` on
+    stdout. Warnings print as one line each. A genuine bug keeps its traceback (exit code 1).
+    """
+    import warnings
+
+    args = list(sys.argv[1:] if argv is None else argv)
+    as_json = "--json" in args
+    _WARNINGS.clear()
+    from .errors import SimulationError
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("default")
+        warnings.showwarning = _show_warning
+        try:
+            result = app(args=args, prog_name="trikedyn", standalone_mode=False)
+        except InputError as exc:
+            return _fail(str(exc), as_json, exc.where)
+        except SimulationError as exc:
+            return _fail(f"simulation: {exc}", as_json, "simulation")
+        except OSError as exc:
+            from ._io import describe_os_error
+
+            where = exc.filename if exc.filename is not None else "file system"
+            return _fail(f"{where}: {describe_os_error(exc)}", as_json, str(where))
+        except MemoryError:
+            return _fail("input: too large to process in memory", as_json, "input")
+        except KeyboardInterrupt:
+            typer.echo("trikedyn: interrupted", err=True)
+            return 130
+        except SystemExit as exc:
+            return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+        except Exception as exc:  # click's usage errors (unknown option, missing argument) and Exit
+            if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):
+                ctx = getattr(exc, "ctx", None)
+                where = ctx.command_path if ctx is not None else "trikedyn"
+                return _fail(f"{where}: {exc.format_message()}", as_json, where)
+            if type(exc).__name__ == "Abort":
+                typer.echo("trikedyn: aborted", err=True)
+                return 130
+            if hasattr(exc, "exit_code") and type(exc).__name__ == "Exit":
+                return int(exc.exit_code)
+            raise
+    return result if isinstance(result, int) else 0
 
 
 def _console():  # pragma: no cover - console-script shim

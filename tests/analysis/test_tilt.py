@@ -118,7 +118,7 @@ def test_tilt_command_text_plot_and_mistakes(capsys, tmp_path):
     assert out.startswith("tilt angle ") and "(right; rear_left lifts first); rigid " in out
     assert png.stat().st_size > 0
     assert main(["tilt", "reference-etrike", "--plot", str(png)]) == 2
-    assert "file exists; not overwriting it" in capsys.readouterr().err
+    assert "exists; not overwriting it (pass --force" in capsys.readouterr().err
     assert main(["tilt", "reference-etrike", "--side", "up"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("trikedyn: error: --side: ") and err.count("\n") == 1
