@@ -723,22 +723,26 @@ def study_cmd(
     scheduler: Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:port).")] = None,
     out: Annotated[Path, typer.Option("--out", help="Output folder (its store makes a re-run resume).")] = Path("study-output"),
     dry_run: Annotated[bool, typer.Option("--dry-run", help="Check the spec and count its scenarios; run nothing.")] = False,
+    max_scenarios: Annotated[int, typer.Option("--max-scenarios", help="Refuse a spec with more scenarios than this.")] = 10_000,
     as_json: JsonOpt = False,
 ):
     """Parametric study of the threshold velocity: parallel, resumable, CSV and Parquet tables."""
     if dry_run:
-        from .study import expand, load_spec
+        from .study import count_scenarios, load_spec
 
         loaded = load_spec(spec)
-        scenarios = expand(loaded)
+        count, exact = count_scenarios(loaded)
+        if count > max_scenarios:
+            raise InputError(f"the spec expands to {'up to ' if not exact else ''}{count:,} scenarios, more than the "
+                             f"limit {max_scenarios:,}; pass --max-scenarios {count} to run it", where=str(spec))
         data = {"study": loaded.name, "vehicle": loaded.vehicle, "manoeuvres": list(loaded.manoeuvres),
-                "scenarios": len(scenarios), "groups": [g.name for g in loaded.groups]}
-        _emit(data, as_json, lambda: (f"study '{loaded.name}': {len(scenarios)} scenarios on {loaded.vehicle} "
+                "scenarios": count, "exact": exact, "groups": [g.name for g in loaded.groups]}
+        _emit(data, as_json, lambda: (f"study '{loaded.name}': {count} scenarios on {loaded.vehicle} "
                                       f"({', '.join(loaded.manoeuvres)}); nothing run"))
         return
     from .study.runner import study_command
 
-    study_command(spec, workers, dask_local, scheduler, out, as_json)
+    study_command(spec, workers, dask_local, scheduler, out, as_json, max_scenarios=max_scenarios)
 
 
 @app.command("reproduce")

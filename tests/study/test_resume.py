@@ -111,6 +111,8 @@ def test_sigint_stops_cleanly_and_rerun_resumes(tmp_path, warm):
         assert store.runs()[0]["outcome"] == "interrupted"
     assert _group_gone(proc.pid)
     _resume_and_check(spec, out, before)
+    with StudyStore(out) as store:
+        assert [r["outcome"] for r in store.runs()] == ["interrupted", "completed"]  # said how it ended: kept
 
 
 def test_sigkill_leaves_a_consistent_store_and_rerun_resumes(tmp_path, warm):
@@ -133,4 +135,9 @@ def test_sigkill_leaves_a_consistent_store_and_rerun_resumes(tmp_path, warm):
     before = _stored(db)
     with StudyStore(out) as store:
         assert store.runs()[0]["outcome"] == "running"  # it never got to say how it ended
+    found_after = time.time()
     _resume_and_check(spec, out, before)
+    with StudyStore(out) as store:
+        killed, resumed = store.runs()
+    assert killed["outcome"] == "killed"  # the resume, holding the lock, found it dead
+    assert found_after <= killed["ended_at"] <= resumed["ended_at"]

@@ -19,6 +19,7 @@ __all__ = [
     "StudyInterrupted",
     "StudySpec",
     "StudyStore",
+    "count_scenarios",
     "expand",
     "list_specs",
     "load_spec",
@@ -31,6 +32,7 @@ __all__ = [
 
 _WHERE = {
     "StudySpec": "spec",
+    "count_scenarios": "spec",
     "expand": "spec",
     "list_specs": "spec",
     "load_spec": "spec",

@@ -1,11 +1,16 @@
 """Run a study: every scenario's threshold search, in parallel, into the resumable result store.
 
-Executors (the same function, the same results, to the last digit):
+Executors (:mod:`trikedyn.study.executors`; the same function, the same results, to the last digit):
 
 - a local process pool (default; ``workers`` processes, spawn context, which is safe with numba);
 - ``workers=0``: one scenario after the other in this process (debugging);
 - ``dask_local=N``: a ``dask.distributed.LocalCluster`` of N single-threaded worker processes;
 - ``scheduler="tcp://host:port"``: an existing Dask cluster (its workers need the same trikedyn).
+
+Bounded: before anything is expanded or written, the spec's scenarios are counted from its axis lengths
+(:func:`~trikedyn.study.spec.count_scenarios`); more than ``max_scenarios`` (10,000 by default; the
+paper's study has 50) is an :class:`~trikedyn.errors.InputError` naming the spec file, so a few lines of
+TOML with seven ten-value axes (10^7 scenarios) are refused at once instead of filling the memory.
 
 The main process keeps at most a few scenarios more in flight than there are workers, writes each result
 to the store as it completes (:mod:`trikedyn.study.store`) and shows a progress bar on stderr.
@@ -17,6 +22,9 @@ store consistent. Re-running the same spec into the same folder resumes: stored 
 recomputed. Pool workers ignore SIGINT (the main process decides) and exit on their own when the main
 process dies.
 
+Every run is recorded in the store's ``runs`` table; a run that dies without saying how it ended is marked
+``killed`` by the next run into the folder, and one ended by an exception ``failed``.
+
 A scenario that fails (any exception: an invalid override, a simulation error) is stored as a row with
 ``status = "error"`` and its error text, and the study goes on. A worker that dies (crash, out of memory)
 loses its scenario: it is not stored, the study finishes the others and raises :class:`StudyIncomplete`;
@@ -25,6 +33,7 @@ a re-run retries it.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
@@ -35,15 +44,21 @@ import time
 import traceback
 import uuid
 from collections import deque
-from concurrent.futures import FIRST_COMPLETED, CancelledError, Future
+from concurrent.futures import CancelledError
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError, TrikedynError
-from .spec import SCENARIO_KEYS, StudySpec, expand, load_spec
+from .executors import check_executor, make_executor
+from .executors import one_line as _one_line
+from .spec import SCENARIO_KEYS, StudySpec, count_scenarios, expand, load_spec
 from .store import RESULT_KEYS, StudyStore
 
-__all__ = ["StudyIncomplete", "StudyInterrupted", "main", "run_scenario", "run_study", "study_command"]
+__all__ = ["MAX_SCENARIOS", "StudyIncomplete", "StudyInterrupted", "main", "run_scenario", "run_study",
+           "study_command"]
+
+MAX_SCENARIOS = 10_000
+"""Default limit on a study's scenarios (:func:`run_study`'s ``max_scenarios``)."""
 
 
 class StudyInterrupted(KeyboardInterrupt):
@@ -71,10 +86,6 @@ class StudyIncomplete(TrikedynError):
 # ------------------------------------------------------------------------------------------------
 # one scenario
 # ------------------------------------------------------------------------------------------------
-def _one_line(exc: BaseException) -> str:
-    return f"{type(exc).__name__}: {' '.join(str(exc).split())}"
-
-
 def run_scenario(scenario: dict, vehicle=None, run_token: str | None = None) -> dict:
     """Compute one scenario's threshold velocity; never raises for the scenario's own failure.
 
@@ -124,170 +135,6 @@ def run_scenario(scenario: dict, vehicle=None, run_token: str | None = None) -> 
 
 
 # ------------------------------------------------------------------------------------------------
-# executors
-# ------------------------------------------------------------------------------------------------
-def _watch_parent(parent: int) -> None:
-    while True:
-        time.sleep(0.5)
-        if os.getppid() != parent:  # the main process died (SIGKILL): nobody will collect our work
-            os._exit(1)
-
-
-def _pool_worker_init() -> None:
-    """Pool worker start-up: ignore SIGINT (the main process decides), exit when the main process dies."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    threading.Thread(target=_watch_parent, args=(os.getppid(),), daemon=True).start()
-
-
-class _Inline:
-    """Scenarios one after the other in this process."""
-
-    label = "in-process (serial)"
-    window = 1
-
-    def close(self):
-        return None
-
-    def submit(self, fn, *args, key=None) -> Future:
-        fut: Future = Future()
-        fut.set_result(fn(*args))
-        return fut
-
-    def wait(self, futures, timeout):
-        return [f for f in futures if f.done()]
-
-    def result(self, fut):
-        return fut.result()
-
-    def cancel(self, fut) -> bool:
-        return False
-
-    def abandon(self):
-        return None
-
-
-class _Pool:
-    """A local ``ProcessPoolExecutor`` (spawn context)."""
-
-    def __init__(self, workers: int):
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
-
-        self.workers = workers
-        self.label = f"process pool ({workers} worker{'s' if workers != 1 else ''})"
-        self.window = workers + 1
-        self._pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
-                                         initializer=_pool_worker_init)
-
-    def close(self):
-        self._pool.shutdown(wait=True, cancel_futures=True)
-
-    def submit(self, fn, *args, key=None):
-        return self._pool.submit(fn, *args)
-
-    def wait(self, futures, timeout):
-        from concurrent.futures import wait
-
-        return wait(futures, timeout=timeout, return_when=FIRST_COMPLETED).done
-
-    def result(self, fut):
-        return fut.result()
-
-    def cancel(self, fut) -> bool:
-        return fut.cancel()
-
-    def abandon(self):
-        """Stop the workers now (a second Ctrl-C): the scenarios in flight are lost, nothing is stored."""
-        processes = list((getattr(self._pool, "_processes", None) or {}).values())
-        self._pool.shutdown(wait=False, cancel_futures=True)
-        for proc in processes:  # our own workers, by their handles
-            if proc.is_alive():
-                proc.terminate()
-        for proc in processes:
-            proc.join(timeout=2.0)
-
-
-class _Dask:
-    """A ``dask.distributed`` client: on a new ``LocalCluster`` or on an existing scheduler."""
-
-    def __init__(self, n_workers: int | None = None, scheduler: str | None = None):
-        try:
-            from dask.distributed import Client, LocalCluster
-        except ImportError:
-            raise InputError("needs dask: pip install 'trikedyn[dask]'",
-                             where="--scheduler" if scheduler else "--dask-local") from None
-        self._cluster = None
-        if scheduler is None:
-            self._cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                                         dashboard_address=None)
-            self._client = Client(self._cluster)
-            self.label = f"dask LocalCluster ({n_workers} worker{'s' if n_workers != 1 else ''})"
-        else:
-            try:
-                self._client = Client(scheduler, timeout="20s")
-            except (OSError, TimeoutError) as exc:
-                raise InputError(f"cannot connect to the Dask scheduler: {_one_line(exc)}", where=scheduler) from None
-            self.label = f"dask cluster at {scheduler}"
-        threads = sum(self._client.nthreads().values())
-        self.window = max(threads, 1) + 1
-
-    def close(self):
-        self._client.close()
-        if self._cluster is not None:
-            self._cluster.close()
-
-    def submit(self, fn, *args, key=None):
-        return self._client.submit(fn, *args, key=key, pure=False)
-
-    def wait(self, futures, timeout):
-        from dask.distributed import wait
-
-        try:
-            return wait(futures, timeout=timeout, return_when="FIRST_COMPLETED").done
-        except TimeoutError:
-            return [f for f in futures if f.done()]
-
-    def result(self, fut):
-        if fut.cancelled():
-            raise CancelledError()
-        return fut.result()
-
-    def cancel(self, fut) -> bool:
-        return False  # Dask does not say whether a task started: the few in flight are let finish
-
-    def abandon(self):
-        return None  # close() releases the tasks in flight
-
-
-def _check_executor(workers, dask_local, scheduler) -> None:
-    """At most one executor, and whole numbers of workers."""
-    chosen = [name for name, v in (("workers", workers), ("dask_local", dask_local), ("scheduler", scheduler))
-              if v is not None]
-    if len(chosen) > 1:
-        raise InputError(f"choose one executor, got {' and '.join(chosen)}", where="executor")
-    for name, value, least in (("workers", workers, 0), ("dask_local", dask_local, 1)):
-        if value is not None and (isinstance(value, bool) or int(value) != value or value < least):
-            raise InputError(f"expected a whole number of workers >= {least}, got {value!r}", where=name)
-
-
-def _executor(workers, dask_local, scheduler, n_todo: int):
-    _check_executor(workers, dask_local, scheduler)
-    if n_todo == 0:
-        idle = _Inline()
-        idle.label = "none (every scenario stored already)"
-        return idle
-    if scheduler is not None:
-        return _Dask(scheduler=scheduler)
-    if dask_local is not None:
-        return _Dask(n_workers=int(dask_local))
-    if workers is None:
-        workers = os.cpu_count() or 1
-    if workers == 0:
-        return _Inline()
-    return _Pool(min(int(workers), n_todo))
-
-
-# ------------------------------------------------------------------------------------------------
 # the loop
 # ------------------------------------------------------------------------------------------------
 class _StopSignal:
@@ -330,10 +177,32 @@ def _progress_bar(total: int, initial: int, progress: bool):
                 desc="study", dynamic_ncols=True)
 
 
-def _run(spec, out_dir, *, workers=None, dask_local=None, scheduler=None, progress=True) -> _Outcome:
+def _check_limit(max_scenarios) -> None:
+    if max_scenarios is None:
+        return
+    if isinstance(max_scenarios, bool) or not isinstance(max_scenarios, int | float) or max_scenarios < 1 \
+            or int(max_scenarios) != max_scenarios:
+        raise InputError(f"expected a whole number of scenarios >= 1, got {max_scenarios!r}", where="max_scenarios")
+
+
+def _check_size(spec: StudySpec, max_scenarios) -> None:
+    """Refuse a spec with more than ``max_scenarios`` scenarios, counted without expanding it."""
+    if max_scenarios is None:
+        return
+    n, exact = count_scenarios(spec)
+    if n > max_scenarios:
+        size = f"{n:,} scenarios" if exact else f"up to {n:,} scenarios"
+        raise InputError(f"the spec expands to {size}, more than the limit {int(max_scenarios):,}; "
+                         f"pass --max-scenarios {n} to run it", where=spec.origin)
+
+
+def _run(spec, out_dir, *, workers=None, dask_local=None, scheduler=None, progress=True,
+         max_scenarios=MAX_SCENARIOS) -> _Outcome:
     started = time.perf_counter()
-    _check_executor(workers, dask_local, scheduler)
+    check_executor(workers, dask_local, scheduler)
+    _check_limit(max_scenarios)
     spec = load_spec(spec)
+    _check_size(spec, max_scenarios)
     scenarios = expand(spec)
     order = [s["scenario_id"] for s in scenarios]
     token = uuid.uuid4().hex[:12]
@@ -345,7 +214,7 @@ def _run(spec, out_dir, *, workers=None, dask_local=None, scheduler=None, progre
         counts = {"computed": 0}
         lost: list[tuple[str, str]] = []
         outcome = "completed"
-        backend = _executor(workers, dask_local, scheduler, len(todo))
+        backend = make_executor(workers, dask_local, scheduler, len(todo))
         store.begin_run(token, len(todo), backend.label)
         bar = _progress_bar(len(scenarios), len(done), progress)
         stop = _StopSignal()
@@ -394,6 +263,10 @@ def _run(spec, out_dir, *, workers=None, dask_local=None, scheduler=None, progre
         except KeyboardInterrupt:  # a second signal: abandon the scenarios in flight
             backend.abandon()
             outcome = "interrupted"
+        except Exception:  # not the scenarios' own failures (those are rows): say so, then let it through
+            with contextlib.suppress(Exception):
+                store.end_run(token, "failed")
+            raise
         finally:
             bar.close()
             backend.close()
@@ -424,7 +297,8 @@ def _run(spec, out_dir, *, workers=None, dask_local=None, scheduler=None, progre
 
 
 def run_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers: int | None = None,
-              dask_local: int | None = None, scheduler: str | None = None, progress: bool = True):
+              dask_local: int | None = None, scheduler: str | None = None, progress: bool = True,
+              max_scenarios: int | None = MAX_SCENARIOS):
     """Run (or resume) a study into ``out_dir`` and return its results table.
 
     Parameters
@@ -442,6 +316,10 @@ def run_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers: int
         Run on an existing Dask cluster, e.g. ``"tcp://host:8786"``, instead.
     progress : bool
         Progress bar on stderr (only when stderr is a terminal).
+    max_scenarios : int or None
+        Refuse a spec with more scenarios than this (counted from its axes before anything is expanded or
+        written; an upper bound in the rare spec whose groups overlap too much to count exactly); None for
+        no limit.
 
     Returns
     -------
@@ -453,13 +331,16 @@ def run_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers: int
     Raises
     ------
     InputError
-        Bad spec, two executors chosen, the folder held by another study or another run.
+        Bad spec, more scenarios than ``max_scenarios``, two executors chosen, an output folder that cannot
+        be created or written, a symbolic link where the study keeps a file, the folder held by another
+        study or another run.
     StudyInterrupted
         SIGINT/SIGTERM: the finished scenarios are stored; re-run to resume.
     StudyIncomplete
         Workers died; the other scenarios are stored; re-run to retry the lost ones.
     """
-    outcome = _run(spec, out_dir, workers=workers, dask_local=dask_local, scheduler=scheduler, progress=progress)
+    outcome = _run(spec, out_dir, workers=workers, dask_local=dask_local, scheduler=scheduler, progress=progress,
+                   max_scenarios=max_scenarios)
     _raise_unfinished(outcome)
     return outcome.frame
 
@@ -490,7 +371,8 @@ def _summary_text(s: dict) -> str:
     return "\n".join(lines)
 
 
-def study_command(spec_path, workers=None, dask_local=None, scheduler=None, out=None, as_json=False) -> dict:
+def study_command(spec_path, workers=None, dask_local=None, scheduler=None, out=None, as_json=False,
+                  max_scenarios: int | None = MAX_SCENARIOS) -> dict:
     """The ``trikedyn study`` command: run or resume a study and print a summary.
 
     Parameters
@@ -504,6 +386,8 @@ def study_command(spec_path, workers=None, dask_local=None, scheduler=None, out=
     as_json : bool
         Print JSON (``study``, ``out``, ``scenarios`` {total, done, failed, computed, skipped, lost},
         ``wall_time_s``, ``table``, ...) instead of text.
+    max_scenarios : int or None
+        ``--max-scenarios``: refuse a spec with more scenarios (see :func:`run_study`); None for no limit.
 
     Returns
     -------
@@ -513,7 +397,8 @@ def study_command(spec_path, workers=None, dask_local=None, scheduler=None, out=
     """
     spec = load_spec(spec_path)
     out = Path(out) if out is not None else Path(f"study-{spec.name}")
-    outcome = _run(spec, out, workers=workers, dask_local=dask_local, scheduler=scheduler, progress=True)
+    outcome = _run(spec, out, workers=workers, dask_local=dask_local, scheduler=scheduler, progress=True,
+                   max_scenarios=max_scenarios)
     summary = outcome.summary
     print(json.dumps(summary, indent=2) if as_json else _summary_text(summary), flush=True)
     try:
@@ -528,7 +413,8 @@ def study_command(spec_path, workers=None, dask_local=None, scheduler=None, out=
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m trikedyn.study.runner SPEC [--out DIR] [--workers N | --dask-local N | --scheduler URL]``."""
+    """``python -m trikedyn.study.runner SPEC [--out DIR] [--workers N | --dask-local N | --scheduler URL]
+    [--max-scenarios N]``."""
     import argparse
 
     parser = argparse.ArgumentParser(prog="python -m trikedyn.study.runner", description="Run or resume a study.")
@@ -537,10 +423,13 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--workers", type=int, default=None, help="local processes (0: in this process)")
     parser.add_argument("--dask-local", type=int, default=None, help="workers of a new Dask LocalCluster")
     parser.add_argument("--scheduler", default=None, help="address of an existing Dask scheduler")
+    parser.add_argument("--max-scenarios", type=int, default=MAX_SCENARIOS,
+                        help=f"refuse a spec with more scenarios than this (default {MAX_SCENARIOS})")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON")
     args = parser.parse_args(argv)
     try:
-        study_command(args.spec, args.workers, args.dask_local, args.scheduler, args.out, args.json)
+        study_command(args.spec, args.workers, args.dask_local, args.scheduler, args.out, args.json,
+                      max_scenarios=args.max_scenarios)
     except InputError as exc:
         print(f"trikedyn: error: {exc}", file=sys.stderr)
         return 2

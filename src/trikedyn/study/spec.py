@@ -23,7 +23,9 @@ scales, overrides, search settings). The id is what the result store is keyed by
 spec finds its finished scenarios, and a changed vehicle file gives new ids instead of stale results.
 
 :func:`load_spec` does the I/O (reads the file, loads the vehicle once to check override paths and to
-digest it); :func:`expand` is a pure function of the loaded spec.
+digest it); :func:`expand` is a pure function of the loaded spec. :func:`count_scenarios` counts what
+:func:`expand` would give without building it, so that a run can refuse a spec that expands to millions
+of scenarios (a few lines of TOML can) before it spends the memory.
 """
 
 from __future__ import annotations
@@ -48,6 +50,7 @@ __all__ = [
     "GroupSpec",
     "StudySpec",
     "canonical_json",
+    "count_scenarios",
     "expand",
     "list_specs",
     "load_spec",
@@ -103,6 +106,9 @@ class _Group(_Model):
         for key, axis in values.items():
             if not axis:
                 raise ValueError(f"override '{key}' needs at least one value")
+            for v in axis:
+                if isinstance(v, float) and not math.isfinite(v):  # a scenario id is JSON: no nan or inf
+                    raise ValueError(f"override '{key}': values must be finite, got {v!r}")
         return values
 
 
@@ -426,3 +432,62 @@ def expand(spec: StudySpec) -> list[dict]:
                 scenario["scenario_id"] = sid
                 by_id[sid] = scenario
     return list(by_id.values())
+
+
+def _distinct(values) -> frozenset[str]:
+    """The distinct values of an axis, as a scenario id sees them (their JSON: 1.0 and True differ)."""
+    return frozenset(json.dumps(v) for v in values)
+
+
+def count_scenarios(spec: StudySpec) -> tuple[int, bool]:
+    """How many scenarios :func:`expand` gives, computed from the axis lengths, without expanding.
+
+    Each group is a grid (a box): stiffness x damping x one axis per override path. Values repeated in an
+    axis count once, and a scenario in the grids of several groups (same override paths, same values)
+    counts once, by inclusion-exclusion over the groups that share their override paths; subsets of groups
+    whose grids do not meet are pruned, so this is cheap for any spec written by hand. Past
+    ``2**16`` overlapping subsets it stops and returns the sum of the group grids instead, an upper bound.
+    Manoeuvres and freight multiply every group alike.
+
+    Returns
+    -------
+    (int, bool)
+        The number of scenarios, and whether it is exact (``len(expand(spec))``) or an upper bound.
+    """
+    families: dict[tuple[str, ...], list[tuple[frozenset[str], ...]]] = {}
+    for group in spec.groups:
+        axes = dict(group.overrides)
+        paths = tuple(sorted(axes))
+        box = (_distinct(group.stiffness_scale), _distinct(group.damping_scale),
+               *(_distinct(axes[p]) for p in paths))
+        families.setdefault(paths, []).append(box)
+    common = len(_distinct(spec.manoeuvres)) * len(_distinct(spec.freight_kg))
+    exact = True
+    union = 0
+    for boxes in families.values():
+        n, family_exact = _union_size(boxes)
+        union += n
+        exact = exact and family_exact
+    return common * union, exact
+
+
+def _union_size(boxes: list[tuple[frozenset[str], ...]], budget: int = 2**16) -> tuple[int, bool]:
+    """Points in the union of grids (each a tuple of per-axis value sets): (count, exact)."""
+    boxes = list(dict.fromkeys(boxes))  # groups with the same grid (under other names) count once
+    upper = sum(math.prod(len(axis) for axis in box) for box in boxes)
+    if len(boxes) == 1:
+        return upper, True
+    total = 0
+    steps = 0
+    stack = [(i, boxes[i], 1) for i in range(len(boxes))]  # (last box index, intersection, subset size)
+    while stack:
+        last, meet, size = stack.pop()
+        steps += 1
+        if steps > budget:
+            return upper, False
+        total += math.prod(len(axis) for axis in meet) * (1 if size % 2 else -1)
+        for j in range(last + 1, len(boxes)):
+            nxt = tuple(a & b for a, b in zip(meet, boxes[j], strict=True))
+            if all(nxt):
+                stack.append((j, nxt, size + 1))
+    return total, True

@@ -11,11 +11,19 @@ Guarantees
 - **Single writer**: only the main process of a run writes (the workers return rows to it). A run holds an
   exclusive lock on ``study.lock`` (``fcntl.flock``, released by the OS even on SIGKILL), so two runs cannot
   write into the same folder at once.
+- **No run stays "running"**: a run that dies without recording how it ended (SIGKILL, a crash, a power cut)
+  is marked ``killed`` by the next run to take the lock: holding the lock proves that no earlier run's
+  process is still alive. Its ``ended_at`` is then the time it was found so, not the time it died.
 - **Resumable**: a re-run asks :meth:`StudyStore.done_ids` and computes only what is missing.
 - **Reproducible exports**: :meth:`StudyStore.export` writes ``results.csv`` and ``results.parquet`` sorted in
   the spec's scenario order and with the deterministic columns only (no wall times, pids or timestamps), so
   two runs of a spec, in any order, on any executor, give byte-identical files. Files are written to a
-  temporary name and renamed, so a kill never leaves a half-written export.
+  temporary name and renamed (:func:`trikedyn.study.files.atomic_write`), so a kill never leaves a
+  half-written export (a kill between the two files can leave a new CSV beside the previous Parquet file;
+  the next run, which finds every scenario stored, writes both again).
+- **No planted links**: the store, its ``-wal``/``-shm``/``-journal`` files, the lock and the exports are
+  never written through a symbolic link (:class:`~trikedyn.errors.InputError` naming the file). An output
+  folder that cannot be created or written is an ``InputError`` naming it, not a traceback.
 
 Tables
 ------
@@ -23,13 +31,17 @@ Tables
 (``"ok"`` or ``"error"``), ``result`` (JSON: :meth:`ThresholdResult.to_dict`, null on error), ``error``
 (one line, null when ok), ``traceback``, ``wall_time_s`` [s], ``worker`` (host:pid), ``run_token`` (the run
 that computed it) and ``finished_at`` [s since the epoch].
-``runs``: one row per run (token, pid, executor, planned scenarios, start/end, how it ended).
+``runs``: one row per run: ``run_token``, ``pid``, ``host``, ``executor``, ``planned`` (scenarios it set
+out to compute), ``started_at``, ``ended_at`` [s since the epoch] and ``outcome``: ``running``,
+``completed``, ``interrupted`` (SIGINT/SIGTERM), ``incomplete`` (workers lost), ``failed`` (an exception
+ended it) or ``killed`` (it died without saying; found so by a later run).
 ``meta``: the study name and the schema version.
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import json
 import os
 import socket
@@ -38,11 +50,15 @@ import time
 from pathlib import Path
 
 from ..errors import InputError
+from .files import atomic_write, ensure_folder, open_nofollow, refuse_symlink
 
 __all__ = ["DB_NAME", "EXPORT_COLUMNS", "RESULT_KEYS", "StudyStore"]
 
 DB_NAME = "study.sqlite"
 LOCK_NAME = "study.lock"
+DB_COMPANIONS = ("-wal", "-shm", "-journal")
+"""Files SQLite keeps beside the database (``study.sqlite-wal``, ...)."""
+EXPORT_NAMES = {"csv": "results.csv", "parquet": "results.parquet"}
 SCHEMA_VERSION = "1"
 
 SCENARIO_COLUMNS = ("scenario_id", "groups", "vehicle", "manoeuvre", "freight_kg", "stiffness_scale",
@@ -96,16 +112,50 @@ class StudyStore:
     study : str, optional
         The study's name. A folder that holds another study's results is refused (``InputError``).
     lock : bool
-        Take the folder's writer lock (a run does; a reader need not).
+        Take the folder's writer lock (a run does; a reader need not). Taking it also marks the runs
+        that are still ``running`` as ``killed`` (see :attr:`found_killed`) and checks that no export
+        file is a symbolic link.
+
+    Attributes
+    ----------
+    found_killed : list of str
+        Tokens of the earlier runs found still ``running`` when the lock was taken, now ``killed``.
+
+    Raises
+    ------
+    InputError
+        The folder cannot be created or written (naming it); the lock, the store or an export file is a
+        symbolic link (naming it); the store is not a study store; another run holds the lock; the folder
+        holds another study.
     """
 
     def __init__(self, folder: str | Path, study: str | None = None, *, lock: bool = False):
-        self.folder = Path(folder)
-        if self.folder.exists() and not self.folder.is_dir():
-            raise InputError("exists and is not a folder", where=str(self.folder))
-        self.folder.mkdir(parents=True, exist_ok=True)
+        self._conn = None
+        self._lock_fd = None
+        self.found_killed: list[str] = []
+        self.folder = ensure_folder(folder)
         self.path = self.folder / DB_NAME
-        self._lock_fh = self._take_lock() if lock else None
+        try:
+            self._lock_fd = self._take_lock() if lock else None
+            for name in (DB_NAME, *(DB_NAME + suffix for suffix in DB_COMPANIONS)):
+                refuse_symlink(self.folder / name)
+            if lock:
+                for name in EXPORT_NAMES.values():
+                    refuse_symlink(self.folder / name)
+            self._open_database(study)
+            stored = self.meta().get("study")
+            if study is not None and stored != study:
+                raise InputError(f"holds the results of study '{stored}', not '{study}'; use another folder",
+                                 where=str(self.folder))
+            if self._lock_fd is not None:
+                self.found_killed = self._mark_killed_runs()
+        except BaseException:
+            self.close()
+            raise
+
+    # -- plumbing ---------------------------------------------------------------------------------
+    def _open_database(self, study: str | None) -> None:
+        """Connect (WAL, synchronous=FULL), create the tables, record the schema version and the study."""
         try:
             self._conn = sqlite3.connect(self.path, isolation_level=None, timeout=30.0)
             self._conn.execute("PRAGMA journal_mode=WAL")
@@ -117,28 +167,36 @@ class StudyStore:
                 self._conn.execute("INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)", (SCHEMA_VERSION,))
                 if study is not None:
                     self._conn.execute("INSERT OR IGNORE INTO meta VALUES ('study', ?)", (study,))
-            stored = self.meta().get("study")
-            if study is not None and stored != study:
-                raise InputError(f"holds the results of study '{stored}', not '{study}'; use another folder",
-                                 where=str(self.folder))
-        except BaseException:
-            self.close()
-            raise
+        except sqlite3.DatabaseError as exc:  # unwritable folder or file, not a database, a folder by that name
+            raise InputError(f"cannot open the study store ({exc})", where=str(self.path)) from None
 
-    # -- plumbing ---------------------------------------------------------------------------------
-    def _take_lock(self):
+    def _take_lock(self) -> int | None:
         try:
             import fcntl
         except ImportError:  # pragma: no cover - not POSIX: no cross-process lock
             return None
-        fh = open(self.folder / LOCK_NAME, "a+")  # noqa: SIM115 - held for the store's lifetime
+        fd = open_nofollow(self.folder / LOCK_NAME)  # held for the store's lifetime
         try:
-            fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            fh.close()
-            raise InputError("another study run is writing into this folder; wait for it or use another folder",
-                             where=str(self.folder)) from None
-        return fh
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as exc:
+            os.close(fd)
+            if exc.errno in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
+                raise InputError("another study run is writing into this folder; wait for it or use another "
+                                 "folder", where=str(self.folder)) from None
+            raise InputError(f"cannot lock ({exc.strerror or exc})", where=str(self.folder / LOCK_NAME)) from None
+        return fd
+
+    def _mark_killed_runs(self) -> list[str]:
+        """Mark the runs still ``running`` as ``killed``, ended now; their tokens.
+
+        Called with the folder's lock held: every run holds that lock from before it records its start
+        until after it records its end, and the OS releases it when its process dies, so a run still
+        ``running`` now is one whose process is gone (pid and host are not checked: pids are reused).
+        """
+        with self._transaction() as c:
+            tokens = [r[0] for r in c.execute("SELECT run_token FROM runs WHERE outcome = 'running'")]
+            c.execute("UPDATE runs SET outcome = 'killed', ended_at = ? WHERE outcome = 'running'", (time.time(),))
+        return tokens
 
     @contextlib.contextmanager
     def _transaction(self):
@@ -157,9 +215,9 @@ class StudyStore:
         if conn is not None:
             conn.close()
             self._conn = None
-        if getattr(self, "_lock_fh", None) is not None:
-            self._lock_fh.close()
-            self._lock_fh = None
+        if getattr(self, "_lock_fd", None) is not None:
+            os.close(self._lock_fd)
+            self._lock_fd = None
 
     def __enter__(self) -> StudyStore:
         return self
@@ -214,7 +272,7 @@ class StudyStore:
                       (token, os.getpid(), socket.gethostname(), executor, planned, time.time()))
 
     def end_run(self, token: str, outcome: str) -> None:
-        """Record how a run ended: ``"completed"``, ``"interrupted"`` or ``"incomplete"``."""
+        """Record how a run ended: ``"completed"``, ``"interrupted"``, ``"incomplete"`` or ``"failed"``."""
         with self._transaction() as c:
             c.execute("UPDATE runs SET ended_at = ?, outcome = ? WHERE run_token = ?", (time.time(), outcome, token))
 
@@ -293,20 +351,23 @@ class StudyStore:
         return frame
 
     def export(self, order: list[str], folder: str | Path | None = None) -> dict[str, Path]:
-        """Write ``results.csv`` and ``results.parquet`` (spec order, deterministic columns only).
+        """Write ``results.csv`` and ``results.parquet`` (spec order, deterministic columns only), each
+        atomically (a temporary file in the same folder, renamed into place).
 
         Returns
         -------
         dict
             ``{"csv": path, "parquet": path}``.
+
+        Raises
+        ------
+        InputError
+            An export file is a symbolic link, or the folder cannot be written (naming it); the previous
+            files are then left as they were.
         """
-        folder = Path(folder) if folder is not None else self.folder
+        folder = ensure_folder(folder) if folder is not None else self.folder
+        out = {kind: refuse_symlink(folder / name) for kind, name in EXPORT_NAMES.items()}
         frame = self.to_pandas(order)
-        out = {"csv": folder / "results.csv", "parquet": folder / "results.parquet"}
-        tmp_csv = out["csv"].with_name(f".{out['csv'].name}.{os.getpid()}.tmp")
-        tmp_pq = out["parquet"].with_name(f".{out['parquet'].name}.{os.getpid()}.tmp")
-        frame.to_csv(tmp_csv, index=False, lineterminator="\n")
-        frame.to_parquet(tmp_pq, index=False)
-        os.replace(tmp_csv, out["csv"])
-        os.replace(tmp_pq, out["parquet"])
+        atomic_write(out["csv"], lambda fh: frame.to_csv(fh, index=False, lineterminator="\n"), binary=False)
+        atomic_write(out["parquet"], lambda fh: frame.to_parquet(fh, index=False))
         return out

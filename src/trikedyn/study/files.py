@@ -1,0 +1,182 @@
+"""The study's output folder on disk: create it, refuse planted symbolic links, write tables atomically.
+
+Everything a study run puts into its output folder goes through here:
+
+- :func:`ensure_folder` creates the folder; a path that cannot be a writable folder (its parent is a
+  file, no permission, a read-only file system) is an :class:`~trikedyn.errors.InputError` naming it;
+- :func:`refuse_symlink` refuses a symbolic link planted where the study keeps its lock, store or result
+  tables (``out/results.csv -> ~/.bashrc``): the study never writes through one. The output folder itself
+  may be a link; only the files in it are checked;
+- :func:`atomic_write` writes a file to a fresh temporary name in the same folder (created exclusively,
+  never through a link), flushes it to disk and renames it into place (``os.replace``): an interrupted
+  write leaves the old file (or none) and no temporary file, never half a file.
+
+The SQLite store (``study.sqlite``) has its own crash safety (:mod:`trikedyn.study.store`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import os
+import secrets
+from collections.abc import Callable
+from pathlib import Path
+from typing import IO
+
+from ..errors import InputError
+
+__all__ = ["atomic_write", "describe_os_error", "ensure_folder", "open_nofollow", "refuse_symlink"]
+
+
+def describe_os_error(exc: OSError) -> str:
+    """One line for a file-system error: its reason without the errno noise (``permission denied``)."""
+    reason = exc.strerror or type(exc).__name__
+    return reason[0].lower() + reason[1:]
+
+
+def refuse_symlink(path: str | os.PathLike) -> Path:
+    """``path``, after checking that it is not a symbolic link (a missing file is fine).
+
+    Raises
+    ------
+    InputError
+        ``path`` is a symbolic link (dangling or not).
+    """
+    path = Path(path)
+    if path.is_symlink():
+        raise InputError("is a symbolic link; not following it (remove it, or use another --out folder)",
+                         where=str(path))
+    return path
+
+
+def _blocking_ancestor(folder: Path) -> Path | None:
+    """The nearest existing ancestor of ``folder`` (or itself) that is not a folder, if any."""
+    try:
+        for candidate in (folder, *folder.parents):
+            if candidate.exists() or candidate.is_symlink():
+                return None if candidate.is_dir() else candidate
+    except OSError:  # a parent we may not look into: mkdir says why
+        return None
+    return None
+
+
+def ensure_folder(folder: str | os.PathLike) -> Path:
+    """Create ``folder`` (and its parents) if missing.
+
+    Raises
+    ------
+    InputError
+        Naming the folder: it, or one of its parents, is a file; it cannot be created (no permission, a
+        read-only file system, ...); it exists but this user may not write into it.
+    """
+    folder = Path(folder)
+    where = str(folder)
+    blocker = _blocking_ancestor(folder)
+    if blocker is not None:
+        what = "exists and is not a folder" if blocker == folder else f"cannot be created: '{blocker}' is not a folder"
+        raise InputError(what, where=where)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:  # PermissionError, read-only file system, a race with another process, ...
+        raise InputError(f"cannot create this folder ({describe_os_error(exc)})", where=where) from None
+    if not folder.is_dir():  # a dangling symbolic link, or a file made meanwhile
+        raise InputError("exists and is not a folder", where=where)
+    if not os.access(folder, os.W_OK | os.X_OK):  # root passes, unless the file system is read-only
+        raise InputError(f"cannot write into this folder ({_why_not_writable(folder)})", where=where)
+    return folder
+
+
+def _why_not_writable(folder: Path) -> str:
+    with contextlib.suppress(OSError, AttributeError):
+        if os.statvfs(folder).f_flag & os.ST_RDONLY:
+            return "read-only file system"
+    return "permission denied"
+
+
+def open_nofollow(path: str | os.PathLike) -> int:
+    """Open (create if missing) ``path`` for reading and writing without following a symbolic link.
+
+    Returns
+    -------
+    int
+        The file descriptor (the caller closes it).
+
+    Raises
+    ------
+    InputError
+        ``path`` is a symbolic link, or cannot be opened (naming it, with the reason).
+    """
+    path = refuse_symlink(path)
+    flags = os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0)
+    try:
+        return os.open(path, flags, 0o666)
+    except OSError as exc:
+        if path.is_symlink():  # planted between the check and the open: O_NOFOLLOW refused it
+            refuse_symlink(path)
+        raise InputError(f"cannot open ({describe_os_error(exc)})", where=str(path)) from None
+
+
+def _fsync_folder(folder: Path) -> None:
+    with contextlib.suppress(OSError):  # not every file system lets a folder be opened or synced
+        fd = os.open(folder, os.O_RDONLY)
+        try:
+            os.fsync(fd)
+        finally:
+            os.close(fd)
+
+
+def _create_temporary(path: Path) -> tuple[int, Path]:
+    """A new file ``.<name>.<random>.tmp`` next to ``path``: created exclusively (never an existing file or a
+    link), with the permissions a plain ``open`` would give (0o666 less the umask; ``mkstemp`` gives 0o600)."""
+    flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_CLOEXEC", 0)
+    for _ in range(100):
+        tmp = path.with_name(f".{path.name}.{secrets.token_hex(6)}.tmp")
+        try:
+            return os.open(tmp, flags, 0o666), tmp
+        except FileExistsError:
+            continue
+    raise FileExistsError(errno.EEXIST, "no free temporary file name", str(path))
+
+
+def atomic_write(path: str | os.PathLike, write: Callable[[IO], object], *, binary: bool = True) -> Path:
+    """Write ``path`` atomically: ``write(fh)`` fills a temporary file in the same folder, then it is renamed.
+
+    Parameters
+    ----------
+    path : path
+        The file to (re)place. A symbolic link there is refused, not followed.
+    write : callable
+        Called with the open temporary file (binary, or UTF-8 text with ``newline=""`` if ``binary`` is
+        False); it writes the whole content.
+    binary : bool
+        Binary or text file.
+
+    Raises
+    ------
+    InputError
+        ``path`` is a symbolic link, or the file system refuses the write (naming ``path``, with the
+        reason). Whatever ``write`` raises otherwise propagates. In every case the old file is left as it
+        was and the temporary file is removed.
+    """
+    path = refuse_symlink(path)
+    folder = path.parent
+    try:
+        fd, tmp = _create_temporary(path)
+    except OSError as exc:
+        raise InputError(f"cannot write ({describe_os_error(exc)})", where=str(path)) from None
+    try:
+        with os.fdopen(fd, "wb") if binary else os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+            write(fh)
+            fh.flush()
+            os.fsync(fh.fileno())
+        refuse_symlink(path)  # planted while we wrote: os.replace would not follow it, but say so
+        os.replace(tmp, path)
+    except BaseException as exc:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        if isinstance(exc, OSError):
+            raise InputError(f"cannot write ({describe_os_error(exc)})", where=str(path)) from None
+        raise
+    _fsync_folder(folder)
+    return path
