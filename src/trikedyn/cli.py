@@ -175,12 +175,12 @@ def vehicle_export(
     as_json: JsonOpt = False,
 ):
     """Write a parameter set to a TOML file (with its notes) to start your own vehicle from."""
-    from ._io import atomic_write, check_output
+    from ._files import atomic_write_path, check_output
     from .params import load_vehicle, save_vehicle
 
     check_output(file, force=force, reads=[vehicle])
     pset = load_vehicle(vehicle)
-    atomic_write(file, lambda tmp: save_vehicle(pset, tmp))
+    atomic_write_path(file, lambda tmp: save_vehicle(pset, tmp))
     _emit({"wrote": str(file)}, as_json, f"wrote {file}")
 
 
@@ -334,11 +334,11 @@ def log_convert(
     as_json: JsonOpt = False,
 ):
     """Convert an IMU log to a plain CSV in SI units (never onto the log itself)."""
-    from ._io import atomic_write, check_output
+    from ._files import atomic_write_path, check_output
 
     check_output(out, force=force, reads=[log])
     imu = _read(log, fmt, sensor, rate)
-    atomic_write(out, lambda tmp: imu.data.to_csv(tmp, index=False))
+    atomic_write_path(out, lambda tmp: imu.data.to_csv(tmp, index=False))
     _emit({"wrote": str(out), "samples": len(imu.data)}, as_json, f"wrote {out} ({len(imu.data)} samples)")
 
 
@@ -370,7 +370,7 @@ def identify(
     if axis not in ("x", "y", "z"):
         raise InputError(f"expected x, y or z, got '{axis}'", where="--axis")
     if plot is not None:
-        from ._io import check_output
+        from ._files import check_output
 
         check_output(plot, force=force, reads=[log])
     imu = _read(log, fmt, sensor, rate)
@@ -470,7 +470,7 @@ def manoeuvres_cmd(as_json: JsonOpt = False):
 
 def _check_run_file(out: Path, force: bool, reads=()) -> None:
     """A run file name (``.parquet`` or ``.csv``) and the ``.json`` beside it, checked before the run."""
-    from ._io import check_output
+    from ._files import check_output
 
     if out.suffix not in (".parquet", ".csv"):
         raise InputError("expected a .parquet or .csv file name", where=str(out))
@@ -479,28 +479,28 @@ def _check_run_file(out: Path, force: bool, reads=()) -> None:
 
 
 def _write_run(result, out: Path, summary: dict) -> None:
-    from ._io import atomic_write
+    from ._files import atomic_write_path
 
     frame = result.to_pandas().reset_index()
     if out.suffix == ".parquet":
-        atomic_write(out, lambda tmp: frame.to_parquet(tmp, index=False))
+        atomic_write_path(out, lambda tmp: frame.to_parquet(tmp, index=False))
     else:
-        atomic_write(out, lambda tmp: frame.to_csv(tmp, index=False))
+        atomic_write_path(out, lambda tmp: frame.to_csv(tmp, index=False))
     meta = {k: v for k, v in result.meta.items() if k != "driver"} | {"summary": summary}
     if result.manoeuvre is not None:
         meta["manoeuvre_spec"] = result.manoeuvre.to_dict()
     text = json.dumps(_finite(meta)[0], indent=2, default=_json_default, allow_nan=False)
-    atomic_write(out.with_suffix(".json"), lambda tmp: tmp.write_text(text, encoding="utf-8"))
+    atomic_write_path(out.with_suffix(".json"), lambda tmp: tmp.write_text(text, encoding="utf-8"))
 
 
 def _save_figure(fig, path: Path, dpi: int = 110) -> None:
     """Save a matplotlib figure atomically and close it."""
     import matplotlib.pyplot as plt
 
-    from ._io import atomic_write
+    from ._files import atomic_write_path
 
     try:
-        atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=path.suffix.lstrip(".").lower() or "png"))
+        atomic_write_path(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=path.suffix.lstrip(".").lower() or "png"))
     except ValueError as exc:  # an unknown image format
         raise InputError(f"cannot write this kind of figure: {exc}", where=str(path)) from None
     finally:
@@ -566,7 +566,7 @@ def plot_cmd(
     as_json: JsonOpt = False,
 ):
     """Time histories of a run (like the paper's Figs. 7-9)."""
-    from ._io import check_output
+    from ._files import check_output
 
     target = out or run.with_suffix(".png")
     check_output(target, force=force, reads=[run])
@@ -610,7 +610,7 @@ def compare_cmd(
     from .analysis.compare import compare, load_table
 
     if plot is not None:
-        from ._io import check_output
+        from ._files import check_output
 
         check_output(plot, force=force, reads=[log, run])
 
@@ -693,7 +693,7 @@ def handling_cmd(
         if not np.isfinite(value) or value <= 0:
             raise InputError(f"must be > 0, got {value!r}", where=where)
     if plot is not None:
-        from ._io import check_output
+        from ._files import check_output
 
         check_output(plot, force=force, reads=[vehicle])
     pset = with_freight(load_vehicle(vehicle), payload)
@@ -757,7 +757,7 @@ def reproduce_cmd(
     as_json: JsonOpt = False,
 ):
     """The reference paper's workflow on the built-in reference vehicle: tables, figures, verdicts, report.html."""
-    from ._io import check_output_folder
+    from ._files import check_output_folder
     from .reproduce import reproduce
 
     if workers is not None and not 1 <= workers <= 256:
@@ -795,7 +795,7 @@ def tilt_cmd(
     if require_deg is not None and not (np.isfinite(require_deg) and 0.0 < require_deg < 90.0):
         raise InputError(f"expected an angle between 0 and 90 deg, got {require_deg!r}", where="--require-deg")
     if plot is not None:
-        from ._io import check_output
+        from ._files import check_output
 
         check_output(plot, force=force, reads=[vehicle])
     pset = with_freight(load_vehicle(vehicle), payload)
@@ -864,7 +864,7 @@ def main(argv: list[str] | None = None) -> int:
         except SimulationError as exc:
             return _fail(f"simulation: {exc}", as_json, "simulation")
         except OSError as exc:
-            from ._io import describe_os_error
+            from ._files import describe_os_error
 
             where = exc.filename if exc.filename is not None else "file system"
             return _fail(f"{where}: {describe_os_error(exc)}", as_json, str(where))

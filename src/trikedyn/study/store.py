@@ -49,8 +49,8 @@ import sqlite3
 import time
 from pathlib import Path
 
+from .._files import atomic_write, ensure_folder, open_nofollow, refuse_symlink
 from ..errors import InputError
-from .files import atomic_write, ensure_folder, open_nofollow, refuse_symlink
 
 __all__ = ["DB_NAME", "EXPORT_COLUMNS", "RESULT_KEYS", "StudyStore"]
 

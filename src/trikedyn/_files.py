@@ -1,6 +1,11 @@
-"""The study's output folder on disk: create it, refuse planted symbolic links, write tables atomically.
+"""Safe outputs on disk: never onto an input, never over a file without ``force``, never half-written,
+never through a planted symbolic link.
 
-Everything a study run puts into its output folder goes through here:
+Every file trikedyn writes for a user goes through here:
+
+- :func:`check_output` / :func:`check_output_folder` check an output before any work is done (so a long
+  run does not end in a refusal): not one of the command's inputs, not an existing file unless ``force``,
+  in a folder that exists and can be written;
 
 - :func:`ensure_folder` creates the folder; a path that cannot be a writable folder (its parent is a
   file, no permission, a read-only file system) is an :class:`~trikedyn.errors.InputError` naming it;
@@ -9,7 +14,8 @@ Everything a study run puts into its output folder goes through here:
   may be a link; only the files in it are checked;
 - :func:`atomic_write` writes a file to a fresh temporary name in the same folder (created exclusively,
   never through a link), flushes it to disk and renames it into place (``os.replace``): an interrupted
-  write leaves the old file (or none) and no temporary file, never half a file.
+  write leaves the old file (or none) and no temporary file, never half a file;
+  :func:`atomic_write_path` does the same for writers that want a file name.
 
 The SQLite store (``study.sqlite``) has its own crash safety (:mod:`trikedyn.study.store`).
 """
@@ -20,13 +26,14 @@ import contextlib
 import errno
 import os
 import secrets
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import IO
 
-from ..errors import InputError
+from .errors import InputError
 
-__all__ = ["atomic_write", "describe_os_error", "ensure_folder", "open_nofollow", "refuse_symlink"]
+__all__ = ["atomic_write", "atomic_write_path", "check_output", "check_output_folder", "describe_os_error",
+           "ensure_folder", "open_nofollow", "refuse_symlink"]
 
 
 def describe_os_error(exc: OSError) -> str:
@@ -180,3 +187,81 @@ def atomic_write(path: str | os.PathLike, write: Callable[[IO], object], *, bina
         raise
     _fsync_folder(folder)
     return path
+
+
+def atomic_write_path(path: str | os.PathLike, write: Callable[[Path], object]) -> Path:
+    """Like :func:`atomic_write`, for writers that take a file name: ``write(temporary_path)``.
+
+    The temporary name keeps the suffix, so writers that look at it (pandas, matplotlib) pick the format.
+    """
+    path = refuse_symlink(path)
+    tmp = path.with_name(f".{path.name}.{secrets.token_hex(6)}.tmp{path.suffix}")
+    try:
+        write(tmp)
+        refuse_symlink(path)
+        os.replace(tmp, path)
+    except BaseException as exc:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        if isinstance(exc, OSError):
+            raise InputError(f"cannot write ({describe_os_error(exc)})", where=str(path)) from None
+        raise
+    _fsync_folder(path.parent)
+    return path
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        return a.exists() and b.exists() and os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+def check_output(path: str | os.PathLike, *, force: bool = False, reads: Iterable = (),
+                 option: str | None = None) -> Path:
+    """``path`` checked as an output file.
+
+    Raises
+    ------
+    InputError
+        When it is one of the files the command reads (``reads``), exists and ``force`` is not given, is a
+        folder, or its folder does not exist.
+    """
+    path = Path(path)
+    where = str(path)
+    for source in reads:
+        if source is not None and (_same_file(path, Path(source)) or path.resolve() == Path(source).resolve()):
+            raise InputError(f"is also an input of this command; not writing onto it{_named(option)}", where=where)
+    if path.is_dir():
+        raise InputError("is a folder; expected a file name", where=where)
+    refuse_symlink(path)
+    if path.exists() and not force:
+        raise InputError("exists; not overwriting it (pass --force to replace it)", where=where)
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError("its folder does not exist" if not parent.exists() else "its parent is not a folder",
+                         where=where)
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise InputError("its folder is not writable", where=where)
+    return path
+
+
+def check_output_folder(path: str | os.PathLike, *, force: bool = False, option: str | None = None) -> Path:
+    """``path`` checked as an output folder: created if missing; an existing non-empty one only with
+    ``force`` (its files may be replaced)."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise InputError("exists and is not a folder", where=str(path))
+    if path.is_dir() and any(path.iterdir()) and not force:
+        raise InputError("is not empty; files in it would be replaced (pass --force to allow it)", where=str(path))
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"cannot create it: {describe_os_error(exc)}", where=str(path)) from None
+    if not os.access(path, os.W_OK | os.X_OK):
+        raise InputError("is not writable", where=str(path))
+    return path
+
+
+def _named(option: str | None) -> str:
+    return f" ({option})" if option else ""
