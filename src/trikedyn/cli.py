@@ -7,6 +7,7 @@ Every command has ``--help`` and ``--json``. A user's mistake (file, field, valu
 from __future__ import annotations
 
 import json
+import math
 import sys
 from pathlib import Path
 from typing import Annotated
@@ -28,6 +29,24 @@ vehicle_app = typer.Typer(help="Vehicle parameter sets: list, show, check, expor
 cg_app = typer.Typer(help="Centre of gravity: from wheel weighings, and with payload.", no_args_is_help=True)
 app.add_typer(vehicle_app, name="vehicle")
 app.add_typer(cg_app, name="cg")
+
+def _within(low: float, high: float, unit: str = "", *, above: bool = False):
+    """Typer callback: the option's value must be finite and within ``[low, high]`` (``(low, high]`` with
+    ``above``); None passes (an option left out)."""
+
+    def check(ctx: typer.Context, param: typer.CallbackParam, value):
+        if value is None or ctx.resilient_parsing:
+            return value
+        name = max(param.opts, key=len) if param.opts else param.name
+        number = float(value)
+        ok = math.isfinite(number) and (number > low if above else number >= low) and number <= high
+        if not ok:
+            bound = f"{'>' if above else '>='} {low:g} and <= {high:g}"
+            raise InputError(f"must be {bound}{' ' + unit if unit else ''}, got {value!r}", where=name)
+        return value
+
+    return check
+
 
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print machine-readable JSON instead of text.")]
 ForceOpt = Annotated[bool, typer.Option("--force", help="Replace output files that exist already.")]
@@ -216,7 +235,7 @@ def _floats(text: str, n: int, option: str) -> list[float]:
 @cg_app.command("payload")
 def cg_payload(
     vehicle: VehicleArg,
-    freight: Annotated[float, typer.Option(help="The paper's freight [kg] at the vehicle's freight site.")] = 0.0,
+    freight: Annotated[float, typer.Option(callback=_within(0, 2000, "kg"), help="The paper's freight [kg] at the vehicle's freight site.")] = 0.0,
     point: Annotated[list[str], typer.Option(help="Point mass 'KG,X,Y,Z' [kg, m]; repeatable.")] = [],  # noqa: B006
     box: Annotated[list[str], typer.Option(help="Box 'KG,X,Y,Z,LX,LY,LZ' [kg, m]; repeatable.")] = [],  # noqa: B006
     remove: Annotated[bool, typer.Option(help="Take the payload off instead of adding it.")] = False,
@@ -281,7 +300,7 @@ FormatOpt = Annotated[
 RateOpt = Annotated[
     float | None, typer.Option("--sample-rate", help="Sample rate [Hz] for files that store no time.")
 ]
-SensorOpt = Annotated[int, typer.Option("--sensor", help="Which sensor of a multi-sensor file (1, 2, ...).")]
+SensorOpt = Annotated[int, typer.Option("--sensor", callback=_within(1, 64), help="Which sensor of a multi-sensor file (1, 2, ...).")]
 
 
 def _read(log: Path, fmt: str, sensor: int, rate: float | None):
@@ -345,7 +364,7 @@ def log_convert(
 @app.command("identify")
 def identify(
     log: Annotated[Path, typer.Argument(help="Speed-bump accelerometer record (any supported IMU log).")],
-    sprung_mass: Annotated[float, typer.Option("--sprung-mass", help="Sprung mass on this suspension, M_s [kg].")],
+    sprung_mass: Annotated[float, typer.Option("--sprung-mass", callback=_within(1, 5000, "kg"), help="Sprung mass on this suspension, M_s [kg].")],
     axis: Annotated[str, typer.Option("--axis", help="Accelerometer axis: x, y or z.")] = "z",
     tyre_stiffness: Annotated[
         float | None, typer.Option("--tyre-stiffness", help="Tyre stiffness [N/m]: correct K for the tyre in series.")
@@ -398,7 +417,7 @@ def identify(
 @app.command("modes")
 def modes_cmd(
     vehicle: VehicleArg,
-    freight: Annotated[float, typer.Option(help="The paper's freight aboard [kg].")] = 0.0,
+    freight: Annotated[float, typer.Option(callback=_within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
     as_json: JsonOpt = False,
 ):
     """Static equilibrium, and the vibration modes of the linearised model about it."""
@@ -511,13 +530,13 @@ def _save_figure(fig, path: Path, dpi: int = 110) -> None:
 def simulate_cmd(
     vehicle: VehicleArg,
     manoeuvre: ManoeuvreOpt = "dlc",
-    speed: Annotated[float, typer.Option("--speed", help="Target speed [km/h].")] = 30.0,
-    payload: Annotated[float, typer.Option("--payload", help="The paper's freight aboard [kg].")] = 0.0,
+    speed: Annotated[float, typer.Option("--speed", callback=_within(0, 400, "km/h", above=True), help="Target speed [km/h].")] = 30.0,
+    payload: Annotated[float, typer.Option("--payload", callback=_within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
     option: OptionOpt = [],  # noqa: B006
-    radius: Annotated[float | None, typer.Option("--radius", help="Circle radius [m] (same as -o radius_m=...).")] = None,
-    steer_deg: Annotated[float | None, typer.Option("--steer-deg", help="Step steer angle about the steering axis [deg] "
+    radius: Annotated[float | None, typer.Option("--radius", callback=_within(1, 10_000, "m"), help="Circle radius [m] (same as -o radius_m=...).")] = None,
+    steer_deg: Annotated[float | None, typer.Option("--steer-deg", callback=_within(-90, 90, "deg"), help="Step steer angle about the steering axis [deg] "
                                                     "(same as -o steer_deg=...).")] = None,
-    duration: Annotated[float | None, typer.Option("--duration", help="Simulated time [s] (default: the manoeuvre's).")] = None,
+    duration: Annotated[float | None, typer.Option("--duration", callback=_within(0, 3600, "s", above=True), help="Simulated time [s] (default: the manoeuvre's).")] = None,
     out: Annotated[Path | None, typer.Option("--out", help="Write the run (.parquet or .csv; a .json summary beside it).")] = None,
     force: ForceOpt = False,
     as_json: JsonOpt = False,
@@ -601,7 +620,7 @@ def compare_cmd(
     log: Annotated[Path, typer.Argument(help="Measured IMU log (any supported format) or a run file.")],
     run: Annotated[Path, typer.Argument(help="Simulated run file (or another log).")],
     channels: Annotated[str, typer.Option(help="Channels to compare (the paper compares lateral acceleration and yaw rate).")] = "ay_mps2,wz_radps",
-    max_offset: Annotated[float, typer.Option("--max-offset", help="Largest time offset searched [s].")] = 5.0,
+    max_offset: Annotated[float, typer.Option("--max-offset", callback=_within(0, 600, "s", above=True), help="Largest time offset searched [s].")] = 5.0,
     plot: Annotated[Path | None, typer.Option("--plot", help="Write measured over simulated (PNG), like Figs. 7-8.")] = None,
     force: ForceOpt = False,
     as_json: JsonOpt = False,
@@ -644,13 +663,13 @@ def _imu_view(frame):
 def threshold_cmd(
     vehicle: VehicleArg,
     manoeuvre: ManoeuvreOpt = "dlc",
-    payload: Annotated[float, typer.Option("--payload", help="The paper's freight aboard [kg].")] = 0.0,
+    payload: Annotated[float, typer.Option("--payload", callback=_within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
     option: OptionOpt = [],  # noqa: B006
-    stiffness: Annotated[float, typer.Option("--stiffness-scale", help="Suspension stiffness factor (Table 2).")] = 1.0,
-    damping: Annotated[float, typer.Option("--damping-scale", help="Suspension damping factor (Table 2).")] = 1.0,
-    low: Annotated[float, typer.Option("--low", help="Lowest speed searched [km/h].")] = 10.0,
-    high: Annotated[float, typer.Option("--high", help="Highest speed searched [km/h].")] = 90.0,
-    resolution: Annotated[float, typer.Option("--resolution", help="Resolution [km/h].")] = 0.1,
+    stiffness: Annotated[float, typer.Option("--stiffness-scale", callback=_within(0, 100, above=True), help="Suspension stiffness factor (Table 2).")] = 1.0,
+    damping: Annotated[float, typer.Option("--damping-scale", callback=_within(0, 100, above=True), help="Suspension damping factor (Table 2).")] = 1.0,
+    low: Annotated[float, typer.Option("--low", callback=_within(0, 400, "km/h", above=True), help="Lowest speed searched [km/h].")] = 10.0,
+    high: Annotated[float, typer.Option("--high", callback=_within(0, 400, "km/h", above=True), help="Highest speed searched [km/h].")] = 90.0,
+    resolution: Annotated[float, typer.Option("--resolution", callback=_within(0.001, 50, "km/h"), help="Resolution [km/h].")] = 0.1,
     as_json: JsonOpt = False,
 ):
     """Threshold velocity: the highest speed with every wheel on the ground through the manoeuvre."""
@@ -676,9 +695,9 @@ def threshold_cmd(
 @app.command("handling")
 def handling_cmd(
     vehicle: VehicleArg,
-    radius: Annotated[float, typer.Option("--radius", help="Circle radius [m].")] = 20.0,
-    payload: Annotated[float, typer.Option("--payload", help="The paper's freight aboard [kg].")] = 0.0,
-    start_speed: Annotated[float, typer.Option("--start-speed", help="Speed at the start [km/h].")] = 15.0,
+    radius: Annotated[float, typer.Option("--radius", callback=_within(1, 1000, "m"), help="Circle radius [m].")] = 20.0,
+    payload: Annotated[float, typer.Option("--payload", callback=_within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
+    start_speed: Annotated[float, typer.Option("--start-speed", callback=_within(0, 200, "km/h", above=True), help="Speed at the start [km/h].")] = 15.0,
     plot: Annotated[Path | None, typer.Option("--plot", help="Write the handling diagram (PNG).")] = None,
     force: ForceOpt = False,
     as_json: JsonOpt = False,
@@ -718,12 +737,12 @@ def handling_cmd(
 @app.command("study")
 def study_cmd(
     spec: Annotated[str, typer.Argument(help="Study spec (TOML file), or 'paper' for the built-in Fig. 10 study.")],
-    workers: Annotated[int | None, typer.Option("--workers", help="Processes on this machine (default: all cores).")] = None,
-    dask_local: Annotated[int | None, typer.Option("--dask-local", help="Run on a local Dask cluster of N workers.")] = None,
+    workers: Annotated[int | None, typer.Option("--workers", callback=_within(0, 256), help="Processes on this machine (default: all cores).")] = None,
+    dask_local: Annotated[int | None, typer.Option("--dask-local", callback=_within(1, 256), help="Run on a local Dask cluster of N workers.")] = None,
     scheduler: Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:port).")] = None,
     out: Annotated[Path, typer.Option("--out", help="Output folder (its store makes a re-run resume).")] = Path("study-output"),
     dry_run: Annotated[bool, typer.Option("--dry-run", help="Check the spec and count its scenarios; run nothing.")] = False,
-    max_scenarios: Annotated[int, typer.Option("--max-scenarios", help="Refuse a spec with more scenarios than this.")] = 10_000,
+    max_scenarios: Annotated[int, typer.Option("--max-scenarios", callback=_within(1, 1e9), help="Refuse a spec with more scenarios than this.")] = 10_000,
     as_json: JsonOpt = False,
 ):
     """Parametric study of the threshold velocity: parallel, resumable, CSV and Parquet tables."""
@@ -775,7 +794,7 @@ def reproduce_cmd(
 @app.command("tilt")
 def tilt_cmd(
     vehicle: VehicleArg,
-    payload: Annotated[float, typer.Option("--payload", help="The paper's freight aboard \\[kg].")] = 0.0,
+    payload: Annotated[float, typer.Option("--payload", callback=_within(0, 2000, "kg"), help="The paper's freight aboard \\[kg].")] = 0.0,
     side: Annotated[str, typer.Option("--side", help="The side that goes down: left, right or both.")] = "both",
     require_deg: Annotated[
         float | None, typer.Option("--require-deg", help="Required tilt angle \\[deg] (e.g. 35): pass or fail.")
