@@ -1,6 +1,7 @@
 """Manoeuvre geometry: ISO 3888 tracks, ISO 14791 single lane change, circles, CSV paths, cone strikes."""
 
 import math
+import time
 
 import numpy as np
 import pytest
@@ -19,6 +20,7 @@ from trikedyn.manoeuvres import (
     single_lane_change,
     straight,
 )
+from trikedyn.manoeuvres import paths as paths_module
 
 TRIKE_WIDTH_M = 1.25  # the paper's e-trike
 
@@ -385,6 +387,69 @@ def test_path_from_csv_errors(tmp_path, text, line, match):
 def test_path_from_csv_missing_file(tmp_path):
     with pytest.raises(InputError, match="no such file"):
         path_from_csv(tmp_path / "nope.csv")
+
+
+# ---------------------------------------------------------------------------------------------------------
+# bounds: each case once ran out of memory, ran for minutes or escaped as a traceback
+# ---------------------------------------------------------------------------------------------------------
+@pytest.mark.parametrize(
+    ("text", "line", "match"),
+    [
+        ("x_m,y_m\n0,0\n1e9,0\n2e9,0\n", 3, r"x: 1e\+09 m is beyond \+-1e\+07 m"),  # MemoryError
+        ("x_m,y_m\n0,0\n5000,0\n10000,0\n", 3, "5000 m from the point of line 2; consecutive points must be 1 mm to 1000 m apart"),
+        ("x_m,y_m\n0,0\n1e-12,0\n2e-12,0\n", 3, "1e-12 m from the point of line 2"),  # IndexError
+        ("x_m,y_m\n0,0\n1,0\n1.0005,0\n3,0\n", 4, "0.0005 m from the point of line 3"),
+        ("x_m,y_m\n" + "\n".join(f"{500 * i},0" for i in range(201)) + "\n", 43, "longer than 20000 m by here"),
+        ("x_m,y_m\n0,0\n1,1\n" + "9" * 200_000 + ",1\n", 4, "not a CSV line: field larger than field limit"),
+    ],
+)
+def test_path_from_csv_bounds(tmp_path, text, line, match):
+    file = _write(tmp_path, text)
+    start = time.perf_counter()
+    with pytest.raises(InputError, match=match) as err:
+        path_from_csv(file)
+    assert err.value.where == f"{file}:{line}" and "\n" not in str(err.value)
+    assert time.perf_counter() - start < 2.0
+
+
+def test_path_from_csv_point_count_is_bounded(tmp_path, monkeypatch):
+    monkeypatch.setattr(paths_module, "MAX_CSV_POINTS", 5)
+    file = _write(tmp_path, "x_m,y_m\n" + "\n".join(f"{i},0" for i in range(6)) + "\n")
+    with pytest.raises(InputError, match="more than 5 points") as err:
+        path_from_csv(file)
+    assert err.value.where == f"{file}:7"
+    monkeypatch.setattr(paths_module, "MAX_CSV_BYTES", 10)
+    with pytest.raises(InputError, match="a path CSV is read up to 0 MiB") as err:
+        path_from_csv(file)
+    assert err.value.where == str(file)
+
+
+def test_path_from_csv_near_the_bounds_is_fine(tmp_path):
+    """Points 1.5 mm and 999 m apart, in UTM-sized coordinates, a line of almost 20 km."""
+    x = np.r_[0.0, 0.0015, 0.003, 999.0 * np.arange(1, 21)] + 5e5
+    file = _write(tmp_path, "x_m,y_m\n" + "\n".join(f"{v:.4f},4000000" for v in x) + "\n")
+    p = path_from_csv(file, smoothing_m=0.0)
+    assert p.length_m == pytest.approx(19_980.0, rel=1e-6) and p.x_m[0] == 0.0
+
+
+@pytest.mark.parametrize(
+    ("build", "where", "match"),
+    [
+        (lambda: circle(1e9), "circle", "make 6.283e\\+09 m; at most 20000 m"),  # MemoryError
+        (lambda: circle(20.0, laps=1e9), "circle", "at most 20000 m"),
+        (lambda: circle(20.0, run_in_m=1e12), "circle", "at most 20000 m"),
+        (lambda: circle(1e-300), "radius_m", "must be >= 1"),
+        (lambda: straight(1e12), "length_m", "at most 20000 m"),
+        (lambda: single_lane_change(length_m=1e12), "ISO 14791 single lane change", "at most 20000 m"),
+        (lambda: double_lane_change(TRIKE_WIDTH_M, run_out_m=1e12), "ISO 3888-1 double lane change", "at most 20000 m"),
+    ],
+)
+def test_built_lines_are_bounded(build, where, match):
+    start = time.perf_counter()
+    with pytest.raises(InputError, match=match) as err:
+        build()
+    assert err.value.where == where and time.perf_counter() - start < 1.0
+    assert circle(3000.0).length_m == pytest.approx(10.0 + 2 * math.pi * 3000.0)  # 18.9 km is fine
 
 
 # ---------------------------------------------------------------------------------------------------------

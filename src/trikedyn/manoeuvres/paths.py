@@ -55,6 +55,22 @@ DS_MAX_M = 0.05
 CONE_RADIUS_M = 0.15
 """Radius of a cone's base circle [m] (our choice; the standards ask for cones at least 500 mm high)."""
 
+MAX_LENGTH_M = 20_000.0
+"""Longest reference line [m] (20 km: over 30 min at 40 km/h; 400 000 points at DS_MAX_M)."""
+
+MAX_CSV_POINTS = 1_000_000
+"""Most points of a path CSV."""
+
+CSV_SPACING_M = (0.001, 1000.0)
+"""Least and largest distance between consecutive points of a path CSV [m]."""
+
+MAX_CSV_COORDINATE_M = 1e7
+"""Largest magnitude of a path CSV coordinate [m] (UTM northings reach 1e7 m; beyond, float64 rounds the
+millimetre)."""
+
+MAX_CSV_BYTES = 256 * 2**20
+"""Largest path CSV read [bytes]."""
+
 _DENSE_DX_M = 0.005  # spacing of the dense grid used to integrate arc length [m]
 
 
@@ -324,9 +340,15 @@ def _direction(direction, where: str = "direction") -> float:
     return 1.0 if direction == "left" else -1.0
 
 
-def _uniform_count(length_m: float) -> int:
-    """Number of points so that the spacing is at most DS_MAX_M."""
+def _uniform_count(length_m: float, where: str = "path") -> int:
+    """Number of points so that the spacing is at most DS_MAX_M, for a line of at most MAX_LENGTH_M."""
+    _check_length(length_m, where)
     return int(math.ceil(length_m / DS_MAX_M - 1e-9)) + 1
+
+
+def _check_length(length_m: float, where: str) -> None:
+    if not length_m <= MAX_LENGTH_M:
+        raise InputError(f"the line would be {length_m:.4g} m long; at most {MAX_LENGTH_M:g} m", where=where)
 
 
 def _sine_blend(t):
@@ -367,6 +389,7 @@ def _from_graph(profile, x_end: float, **meta) -> Path:
     (trapezoid, dx = 5 mm); the uniform points are located on it and then evaluated exactly, so positions,
     heading and curvature are those of the analytic line.
     """
+    _check_length(x_end, meta.get("name", "path"))
     xd = np.linspace(0.0, x_end, int(math.ceil(x_end / _DENSE_DX_M)) + 1)
     _, dyd, _ = profile(xd)
     g = np.hypot(1.0, dyd)
@@ -678,12 +701,15 @@ def circle(radius_m: float, *, laps: float = 1.0, run_in_m: float = 10.0, direct
     a smaller one). The curvature steps from 0 to 1/R where the run-in meets the circle; the driver's
     preview smooths the entry. The heading keeps growing over the laps (it is not wrapped).
     """
-    r = _number(radius_m, "radius_m", positive=True)
+    r = _number(radius_m, "radius_m", positive=True, minimum=1.0)
     n_laps = _number(laps, "laps", positive=True)
     run_in = _number(run_in_m, "run_in_m", minimum=0.0)
     sign = _direction(direction)
     total = run_in + 2.0 * math.pi * r * n_laps
-    s = np.linspace(0.0, total, _uniform_count(total))
+    if not total <= MAX_LENGTH_M:
+        raise InputError(f"run_in_m {run_in:g} m + {n_laps:g} lap(s) of radius {r:g} m make {total:.4g} m; at "
+                         f"most {MAX_LENGTH_M:g} m", where="circle")
+    s = np.linspace(0.0, total, _uniform_count(total, "circle"))
     phi = np.clip(s - run_in, 0.0, None) / r
     on_circle = s > run_in
     x = np.where(on_circle, run_in + r * np.sin(phi), s)
@@ -711,7 +737,7 @@ def straight(length_m: float) -> Path:
         Length [m].
     """
     length = _number(length_m, "length_m", positive=True)
-    s = np.linspace(0.0, length, _uniform_count(length))
+    s = np.linspace(0.0, length, _uniform_count(length, "length_m"))
     zero = np.zeros_like(s)
     return Path(
         name="straight",
@@ -728,18 +754,36 @@ def straight(length_m: float) -> Path:
 # CSV paths
 # --------------------------------------------------------------------------------------------------------------
 def _read_xy_csv(file: _FilePath) -> tuple[np.ndarray, np.ndarray]:
-    if not file.is_file():
-        raise InputError("no such file", where=str(file))
     try:
-        text = file.read_text(encoding="utf-8-sig")
+        if not file.is_file():
+            raise InputError("no such file", where=str(file))
+        size = file.stat().st_size
+    except (OSError, ValueError) as exc:
+        raise InputError(f"cannot read it: {getattr(exc, 'strerror', None) or exc}", where=str(file)) from None
+    if size > MAX_CSV_BYTES:
+        raise InputError(f"{size / 2**20:.0f} MiB; a path CSV is read up to {MAX_CSV_BYTES // 2**20} MiB", where=str(file))
+    reader = None
+    try:
+        with file.open(encoding="utf-8-sig", newline="") as handle:
+            reader = csv.reader(handle)
+            return _parse_xy_rows(reader, file)
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"cannot read the file as UTF-8 text: {exc}", where=str(file)) from None
+    except csv.Error as exc:
+        where = f"{file}:{reader.line_num}" if reader is not None else str(file)
+        raise InputError(f"not a CSV line: {exc}", where=where) from None
+
+
+def _parse_xy_rows(reader, file: _FilePath) -> tuple[np.ndarray, np.ndarray]:
     header = None
     columns: tuple[int, int] = (0, 1)
     xs: list[float] = []
     ys: list[float] = []
     last_line = 0
-    for line_no, row in enumerate(csv.reader(text.splitlines()), start=1):
+    total = 0.0
+    low, high = CSV_SPACING_M
+    for row in reader:
+        line_no = reader.line_num
         if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):
             continue
         where = f"{file}:{line_no}"
@@ -749,10 +793,8 @@ def _read_xy_csv(file: _FilePath) -> tuple[np.ndarray, np.ndarray]:
             for names in (("x_m", "x"), ("y_m", "y")):
                 index = next((header.index(n) for n in names if n in header), None)
                 if index is None:
-                    raise InputError(
-                        f"missing column '{names[0]}' (or '{names[1]}'); found {', '.join(header) or 'none'}",
-                        where=where,
-                    )
+                    shown = ", ".join(h[:40] for h in header[:20]) or "none"
+                    raise InputError(f"missing column '{names[0]}' (or '{names[1]}'); found {shown}", where=where)
                 found.append(index)
             columns = (found[0], found[1])
             continue
@@ -764,12 +806,24 @@ def _read_xy_csv(file: _FilePath) -> tuple[np.ndarray, np.ndarray]:
             try:
                 value = float(cell)
             except ValueError:
-                raise InputError(f"{name}: expected a number, got '{cell}'", where=where) from None
+                raise InputError(f"{name}: expected a number, got {cell[:40]!r}", where=where) from None
             if not math.isfinite(value):
-                raise InputError(f"{name}: expected a finite number, got '{cell}'", where=where)
+                raise InputError(f"{name}: expected a finite number, got {cell[:40]!r}", where=where)
+            if abs(value) > MAX_CSV_COORDINATE_M:
+                raise InputError(f"{name}: {value:g} m is beyond +-{MAX_CSV_COORDINATE_M:g} m", where=where)
             values.append(value)
-        if xs and values[0] == xs[-1] and values[1] == ys[-1]:
-            raise InputError(f"repeats the point of line {last_line} ({values[0]:g}, {values[1]:g})", where=where)
+        if xs:
+            if values[0] == xs[-1] and values[1] == ys[-1]:
+                raise InputError(f"repeats the point of line {last_line} ({values[0]:g}, {values[1]:g})", where=where)
+            step = math.hypot(values[0] - xs[-1], values[1] - ys[-1])
+            if not low <= step <= high:
+                raise InputError(f"{step:.4g} m from the point of line {last_line}; consecutive points must be "
+                                 f"{low * 1000:g} mm to {high:g} m apart (merge or remove points)", where=where)
+            total += step
+            if total > MAX_LENGTH_M:
+                raise InputError(f"the line is longer than {MAX_LENGTH_M:g} m by here", where=where)
+        if len(xs) == MAX_CSV_POINTS:
+            raise InputError(f"more than {MAX_CSV_POINTS} points", where=where)
         xs.append(values[0])
         ys.append(values[1])
         last_line = line_no
@@ -804,8 +858,12 @@ def path_from_csv(file, *, smoothing_m: float = 0.01, align: bool = True, name: 
     Raises
     ------
     InputError
-        Naming the file and line: missing columns, a value that is not a finite number, a point that
-        repeats the previous one, fewer than 3 points.
+        Naming the file and line: missing columns, a value that is not a finite number or lies beyond
+        ``MAX_CSV_COORDINATE_M``, a point that repeats the previous one, fewer than 3 points. And the bounds:
+        consecutive points closer than 1 mm or farther than 1 km apart (``CSV_SPACING_M``) are refused, not
+        merged (a point 1 mm from the last says the line was sampled without moving: remove or merge such
+        points, the smoothing spline cannot tell their order); more than ``MAX_CSV_POINTS`` points, a line
+        longer than ``MAX_LENGTH_M`` (20 km) or a file larger than ``MAX_CSV_BYTES``.
 
     Notes
     -----
@@ -831,7 +889,7 @@ def path_from_csv(file, *, smoothing_m: float = 0.01, align: bool = True, name: 
     if np.any(g <= 1e-9):
         raise InputError("the smoothed line has a cusp; reduce smoothing_m or remove reversing points", where=str(file))
     sd = np.concatenate(([0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * np.diff(ud))))
-    s = np.linspace(0.0, sd[-1], _uniform_count(sd[-1]))
+    s = np.linspace(0.0, sd[-1], _uniform_count(sd[-1], str(file)))
     uu = np.interp(s, sd, ud)
     px, py = splev(uu, tck)
     d1x, d1y = splev(uu, tck, der=1)

@@ -42,6 +42,11 @@ header is ``csv``.
 Common rules: fields are not quoted; lines are counted by ``\\n``; clock times become seconds from the
 first row and a clock without a date that jumps back by more than 12 h has passed midnight; rows that
 repeat the previous time are dropped (kept the first); time must then increase strictly.
+
+Bounds (:mod:`trikedyn.measure.limits`): a file of at most 256 MiB; a ``sample_rate_hz`` given by the user
+within 0.01 Hz .. 10 kHz. Non-finite data are refused, not dropped: a value that is not a finite number, or
+that overflows once converted to SI units (``1e308`` g), or a time that overflows once counted from the
+first row, is an error naming the file, the line and the column.
 """
 
 from __future__ import annotations
@@ -58,6 +63,8 @@ import pandas as pd
 
 from ..errors import LogFormatError
 from ..units import STANDARD_GRAVITY
+from .clocktime import clock_fields, clock_seconds, clock_text, seconds
+from .limits import LOG_RATE_HZ, MAX_LOG_BYTES
 
 __all__ = ["CHANNELS", "FORMATS", "ImuLog", "detect_format", "read_log", "write_log"]
 
@@ -92,8 +99,6 @@ _WIT_HEADERS = {
 }
 _WIT_PC_COLUMNS = {"witmotion-pc": ("time", "DeviceName"), "witmotion-2025": ("Time", "Device name")}
 _WIT_SEP = {"witmotion-sdk": "\t", "witmotion-pc": "\t", "witmotion-2025": ","}
-_CLOCK = re.compile(r"^\s*(?:(\d{4})[-/](\d{1,2})[-/](\d{1,2})[ T]+)?"
-                    r"(\d{1,2}):(\d{1,2}):(\d{1,2})(?:[.,](\d+))?\s*$")
 _BWT = {"Acc": CHANNELS[0:3], "AngVel": CHANNELS[3:6], "Ang": CHANNELS[6:9]}
 _BIN_SCALE = {0x51: 16.0 / 32768 * _G, 0x52: 2000.0 / 32768 * _DEG, 0x53: 180.0 / 32768 * _DEG}
 _BIN_CHANNELS = {0x51: CHANNELS[0:3], 0x52: CHANNELS[3:6], 0x53: CHANNELS[6:9],
@@ -165,6 +170,10 @@ def _read_bytes(path: Path) -> bytes:
         raise LogFormatError("file not found; expected an IMU log", where=str(path))
     if not path.is_file():
         raise LogFormatError("is not a file; expected an IMU log file", where=str(path))
+    size = path.stat().st_size
+    if size > MAX_LOG_BYTES:
+        raise LogFormatError(f"{size / 2**20:.0f} MiB, more than the {MAX_LOG_BYTES // 2**20} MiB read; cut the "
+                             "log to the part to analyse", where=str(path))
     raw = path.read_bytes()
     if not raw:
         raise LogFormatError("empty file (0 bytes); expected an IMU log", where=str(path))
@@ -222,11 +231,14 @@ def _split_table(text: str, sep: str, path: Path) -> tuple[list[str], pd.DataFra
 def _numbers(cells: pd.Series, name: str, lines: np.ndarray, path: Path, factor: float = 1.0) -> np.ndarray:
     """Finite floats times ``factor``; LogFormatError naming the first bad line and the column."""
     values = pd.to_numeric(cells, errors="coerce").to_numpy(dtype=float)
-    bad = np.flatnonzero(~np.isfinite(values))
+    with np.errstate(over="ignore"):
+        si = values * factor
+    bad = np.flatnonzero(~np.isfinite(si))
     if bad.size:
-        raise LogFormatError(f"column {name!r} holds {str(cells.iloc[bad[0]])!r}, which is not a finite "
-                             "number; expected a number", where=f"{path}:{lines[bad[0]]}")
-    return values * factor
+        why = "overflows in SI units" if np.isfinite(values[bad[0]]) else "is not a finite number"
+        raise LogFormatError(f"column {name!r} holds {str(cells.iloc[bad[0]])!r}, which {why}; expected a "
+                             "number", where=f"{path}:{lines[bad[0]]}")
+    return si
 
 
 def _extra(cells: pd.Series) -> np.ndarray:
@@ -235,46 +247,22 @@ def _extra(cells: pd.Series) -> np.ndarray:
     return num.to_numpy(float) if (num.notna() | (cells == "")).all() else cells.to_numpy(object)
 
 
-def _seconds(ymd: np.ndarray | None, hms: np.ndarray, frac_s: np.ndarray) -> tuple[np.ndarray, int]:
-    """Seconds from the first row (NaN where invalid, to 1 ns) and how often a dateless clock wrapped.
-
-    ``ymd`` and ``hms`` have rows (year, month, day) and (hour, minute, second); ``ymd=None``: no date,
-    and a clock that goes back by more than 12 h has passed midnight.
-    """
-    h, m, s = hms.T
-    sod = np.where((h < 24) & (m < 60) & (s < 61), h * 3600 + m * 60 + s + frac_s, np.nan)
-    if ymd is not None:
-        dates = pd.to_datetime(pd.DataFrame(ymd, columns=["year", "month", "day"]), errors="coerce")
-        days = ((dates - dates.iloc[0]) / pd.Timedelta(days=1)).to_numpy(float)
-        return np.round(sod - sod[0] + 86400.0 * days, 9), 0
-    wraps = np.concatenate([[0], np.cumsum(np.diff(sod) < -43200.0)])
-    return np.round(sod - sod[0] + 86400.0 * wraps, 9), int(wraps[-1])
-
-
-def _clock_seconds(text: pd.Series, ms_field: bool) -> tuple[np.ndarray, int]:
-    """:func:`_seconds` of clock texts ``[YYYY-M-D ]h:m:s[.f]``; ``ms_field``: up to 3 digits count ms."""
-    p = text.astype(str).str.extract(_CLOCK)
-    num = p.iloc[:, :6].apply(pd.to_numeric).to_numpy(float)
-    frac = p[6].fillna("").astype(object)
-    nd = frac.str.len().to_numpy(int)
-    fnum = pd.to_numeric(frac.where(nd > 0, "0")).to_numpy(float)
-    frac_s = np.where(ms_field & (nd <= 3), fnum / 1000.0, fnum / 10.0 ** nd)
-    return _seconds(num[:, :3] if p[0].notna().any() else None, num[:, 3:6], frac_s)
-
-
 def _times(cells: pd.Series, name: str, lines: np.ndarray, path: Path, notes: list[str], *,
            ms_field: bool = False, factor: float = 1.0) -> np.ndarray:
     """Seconds from the first row of a time column holding numbers (times ``factor``) or clock times."""
     numeric = np.isfinite(pd.to_numeric(cells.iloc[:1], errors="coerce").to_numpy(float))[0]
     if numeric:
-        t = pd.to_numeric(cells, errors="coerce").to_numpy(float) * factor
+        with np.errstate(over="ignore", invalid="ignore"):
+            t = pd.to_numeric(cells, errors="coerce").to_numpy(float) * factor
+            t = t - t[0]  # counted from the first row: a time far from it overflows here
     else:
-        t, wraps = _clock_seconds(cells, ms_field)
+        t, wraps = clock_seconds(cells, ms_field)
         if wraps:
             notes.append(f"the clock in {name!r} passed midnight {wraps} time(s); counted on")
     bad = np.flatnonzero(~np.isfinite(t))
     if bad.size:
-        what = "a number" if numeric else "a clock time [YYYY-MM-DD ]HH:MM:SS[.fff]"
+        what = "a number (finite, counted from the first row)" if numeric else \
+            "a clock time [YYYY-MM-DD ]HH:MM:SS[.fff]"
         raise LogFormatError(f"time column {name!r} holds {str(cells.iloc[bad[0]])!r}; expected {what}",
                              where=f"{path}:{lines[bad[0]]}")
     return t - t[0]
@@ -494,9 +482,9 @@ def _read_binary(raw: bytes, path: Path, rate: float | None, notes: list[str]) -
     locs, cols = starts[types == 0x51][have], {k: v[have] for k, v in cols.items()}
     if sel.any():
         f = fields[have]
-        t, _ = _seconds(f[:, :3] + [2000, 0, 0], f[:, 3:6], f[:, 6] / 1000.0)
+        t, _ = seconds(f[:, :3] + [2000, 0, 0], f[:, 3:6], f[:, 6] / 1000.0)
         if np.isnan(t).any():  # a chip whose date was never set: use the clock alone
-            t, wraps = _seconds(None, f[:, 3:6], f[:, 6] / 1000.0)
+            t, wraps = seconds(None, f[:, 3:6], f[:, 6] / 1000.0)
             notes.append(f"0x50 chip-time dates are not valid; used the clock alone ({wraps} midnight(s))")
         bad = np.flatnonzero(np.isnan(t))
         if bad.size:
@@ -583,8 +571,9 @@ def read_log(path, format: str = "auto", *, columns: dict[str, str] | None = Non
     fmt = _detect(raw, path) if format == "auto" else format
     if fmt != "csv" and (columns or units):
         raise LogFormatError(f"columns= and units= apply to format 'csv' only, not {fmt!r}", where=str(path))
-    if sample_rate_hz is not None and not (np.isfinite(sample_rate_hz) and sample_rate_hz > 0):
-        raise LogFormatError(f"sample_rate_hz={sample_rate_hz} must be a positive number [Hz]",
+    low, high = LOG_RATE_HZ
+    if sample_rate_hz is not None and not (np.isfinite(sample_rate_hz) and low <= sample_rate_hz <= high):
+        raise LogFormatError(f"sample_rate_hz={sample_rate_hz:g} must lie within {low:g} .. {high:g} Hz",
                              where=str(path))
     if not isinstance(sensor, (int, np.integer)) or sensor < 1:
         raise LogFormatError(f"sensor={sensor!r} must be an integer >= 1", where=str(path))
@@ -603,40 +592,18 @@ def read_log(path, format: str = "auto", *, columns: dict[str, str] | None = Non
 
 
 # ------------------------------------------------------------------------------------------ writers
-def _clock(t: np.ndarray, path: Path, fmt: str) -> pd.DataFrame:
-    """Date and clock fields of ``t`` [s] counted from 2000-01-01 00:00:00, to 1 ms."""
-    ms = np.round(t * 1000.0).astype(np.int64)
-    if (np.diff(ms) <= 0).any():
-        raise LogFormatError(f"samples less than 1 ms apart; format {fmt!r} stores time to 1 ms",
-                             where=str(path))
-    d = pd.Series(pd.Timestamp("2000-01-01") + pd.to_timedelta(ms, unit="ms"))
-    return pd.DataFrame({k: getattr(d.dt, k) for k in ("year", "month", "day", "hour", "minute", "second")}
-                        | {"ms": ms % 1000})
-
-
-def _clock_text(f: pd.DataFrame, style: str) -> pd.Series:
-    """``sdk``: `` 2000-1-1 0:0:5.7``; ``clock``: ``00:00:05.007``; ``date``: ``2000-1-1 00:00:05.007``."""
-    s = {k: v.astype(str) for k, v in f.items()}
-    if style == "sdk":
-        return (" " + s["year"] + "-" + s["month"] + "-" + s["day"] + " " + s["hour"] + ":" + s["minute"]
-                + ":" + s["second"] + "." + s["ms"])
-    clock = (s["hour"].str.zfill(2) + ":" + s["minute"].str.zfill(2) + ":" + s["second"].str.zfill(2) + "."
-             + s["ms"].str.zfill(3))
-    return clock if style == "clock" else s["year"] + "-" + s["month"] + "-" + s["day"] + " " + clock
-
-
 def _extras(data: pd.DataFrame, used) -> dict:
     return {c: data[c].to_numpy() for c in data.columns if c not in used and c != TIME}
 
 
 def _write_witmotion(data: pd.DataFrame, path: Path, fmt: str) -> None:
-    f = _clock(data[TIME].to_numpy(float), path, fmt)
+    f = clock_fields(data[TIME].to_numpy(float), path, fmt)
     out = {}
     if fmt in _WIT_PC_COLUMNS:
         pc_time, device = _WIT_PC_COLUMNS[fmt]
-        out[pc_time] = _clock_text(f, "clock" if fmt == "witmotion-pc" else "date")
+        out[pc_time] = clock_text(f, "clock" if fmt == "witmotion-pc" else "date")
         out[device] = "trikedyn"
-    out[_WIT_HEADERS[fmt][0]] = _clock_text(f, "sdk" if fmt == "witmotion-sdk" else "date")
+    out[_WIT_HEADERS[fmt][0]] = clock_text(f, "sdk" if fmt == "witmotion-sdk" else "date")
     for si, h in zip((*CHANNELS, TEMP), _WIT_HEADERS[fmt][1:], strict=False):
         if si in data:
             out[h] = data[si].to_numpy(float) / _FACTOR.get(si, 1.0)
@@ -647,7 +614,7 @@ def _write_witmotion(data: pd.DataFrame, path: Path, fmt: str) -> None:
 
 
 def _write_bwt(data: pd.DataFrame, path: Path) -> None:
-    out = {"Time": _clock_text(_clock(data[TIME].to_numpy(float), path, "bwt901cl-csv"), "clock")}
+    out = {"Time": clock_text(clock_fields(data[TIME].to_numpy(float), path, "bwt901cl-csv"), "clock")}
     for prefix, sis in _BWT.items():
         for c, si in zip("XYZ", sis, strict=False):
             if si in data:
@@ -657,7 +624,7 @@ def _write_bwt(data: pd.DataFrame, path: Path) -> None:
 
 def _write_binary(data: pd.DataFrame, path: Path) -> None:
     n = len(data)
-    f = _clock(data[TIME].to_numpy(float), path, "wt901sd-binary")
+    f = clock_fields(data[TIME].to_numpy(float), path, "wt901sd-binary")
     temp = np.round(data[TEMP].to_numpy(float) * 100) if TEMP in data else np.zeros(n)
     ms = f["ms"].to_numpy()
     payloads = {0x50: np.column_stack([f["year"] - 2000, f["month"], f["day"], f["hour"], f["minute"],

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import asdict, dataclass
 from fractions import Fraction
 from typing import NamedTuple
 
@@ -20,6 +19,9 @@ from scipy.optimize import least_squares
 
 from trikedyn.errors import InputError
 
+from .identification import SuspensionIdentification
+from .limits import MAX_RESAMPLED_SAMPLES, MIN_SAMPLES, bounded, checked_record, checked_resample  # noqa: F401
+
 __all__ = [
     "DecayFit", "SuspensionIdentification", "damping_coefficient", "damping_ratio_from_log_decrement",
     "find_crests", "fit_free_decay", "identify_suspension", "log_decrement", "one_sided_peak_ratio",
@@ -27,7 +29,6 @@ __all__ = [
     "suspension_stiffness_from_series", "upsample", "wavelet_denoise",
 ]
 
-MIN_SAMPLES = 16
 _START_FRACTIONS = (0.125, 0.25, 0.375, 0.5)  # candidate fit starts after the largest excursion [periods]
 _CHI2_99_2DOF = 9.210
 
@@ -145,6 +146,9 @@ def upsample(time_s, signal, rate_hz, *, padtype="line"):
     t, x, fs = _uniform(time_s, signal)
     if rate_hz <= fs * (1.0 + 1e-9):
         return t, x
+    if (t[-1] - t[0]) * rate_hz > MAX_RESAMPLED_SAMPLES:
+        raise InputError(f"{t[-1] - t[0]:.4g} s at {rate_hz:g} Hz make {(t[-1] - t[0]) * rate_hz:.3g} samples, at most "
+                         f"{MAX_RESAMPLED_SAMPLES}", where="rate_hz")
     ratio = Fraction(float(rate_hz) / fs).limit_denominator(64)
     up, down = ratio.numerator, ratio.denominator
     y = sps.resample_poly(x, up, down, padtype=padtype)
@@ -350,116 +354,6 @@ def fit_free_decay(time_s, signal, frequency_guess_hz, damping_ratio_guess=None,
     return DecayFit(wn / (2.0 * math.pi), sigma / wn, cov, coef, float(t[0]), math.sqrt(s2))
 
 
-@dataclass(frozen=True)
-class SuspensionIdentification:
-    """Result of :func:`identify_suspension`: SI scalars, ``warnings`` and the arrays of the Fig. 2c-d plot.
-
-    f_n (undamped) and xi come from ``method``; ``spectrum_natural_frequency_hz`` and ``crest_damping_ratio``
-    are the paper's estimates, ``crest_damped_frequency_hz`` the crest-period cross-check, ``*_std`` the fit's
-    standard errors. K and C are the suspension's (tyre-corrected if asked), ``equivalent_*`` Eqs. 3-4's.
-    """
-
-    natural_frequency_hz: float
-    damped_frequency_hz: float
-    damping_ratio: float
-    log_decrement: float
-    log_decrement_compression: float
-    log_decrement_extension: float
-    stiffness_N_per_m: float
-    equivalent_stiffness_N_per_m: float
-    damping_Ns_per_m: float
-    equivalent_damping_Ns_per_m: float
-    cycles_used: int
-    sample_rate_hz: float
-    processed_rate_hz: float
-    sprung_mass_kg: float
-    tyre_stiffness_N_per_m: float | None
-    method: str
-    natural_frequency_std_hz: float
-    damping_ratio_std: float
-    spectrum_peak_hz: float
-    spectrum_natural_frequency_hz: float
-    crest_damped_frequency_hz: float
-    crest_damping_ratio: float
-    offset_mps2: float
-    noise_std_mps2: float
-    decay_start_s: float
-    warnings: tuple
-    time_s: np.ndarray
-    signal_mps2: np.ndarray
-    model_mps2: np.ndarray
-    record_time_s: np.ndarray
-    record_mps2: np.ndarray
-    compression_crest_time_s: np.ndarray
-    compression_crest_mps2: np.ndarray
-    extension_crest_time_s: np.ndarray
-    extension_crest_mps2: np.ndarray
-    spectrum_freq_hz: np.ndarray
-    spectrum_magnitude: np.ndarray
-
-    def to_dict(self, include_arrays=False):
-        """JSON-safe dict: scalars (NaN as None), ``warnings`` as a list, arrays as lists on request."""
-        out = {}
-        for key, value in asdict(self).items():
-            if isinstance(value, np.ndarray):
-                if include_arrays:
-                    out[key] = [float(v) if np.isfinite(v) else None for v in value]
-            elif isinstance(value, tuple):
-                out[key] = list(value)
-            else:
-                out[key] = None if isinstance(value, float) and not math.isfinite(value) else value
-        return out
-
-    def to_pandas(self):
-        """The scalars as a :class:`pandas.Series`."""
-        import pandas as pd
-        return pd.Series(self.to_dict())
-
-    def plot(self, ax=None):
-        """Fig. 2c-d: record, crests used and fit; spectrum and its peak. ``ax``: None, one or two Axes."""
-        import matplotlib.pyplot as plt
-        if ax is None:
-            fig, axes = plt.subplots(2, 1, figsize=(7.0, 6.0), constrained_layout=True)
-        else:
-            axes = list(np.atleast_1d(ax))
-            fig = axes[0].figure
-        a = axes[0]
-        a.plot(self.record_time_s, self.record_mps2, ".", ms=3, color="0.6", label="record - offset")
-        a.plot(self.time_s, self.signal_mps2, "-", lw=1, label="processed")
-        a.plot(self.time_s, self.model_mps2, "--", lw=1, label="free-decay fit")
-        a.plot(self.compression_crest_time_s, self.compression_crest_mps2, "^", label="compression crests")
-        a.plot(self.extension_crest_time_s, self.extension_crest_mps2, "v", label="extension crests")
-        a.set(xlabel="time [s]", ylabel="vertical acceleration [m/s$^2$]",
-              title=f"$f_n$ = {self.natural_frequency_hz:.3f} Hz, $\\xi$ = {self.damping_ratio:.3f}")
-        a.legend(fontsize="small")
-        if len(axes) > 1:
-            axes[1].plot(self.spectrum_freq_hz, self.spectrum_magnitude, "-")
-            axes[1].axvline(self.spectrum_peak_hz, ls=":", color="k",
-                            label=f"peak {self.spectrum_peak_hz:.3f} Hz")
-            axes[1].set(xlabel="frequency [Hz]", ylabel="amplitude [m/s$^2$]",
-                        xlim=(0.0, min(10.0, self.processed_rate_hz / 2)))
-            axes[1].legend(fontsize="small")
-        return fig
-
-
-def _validated(time_s, accel_mps2, sprung_mass_kg):
-    t, a = np.asarray(time_s, float), np.asarray(accel_mps2, float)
-    if a.ndim != 1 or t.shape != a.shape:
-        raise InputError(f"expected 1-D arrays of one length, got {t.shape}, {a.shape}", where="accel_mps2")
-    if len(a) < MIN_SAMPLES:
-        raise InputError(f"record too short: {len(a)} samples, need {MIN_SAMPLES}", where="accel_mps2")
-    for name, v in (("time_s", t), ("accel_mps2", a)):
-        if not np.all(np.isfinite(v)):
-            raise InputError(f"NaN or infinite value at sample {int(np.argmin(np.isfinite(v)))}", where=name)
-    if np.any(np.diff(t) <= 0.0):
-        bad = int(np.argmax(np.diff(t) <= 0.0)) + 1
-        raise InputError(f"must increase strictly (sample {bad})", where="time_s")
-    m = float(sprung_mass_kg)
-    if not (math.isfinite(m) and m > 0.0):
-        raise InputError(f"got {m!r}, expected a positive mass [kg]", where="sprung_mass_kg")
-    return t, a, m
-
-
 def _fit_from_decay_start(t, x, t_peak, f_guess, xi_guess, fs):
     """Fit from the earliest start (1/8..1/2 period after the largest excursion) whose estimates agree with
     the next start's (99 % chi-square, Hausman covariance): drops a bump still pushing, or the wheel mode's
@@ -552,9 +446,9 @@ def identify_suspension(time_s, accel_mps2, sprung_mass_kg, *, tyre_stiffness_N_
         Tyre stiffness [N/m] (then K, C are the suspension's), tyre damping [N s/m], unsprung mass [kg].
     resample_hz : float, optional
         Rate of the crest analysis [Hz]; default: the input rate if >= 50 Hz and 20x the oscillation, else
-        max(200 Hz, 20x).
+        max(200 Hz, 20x), lowered (with a warning) to keep the resampled decay within bounds.
     n_cycles : int, optional
-        Cycles of Eq. 1 per polarity; default: all whose crests stand 10x above the noise.
+        Cycles of Eq. 1 per polarity (1 to 1000); default: all whose crests stand 10x above the noise.
     denoise : bool, optional
         Apply the wavelet denoising.
     method : {"fit", "paper"}, optional
@@ -567,11 +461,22 @@ def identify_suspension(time_s, accel_mps2, sprung_mass_kg, *, tyre_stiffness_N_
     Raises
     ------
     InputError
-        NaN, bad time stamps, non-positive mass, too short a record, no oscillation.
+        NaN, bad time stamps, too short a record, no oscillation; an input outside the bounds of
+        :mod:`trikedyn.measure.limits` (masses, stiffness, rates, record length), naming the parameter.
     """
-    t_raw, a_raw, ms = _validated(time_s, accel_mps2, sprung_mass_kg)
+    ms = bounded(sprung_mass_kg, "sprung_mass_kg", 1.0, 5000.0, "kg")
+    kt = None if tyre_stiffness_N_per_m is None else bounded(tyre_stiffness_N_per_m, "tyre_stiffness_N_per_m",
+                                                              1e3, 1e7, "N/m")
+    ct_tyre = bounded(tyre_damping_Ns_per_m, "tyre_damping_Ns_per_m", 0.0, 1e4, "N s/m")
+    mu = bounded(unsprung_mass_kg or 0.0, "unsprung_mass_kg", 0.0, 500.0, "kg")
+    if resample_hz is not None:
+        bounded(resample_hz, "resample_hz", 1.0, 1e4, "Hz")
+    if n_cycles is not None and (isinstance(n_cycles, bool) or not isinstance(n_cycles, int | np.integer)
+                                 or not 1 <= n_cycles <= 1000):
+        raise InputError(f"got {n_cycles!r}, expected a whole number of cycles, 1 to 1000", where="n_cycles")
     if method not in ("fit", "paper"):
         raise InputError(f"unknown method {method!r}, expected 'fit' or 'paper'", where="method")
+    t_raw, a_raw = checked_record(time_s, accel_mps2)
     t, a, fs0 = _uniform(t_raw, a_raw)
     tail = a[-max(len(a) // 4, 8):]
     offset = float(np.median(tail))
@@ -590,9 +495,10 @@ def identify_suspension(time_s, accel_mps2, sprung_mass_kg, *, tyre_stiffness_N_
     while denoise and fs0 / 2 ** (level + 2) >= 2.5 * f_rough:
         level += 1
     xd = wavelet_denoise(x, level=level) if level else x
-    if resample_hz is None:
-        resample_hz = fs0 if fs0 >= max(50.0, 20.0 * f_rough) else max(200.0, 10.0 * math.ceil(2.0 * f_rough))
-    tp, xp = upsample(t[i_max:], xd[i_max:], resample_hz, padtype="reflect")
+    auto = fs0 if fs0 >= max(50.0, 20.0 * f_rough) else max(200.0, 10.0 * math.ceil(2.0 * f_rough))
+    rate = checked_resample(auto if resample_hz is None else resample_hz, t[-1] - t[i_max],
+                            given=resample_hz is not None)
+    tp, xp = upsample(t[i_max:], xd[i_max:], rate, padtype="reflect")
     fs = 1.0 / (tp[1] - tp[0])
     ptail = xp[-max(len(xp) // 4, 8):]
     floor = max(1.4826 * float(np.median(np.abs(ptail - np.median(ptail)))), 1e-9 * abs(x[i_max]))
@@ -633,14 +539,12 @@ def identify_suspension(time_s, accel_mps2, sprung_mass_kg, *, tyre_stiffness_N_
 
     k_eq = stiffness_from_frequency(f_n, ms)
     c_eq = damping_coefficient(xi, k_eq, ms)
-    k_s, c_s, kt = k_eq, c_eq, None
-    if tyre_stiffness_N_per_m is not None:
-        kt = float(tyre_stiffness_N_per_m)
-        if not kt > 0.0:
-            raise InputError(f"got {kt!r}, expected a positive stiffness [N/m]",
-                             where="tyre_stiffness_N_per_m")
-        k_s, c_s = suspension_from_body_mode(f_n, xi, ms, kt, tyre_damping=float(tyre_damping_Ns_per_m),
-                                             unsprung_mass_kg=float(unsprung_mass_kg or 0.0))
+    k_s, c_s = k_eq, c_eq
+    if rate < auto and resample_hz is None:
+        notes.append(f"crest analysis at {rate:.4g} Hz, not {auto:.4g} Hz: the resampled decay is kept within "
+                     f"{MAX_RESAMPLED_SAMPLES} samples")
+    if kt is not None:
+        k_s, c_s = suspension_from_body_mode(f_n, xi, ms, kt, tyre_damping=ct_tyre, unsprung_mass_kg=mu)
         if not (k_s > 0.0 and c_s >= 0.0):
             raise InputError(f"too soft for the body mode found (K_eq = {k_eq:.0f} N/m): no suspension fits",
                              where="tyre_stiffness_N_per_m")

@@ -20,16 +20,23 @@ raised (the paper's Fig. 3)::
     raised = "front"              # the axle lifted
     height_m = 0.20               # lift of its contact above the other axle's [m]
     raised_axle_kg = 236.4        # scale reading under the raised axle (sum of its wheels) [kg]
+
+Every value is a number (an integer or a float; not a text or true/false), finite and in a physical range:
+readings 0 .. 10 000 kg, ``reading_std_kg`` 0 .. 100 kg, ``wheel_radius_m`` up to 2 m, contact coordinates
+within 20 m of the origin, raise heights up to 5 m and below the wheelbase; 3 to 16 wheels, at most 100
+tilted weighings. Unknown keys are errors with a close-match hint (:class:`WeighingRecord`).
 """
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Annotated, Literal
 
 import numpy as np
+from pydantic import AfterValidator, AllowInfNan, BaseModel, BeforeValidator, ConfigDict, Field, Strict, ValidationError
 
+from .._validation import describe_validation_error
 from ..errors import InputError
 from ..units import STANDARD_GRAVITY
 from .cg import (
@@ -39,7 +46,54 @@ from .cg import (
     cg_height_from_tilted_weighings,
 )
 
-__all__ = ["CgMeasurement", "load_weighing", "reduce_weighing"]
+__all__ = ["CgMeasurement", "WeighingRecord", "load_weighing", "reduce_weighing"]
+
+_Number = Annotated[float, Strict(), AllowInfNan(False)]
+"""A finite number written as one (an integer or a float; not a text, not true/false)."""
+
+
+def _pair(value):
+    if not isinstance(value, list | tuple) or len(value) != 2:
+        raise ValueError("expected [x, y] in m")
+    return value
+
+
+def _reading(value: float) -> float:
+    if value < 0:
+        raise ValueError(f"scale reading must be >= 0 kg (got {value:g})")
+    return value
+
+
+_Reading = Annotated[_Number, AfterValidator(_reading), Field(le=10_000.0)]
+"""A scale reading [kg]: 0 .. 10 t."""
+
+_Coordinate = Annotated[_Number, Field(ge=-20.0, le=20.0)]
+"""A contact coordinate [m], within 20 m of the origin."""
+
+
+class _Record(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class TiltedWeighing(_Record):
+    """One weighing with an axle raised."""
+
+    raised: Literal["front", "rear"]
+    height_m: _Number = Field(gt=0.0, le=5.0, description="lift of the raised axle's contact [m]")
+    raised_axle_kg: _Reading
+
+
+class WeighingRecord(_Record):
+    """A weighing file (see the module docstring): types and ranges checked, unknown keys refused."""
+
+    description: str | None = Field(default=None, max_length=2000)
+    reading_std_kg: _Number = Field(default=0.0, ge=0.0, le=100.0)
+    wheel_radius_m: _Number | None = Field(default=None, gt=0.0, le=2.0)
+    contacts: dict[str, Annotated[tuple[_Coordinate, _Coordinate], BeforeValidator(_pair)]] = Field(
+        min_length=3, max_length=16
+    )
+    level: dict[str, _Reading] = Field(min_length=3, max_length=16)
+    tilted: list[TiltedWeighing] = Field(default_factory=list, max_length=100)
 
 
 @dataclass(frozen=True)
@@ -56,77 +110,66 @@ class CgMeasurement:
         return out
 
 
-def _number(value, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, int | float) or not np.isfinite(value):
-        raise InputError(f"expected a number, got {value!r}", where=where)
-    return float(value)
+def _validated(record, where: str) -> WeighingRecord:
+    if not isinstance(record, dict):
+        raise InputError(f"expected a table of keys, got {type(record).__name__}", where=where)
+    try:
+        return WeighingRecord.model_validate(record)
+    except ValidationError as exc:
+        raise InputError(describe_validation_error(exc, record, WeighingRecord), where=where) from None
 
 
 def load_weighing(path: str | Path) -> dict:
-    """Read a weighing file (see the module docstring) into a plain dict, with clear errors."""
+    """Read a weighing file (see the module docstring) into a plain dict, with clear errors.
+
+    The file must be UTF-8 TOML of at most 1 MiB (:mod:`trikedyn.params.tomlfile`) and follow
+    :class:`WeighingRecord`; the dict returned is the file's content as read.
+    """
+    from ..params.tomlfile import is_file, parse_toml, read_text
+
     path = Path(path)
-    if not path.is_file():
-        raise InputError("no such weighing file", where=str(path))
-    try:
-        return tomllib.loads(path.read_text(encoding="utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise InputError(f"not a readable TOML file: {exc}", where=str(path)) from None
+    where = str(path)
+    if not is_file(path):
+        raise InputError("no such weighing file", where=where)
+    record = parse_toml(read_text(path, where), where)
+    _validated(record, where)
+    return record
 
 
 def reduce_weighing(record: dict, where: str = "weighing") -> CgMeasurement:
     """Reduce a weighing record to mass and CG (x, y from the level weighing; z from the tilted ones)."""
     g = STANDARD_GRAVITY
-    known = {"reading_std_kg", "wheel_radius_m", "contacts", "level", "tilted", "description"}
-    for key in record:
-        if key not in known:
-            from difflib import get_close_matches
-
-            hint = get_close_matches(key, sorted(known), n=1)
-            raise InputError(
-                f"unknown key '{key}'" + (f"; did you mean '{hint[0]}'?" if hint else ""), where=where
-            )
-    contacts = record.get("contacts")
-    level = record.get("level")
-    if not isinstance(contacts, dict) or not isinstance(level, dict):
-        raise InputError("needs a [contacts] table and a [level] table", where=where)
-    if set(contacts) != set(level):
+    rec = _validated(record, where)
+    if set(rec.contacts) != set(rec.level):
         raise InputError(
-            f"[level] wheels {sorted(level)} differ from [contacts] wheels {sorted(contacts)}", where=where
+            f"[level] wheels {sorted(rec.level)} differ from [contacts] wheels {sorted(rec.contacts)}", where=where
         )
-    names = list(contacts)
-    pts = []
-    for n in names:
-        xy = contacts[n]
-        if not isinstance(xy, list) or len(xy) != 2:
-            raise InputError("expected [x, y] in m", where=f"{where}: contacts.{n}")
-        pts.append([_number(v, f"{where}: contacts.{n}") for v in xy])
-    readings = np.array([_number(level[n], f"{where}: level.{n}") for n in names])
-    if np.any(readings < 0):
-        bad = names[int(np.argmin(readings))]
-        raise InputError("scale reading must be >= 0 kg", where=f"{where}: level.{bad}")
-    std_kg = _number(record.get("reading_std_kg", 0.0), f"{where}: reading_std_kg")
+    names = list(rec.contacts)
+    pts = np.array([rec.contacts[n] for n in names], dtype=float)
+    readings = np.array([rec.level[n] for n in names])
+    if readings.sum() <= 0.0:
+        raise InputError("the scale readings sum to 0 kg", where=f"{where}: level")
+    std_kg = rec.reading_std_kg
     lvl = cg_from_level_weighing(readings * g, pts, load_std_N=std_kg * g)
-    tilted = record.get("tilted", [])
-    if not tilted:
+    if not rec.tilted:
         return CgMeasurement(lvl, None)
-    if "wheel_radius_m" not in record:
+    if rec.wheel_radius_m is None:
         raise InputError("missing: [[tilted]] weighings need the axle height", where=f"{where}: wheel_radius_m")
-    radius = _number(record["wheel_radius_m"], f"{where}: wheel_radius_m")
-    pts = np.array(pts)
-    front_x = pts[:, 0].max()
-    wheelbase = front_x - pts[:, 0].min()
-    raised = {t.get("raised") for t in tilted}
-    if len(raised) != 1 or not raised <= {"front", "rear"}:
+    wheelbase = float(pts[:, 0].max() - pts[:, 0].min())
+    raised = {t.raised for t in rec.tilted}
+    if len(raised) != 1:
         raise InputError("every [[tilted]] entry needs the same raised = 'front' or 'rear'", where=where)
-    heights = [_number(t.get("height_m"), f"{where}: tilted[{i}].height_m") for i, t in enumerate(tilted)]
-    loads = [_number(t.get("raised_axle_kg"), f"{where}: tilted[{i}].raised_axle_kg") * g for i, t in enumerate(tilted)]
+    for i, t in enumerate(rec.tilted):
+        if t.height_m >= wheelbase:
+            raise InputError(f"must be below the wheelbase of the contacts ({wheelbase:g} m), got {t.height_m:g}",
+                             where=f"{where}: tilted[{i}].height_m")
     height = cg_height_from_tilted_weighings(
-        loads,
-        heights,
+        [t.raised_axle_kg * g for t in rec.tilted],
+        [t.height_m for t in rec.tilted],
         mass_kg=lvl.mass_kg,
         cg_x_m=lvl.cg_x_m - pts[:, 0].min(),
         wheelbase_m=wheelbase,
-        wheel_radius_m=radius,
+        wheel_radius_m=rec.wheel_radius_m,
         raised=raised.pop(),
         load_std_N=std_kg * g,
     )

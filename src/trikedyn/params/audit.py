@@ -10,6 +10,10 @@ What a careful engineer checks before trusting a parameter set, each as a :class
   (``a_y / g = d / h``, ``d`` the CG's lateral distance to the edge: ``a T / (2 L)`` for a centred CG);
 * static spring and tyre deflections against the travel, and the Magic Formula's nominal load against the
   static wheel loads.
+
+Every number in a finding is finite: what cannot be computed (a sprung mass that is not positive, a damper
+of zero against Eq. 4) is said in the message, its value is None, and a value that still came out
+non-finite is replaced by None with an ``inconsistent`` finding that names it.
 """
 
 from __future__ import annotations
@@ -82,7 +86,7 @@ def tip_over_thresholds(params: VehicleParameters) -> list[dict]:
             if np.dot(centroid - p, normal) < 0:
                 normal = -normal  # inward
             d = float(np.dot(cg - p, normal))
-            lateral = abs(normal[1]) > 1e-9 and abs(normal[1]) >= abs(normal[0]) * 0.5
+            lateral = bool(abs(normal[1]) > 1e-9 and abs(normal[1]) >= abs(normal[0]) * 0.5)
             comp = abs(normal[1]) if lateral else abs(normal[0])
             along = d / comp
             side = (
@@ -117,18 +121,21 @@ def audit(pset: ParameterSet | VehicleParameters) -> list[Finding]:
         s = params.suspension[w.suspension]
         from_cg = loads[w.name] / g - unsprung_mass(params, w.name)
         row = {"wheel": w.name, "sprung_mass_from_cg_kg": from_cg}
+        positive = from_cg > 0
         if s.natural_frequency_hz is not None:
             m_eq3 = s.stiffness_N_per_m / (two_pi * s.natural_frequency_hz) ** 2
             row["sprung_mass_eq3_kg"] = m_eq3
-            row["ratio_eq3_to_cg"] = m_eq3 / from_cg if from_cg > 0 else float("inf")
+            row["ratio_eq3_to_cg"] = m_eq3 / from_cg if positive else None
             implied[w.name] = m_eq3 + unsprung_mass(params, w.name)
         else:
-            row["natural_frequency_from_cg_hz"] = math.sqrt(s.stiffness_N_per_m / from_cg) / two_pi
+            row["natural_frequency_from_cg_hz"] = math.sqrt(s.stiffness_N_per_m / from_cg) / two_pi if positive else None
         ratio = row.get("ratio_eq3_to_cg")
-        level = OK if ratio is None or abs(ratio - 1) <= 0.10 else INCONSISTENT
+        level = OK if positive and (ratio is None or abs(ratio - 1) <= 0.10) else INCONSISTENT
         msg = (
             f"{w.name}: sprung mass {from_cg:.1f} kg from masses and CG"
-            + (f", {row['sprung_mass_eq3_kg']:.1f} kg from K and f_n (Eq. 3), ratio {ratio:.2f}" if ratio else "")
+            + ("" if positive else " (not positive: the CG is outside the support or the unsprung parts are too heavy)")
+            + (f", {row['sprung_mass_eq3_kg']:.1f} kg from K and f_n (Eq. 3)" if "sprung_mass_eq3_kg" in row else "")
+            + (f", ratio {ratio:.2f}" if ratio is not None else "")
         )
         findings.append(Finding(level, "sprung mass", msg, row))
 
@@ -137,15 +144,18 @@ def audit(pset: ParameterSet | VehicleParameters) -> list[Finding]:
             continue
         m_s = s.stiffness_N_per_m / (two_pi * s.natural_frequency_hz) ** 2
         c_eq4 = 2.0 * s.damping_ratio * math.sqrt(s.stiffness_N_per_m * m_s)
-        ratio = c_eq4 / s.damping_Ns_per_m if s.damping_Ns_per_m > 0 else float("inf")
-        xi_actual = s.damping_Ns_per_m / (2.0 * math.sqrt(s.stiffness_N_per_m * m_s))
-        level = OK if abs(ratio - 1) <= 0.05 else INCONSISTENT
+        given = s.damping_Ns_per_m
+        ratio = c_eq4 / given if given > 0 else (1.0 if c_eq4 == 0 else None)
+        xi_actual = given / (2.0 * math.sqrt(s.stiffness_N_per_m * m_s))
+        level = OK if ratio is not None and abs(ratio - 1) <= 0.05 else INCONSISTENT
         findings.append(
             Finding(
                 level,
                 "damping (Eq. 4)",
-                f"{name}: C = {s.damping_Ns_per_m:.2f} N s/m, Eq. 4 gives 2 xi sqrt(K M_s) = {c_eq4:.2f} N s/m "
-                f"(xi = {s.damping_ratio:.2f}, M_s = {m_s:.2f} kg): {ratio:.2f}x; the C given means xi = {xi_actual:.3f}",
+                f"{name}: C = {given:.2f} N s/m, Eq. 4 gives 2 xi sqrt(K M_s) = {c_eq4:.2f} N s/m "
+                f"(xi = {s.damping_ratio:.2f}, M_s = {m_s:.2f} kg): "
+                + (f"{ratio:.2f}x" if ratio is not None else "no damper given")
+                + f"; the C given means xi = {xi_actual:.3f}",
                 {
                     "suspension": name,
                     "damping_Ns_per_m": s.damping_Ns_per_m,
@@ -255,4 +265,19 @@ def audit(pset: ParameterSet | VehicleParameters) -> list[Finding]:
         findings.append(
             Finding(WARNING, "steering", f"trail {params.steering.trail_m:g} m <= 0: no self-centring", {})
         )
-    return findings
+    return _finite(findings)
+
+
+def _finite(findings: list[Finding]) -> list[Finding]:
+    """The findings with every non-finite number replaced by None, and a finding naming each."""
+    out = []
+    for f in findings:
+        bad = [k for k, v in f.values.items() if isinstance(v, float | np.floating) and not math.isfinite(v)]
+        if not bad:
+            out.append(f)
+            continue
+        values = {k: (None if k in bad else v) for k, v in f.values.items()}
+        out.append(Finding(f.level, f.topic, f.message, values))
+        out.append(Finding(INCONSISTENT, f.topic, f"{f.topic}: {', '.join(bad)} could not be computed (not finite)",
+                           {"values": bad}))
+    return out

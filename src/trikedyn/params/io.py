@@ -11,11 +11,10 @@ The notes (``assumed``, ``source``, ``note``) are kept by dotted path (``mass.dr
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass, field, replace
 from difflib import get_close_matches
 from importlib import resources
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 
 import tomli_w
 from pydantic import ValidationError
@@ -23,10 +22,14 @@ from pydantic import ValidationError
 from .._validation import describe_validation_error
 from ..errors import ParameterError
 from .schema import VehicleParameters
+from .tomlfile import MAX_FILE_BYTES, is_file, parse_toml, read_text
 
-__all__ = ["NOTE_KEYS", "ParameterSet", "list_presets", "load_vehicle", "parse_vehicle", "save_vehicle"]
+__all__ = ["MAX_EXTENDS", "NOTE_KEYS", "ParameterSet", "list_presets", "load_vehicle", "parse_vehicle", "save_vehicle"]
 
 NOTE_KEYS = ("assumed", "source", "note")
+
+MAX_EXTENDS = 8
+"""Most ``extends`` links in a chain (a file that extends one that extends ...)."""
 
 
 @dataclass(frozen=True)
@@ -73,43 +76,53 @@ def list_presets() -> list[str]:
 def load_vehicle(name_or_path: str | Path) -> ParameterSet:
     """Load a preset by name, or a parameter file by path.
 
+    A file is read if it is a regular UTF-8 file of at most 1 MiB (:mod:`trikedyn.params.tomlfile`).
+
     Raises
     ------
     ParameterError
-        Unknown preset (with a close match), unreadable TOML, unknown key, missing or out-of-range value.
+        Unknown preset (with a close match), unreadable TOML, unknown key, missing or out-of-range value,
+        an ``extends`` that is refused (see :func:`parse_vehicle`).
     """
     text = str(name_or_path)
     path = Path(text)
-    if path.suffix == ".toml" or path.exists() or "/" in text:
-        if not path.is_file():
-            raise ParameterError("no such parameter file", where=text)
-        try:
-            raw = path.read_text(encoding="utf-8")
-        except UnicodeDecodeError as exc:
-            raise ParameterError(f"not UTF-8 text ({exc.reason} at byte {exc.start})", where=text) from None
-        return parse_vehicle(raw, origin=text)
+    if path.suffix == ".toml" or "/" in text or is_file(path):
+        if not is_file(path):
+            raise ParameterError("no such parameter file", where=_shown(text))
+        real = _real(path)
+        return _parse(read_text(path, _shown(text), error=ParameterError), text, real.parent, (("file", str(real)),))
     presets = list_presets()
     if text not in presets:
         hint = get_close_matches(text, presets, n=1)
         tip = f"; did you mean '{hint[0]}'?" if hint else ""
         raise ParameterError(
-            f"unknown vehicle '{text}'{tip} (presets: {', '.join(presets)}; or give a .toml file)", where="vehicle"
+            f"unknown vehicle '{_shown(text)}'{tip} (presets: {', '.join(presets)}; or give a .toml file)",
+            where="vehicle",
         )
-    return parse_vehicle((_preset_dir() / f"{text}.toml").read_text(encoding="utf-8"), origin=text)
+    return _parse(_preset_text(text), text, None, (("preset", text),))
 
 
 def parse_vehicle(toml_text: str, origin: str = "<string>") -> ParameterSet:
     """Validate a parameter set given as TOML text.
 
-    A set may start from another with ``extends = "PRESET"`` (or a path relative to its own file) and
-    give only what differs; tables merge key by key, ``[[wheels]]`` by wheel name.
+    A set may start from another with ``extends = "PRESET"`` or ``extends = "FILE.toml"`` and give only
+    what differs; tables merge key by key, ``[[wheels]]`` by wheel name. A file named by ``extends`` is
+    relative to the folder of the file that names it (for text, the folder of ``origin``; a preset may
+    extend presets only) and must lie in that folder or below it once symbolic links are resolved: no
+    absolute path, no ``..``. It is read like the first file (UTF-8, at most 1 MiB). A chain of
+    ``extends`` may be at most :data:`MAX_EXTENDS` long and must not come back to a file already in it.
+    A refused ``extends`` names what was written and why, never the target's content.
     """
-    raw = _read_raw(toml_text, origin, depth=0)
+    return _parse(toml_text, origin, _real(Path(origin)).parent, (("text", origin),))
+
+
+def _parse(toml_text: str, origin: str, folder: Path | None, chain: tuple) -> ParameterSet:
+    raw = _read_raw(toml_text, origin, folder, chain)
     plain, notes = _split_notes(raw, ())
     try:
         params = VehicleParameters.model_validate(plain)
     except ValidationError as exc:
-        raise ParameterError(_describe(exc, plain), where=origin) from None
+        raise ParameterError(_describe(exc, plain), where=_shown(origin)) from None
     return ParameterSet(params, notes, origin)
 
 
@@ -153,28 +166,87 @@ def _to_toml(data: dict, header: tuple = ()) -> str:
 
 
 # ------------------------------------------------------------------------------------------------
-def _read_raw(toml_text: str, origin: str, depth: int) -> dict:
+def _preset_text(name: str) -> str:
+    return (_preset_dir() / f"{name}.toml").read_text(encoding="utf-8")
+
+
+def _real(path: Path) -> Path:
+    """The real path of a file (symbolic links resolved); its folder is where its ``extends`` may reach."""
     try:
-        raw = tomllib.loads(toml_text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ParameterError(f"invalid TOML: {exc}", where=origin) from None
+        return path.resolve()
+    except (OSError, RuntimeError, ValueError):  # a loop of symbolic links, a name the system refuses
+        return path.absolute()
+
+
+def _shown(text: str, limit: int = 300) -> str:
+    """A name as the user wrote it, cut short for a one-line message."""
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _read_raw(toml_text: str, origin: str, folder: Path | None, chain: tuple) -> dict:
+    """The merged raw table of ``toml_text`` and the chain of files it extends.
+
+    ``folder``: the real folder of the file read (None for a preset: it may extend presets only);
+    ``chain``: the files and presets read so far, to stop a cycle.
+    """
+    where = _shown(origin)
+    if len(toml_text) > MAX_FILE_BYTES:
+        raise ParameterError(f"longer than {MAX_FILE_BYTES // 1024} KiB; expected a parameter file", where=where)
+    raw = parse_toml(toml_text, where, error=ParameterError)
     base_name = raw.pop("extends", None)
     if base_name is None:
         return raw
-    if depth > 8:
-        raise ParameterError("'extends' chain deeper than 8 (a cycle?)", where=origin)
-    if not isinstance(base_name, str):
-        raise ParameterError("extends: must be a preset name or a file path", where=origin)
-    candidate = Path(origin).parent / base_name
-    if base_name in list_presets():
-        base_text, base_origin = (_preset_dir() / f"{base_name}.toml").read_text(encoding="utf-8"), base_name
-    elif candidate.is_file():
-        base_text, base_origin = candidate.read_text(encoding="utf-8"), str(candidate)
-    else:
-        hint = get_close_matches(base_name, list_presets(), n=1)
+    base_text, base_origin, base_folder, key = _extended(base_name, where, folder)
+    if key in chain:
+        loop = " -> ".join(_shown(Path(k[1]).name if k[0] == "file" else k[1], 60)
+                           for k in (*chain, key)[chain.index(key):])
+        raise ParameterError(f"extends: a cycle ({loop})", where=where)
+    if len(chain) > MAX_EXTENDS:
+        raise ParameterError(f"extends: more than {MAX_EXTENDS} in a chain", where=where)
+    return _deep_merge(_read_raw(base_text, base_origin, base_folder, (*chain, key)), raw)
+
+
+def _extended(name, where: str, folder: Path | None) -> tuple[str, str, Path | None, tuple]:
+    """Text, origin, folder and identity of what ``extends = name`` names, or a ParameterError.
+
+    Every refusal is decided from the name and the resolved path alone, before the target is opened.
+    """
+    usage = "expected a preset name or a .toml file in this file's folder or below it"
+    if not isinstance(name, str) or not name.strip():
+        raise ParameterError(f"extends: {usage}", where=where)
+    shown = _shown(name, 60)
+    presets = list_presets()
+    if name in presets:
+        return _preset_text(name), name, None, ("preset", name)
+    if folder is None:
+        hint = get_close_matches(name, presets, n=1)
         tip = f"; did you mean '{hint[0]}'?" if hint else ""
-        raise ParameterError(f"extends: no preset or file '{base_name}'{tip}", where=origin)
-    return _deep_merge(_read_raw(base_text, base_origin, depth + 1), raw)
+        raise ParameterError(f"extends: no preset '{shown}'{tip} (a preset extends presets only)", where=where)
+    rel = PurePosixPath(name)
+    refused = (
+        "an absolute path" if rel.is_absolute() or name.startswith("~") else
+        "a path with '..'" if ".." in rel.parts else
+        "a name with a backslash or a control character" if "\\" in name or any(ord(c) < 32 for c in name) else
+        "a name too long" if len(name) > 1024 or any(len(p.encode()) > 255 for p in rel.parts) else None
+    )
+    if refused:
+        raise ParameterError(f"extends: '{shown}' is {refused}; {usage}", where=where)
+    if not name.endswith(".toml"):
+        hint = get_close_matches(name, presets, n=1)
+        tip = f"; did you mean '{hint[0]}'?" if hint else ""
+        raise ParameterError(f"extends: no preset '{shown}'{tip} ({usage})", where=where)
+    try:
+        target = (folder / rel).resolve()
+    except (OSError, RuntimeError, ValueError):  # a loop of symbolic links
+        raise ParameterError(f"extends: '{shown}' cannot be resolved; {usage}", where=where) from None
+    if not target.is_relative_to(folder):
+        raise ParameterError(f"extends: '{shown}' leads out of this file's folder (a symbolic link); {usage}",
+                             where=where)
+    if not is_file(target):
+        raise ParameterError(f"extends: no preset or file '{shown}' (looked in {_shown(str(folder), 60)})",
+                             where=where)
+    origin = str(folder / rel)
+    return read_text(target, _shown(origin), error=ParameterError), origin, target.parent, ("file", str(target))
 
 
 def _deep_merge(base, over):
@@ -186,11 +258,17 @@ def _deep_merge(base, over):
             merged[key] = _deep_merge(base[key], value) if key in base else value
         return merged
     if isinstance(base, list) and isinstance(over, list) and all(isinstance(i, dict) for i in base + over):
-        by_name = {item.get("name"): item for item in base}
-        merged = [_deep_merge(by_name[i["name"]], i) if i.get("name") in by_name else i for i in over]
-        named = {i.get("name") for i in over}
-        return [b for b in base if b.get("name") not in named] + merged
+        by_name = {_item_name(item): item for item in base if _item_name(item) is not None}
+        merged = [_deep_merge(by_name[_item_name(i)], i) if _item_name(i) in by_name else i for i in over]
+        named = {_item_name(i) for i in over} - {None}
+        return [b for b in base if _item_name(b) not in named] + merged
     return over
+
+
+def _item_name(item: dict) -> str | None:
+    """The name of a ``[[wheels]]`` (or other named) entry, if it has a text one."""
+    name = item.get("name")
+    return name if isinstance(name, str) else None
 
 
 def _is_annotated_value(node) -> bool:

@@ -10,14 +10,21 @@ total mass M = 508 kg), ``driver_kg`` the driver aboard, and the centre of gravi
 tensor are those of vehicle plus driver, ready to drive, without freight. The model splits that whole
 into its bodies (chassis, steering head, fork slider, swing arms, wheels), so the chassis' own mass
 and CG are derived, never entered twice.
+
+Every number is finite and has a physical range, not just a sign: a quantity that must be positive says
+so first (``gt=0``) and then has a least physical value (spring stiffness 100 N/m .. 1e7 N/m, curb mass
+10 .. 5000 kg, wheel mass 0.2 .. 100 kg, ...; see each field). Across fields: the three contact points span
+a triangle (each at least :data:`MIN_SUPPORT_M` from the line through the other two), and payload leaves
+at least :data:`MIN_MASS_KG` with its CG at least :data:`MIN_CG_HEIGHT_M` above the ground. Within these
+ranges the audit and the derived quantities never divide by zero or overflow.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Literal
+from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, field_validator, model_validator
 
 __all__ = [
     "AeroSpec",
@@ -34,26 +41,58 @@ __all__ = [
 ]
 
 
+MIN_SUPPORT_M = 0.1
+"""Least distance of each wheel's contact point from the line through the other two [m]."""
+
+MIN_MASS_KG = 10.0
+"""Least mass of the vehicle with its payload [kg]."""
+
+MIN_CG_HEIGHT_M = 0.01
+"""Least height of the CG with payload above the ground [m]."""
+
+
 class _Spec(BaseModel):
     """Base of every schema section: frozen, unknown keys rejected."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, validate_default=True, allow_inf_nan=False)
+
+
+def _at_least(minimum: float, unit: str) -> AfterValidator:
+    """The least physical value of a quantity that must be > 0 (which the field's ``gt=0`` checks first).
+
+    Each field has a range an engineer would accept for a three-wheeled vehicle (its lower bound here, its
+    upper bound in ``le=``): wide enough for a 10 kg recumbent trike and a 5 t cargo one, narrow enough that
+    no derived quantity (frequencies, sags, tip-over accelerations) divides by a vanishing number.
+    """
+
+    def check(value: float) -> float:
+        if value < minimum:
+            raise ValueError(f"input should be at least {minimum:g}{' ' + unit if unit else ''} (got {value:g})")
+        return value
+
+    check.minimum = minimum  # the bound, for whoever inspects the schema (documentation, tests)
+    return AfterValidator(check)
+
+
+def _positive(minimum: float, unit: str):
+    """A float that is > 0 (pydantic's own message) and at least ``minimum`` (a physical value)."""
+    return Annotated[float, _at_least(minimum, unit)]
 
 
 class MassSpec(_Spec):
     """Masses, centre of gravity and inertia of the vehicle with its driver, without freight."""
 
-    curb_kg: float = Field(gt=0, le=5000, description="vehicle as weighed, wheels included, no driver [kg]")
-    body_kg: float | None = Field(
+    curb_kg: _positive(10.0, "kg") = Field(gt=0, le=5000, description="vehicle as weighed, wheels included, no driver [kg]")
+    body_kg: _positive(5.0, "kg") | None = Field(
         default=None, gt=0, le=5000, description="curb mass less the wheels (paper's M_B) [kg]"
     )
     driver_kg: float = Field(default=0.0, ge=0, le=300, description="driver aboard [kg]")
     cg_x_m: float = Field(ge=-5, le=10, description="CG of vehicle + driver, ahead of the rear axle [m]")
     cg_y_m: float = Field(ge=-2, le=2, description="CG of vehicle + driver, left of the centre line [m]")
-    cg_z_m: float = Field(gt=0, le=3, description="CG of vehicle + driver, above the ground [m]")
-    roll_inertia_kgm2: float = Field(gt=0, le=1e5, description="Ixx of vehicle + driver about the CG")
-    pitch_inertia_kgm2: float = Field(gt=0, le=1e5, description="Iyy of vehicle + driver about the CG")
-    yaw_inertia_kgm2: float = Field(gt=0, le=1e5, description="Izz of vehicle + driver about the CG")
+    cg_z_m: _positive(0.05, "m") = Field(gt=0, le=3, description="CG of vehicle + driver, above the ground [m]")
+    roll_inertia_kgm2: _positive(0.1, "kg m^2") = Field(gt=0, le=1e5, description="Ixx of vehicle + driver about the CG")
+    pitch_inertia_kgm2: _positive(0.1, "kg m^2") = Field(gt=0, le=1e5, description="Iyy of vehicle + driver about the CG")
+    yaw_inertia_kgm2: _positive(0.1, "kg m^2") = Field(gt=0, le=1e5, description="Izz of vehicle + driver about the CG")
     roll_yaw_product_kgm2: float = Field(default=0.0, ge=-1e4, le=1e4, description="Ixz = int x z dm")
     roll_pitch_product_kgm2: float = Field(default=0.0, ge=-1e4, le=1e4, description="Ixy = int x y dm")
     pitch_yaw_product_kgm2: float = Field(default=0.0, ge=-1e4, le=1e4, description="Iyz = int y z dm")
@@ -100,14 +139,14 @@ class SteeringSpec(_Spec):
 
     axis_angle_deg: float = Field(ge=0, le=45, description="steering axis behind the vertical (rake) [deg]")
     trail_m: float = Field(ge=-0.2, le=0.4, description="mechanical trail on the ground [m]")
-    head_mass_kg: float = Field(gt=0, le=100, description="bars, upper fork, lamp: turns with the steer")
-    head_inertia_kgm2: float = Field(gt=0, le=50, description="head inertia about the steering axis")
-    max_angle_deg: float = Field(gt=0, le=80, description="steering lock [deg]")
-    max_rate_deg_per_s: float = Field(gt=0, le=2000, description="fastest steering a driver applies")
-    servo_bandwidth_hz: float = Field(
+    head_mass_kg: _positive(0.1, "kg") = Field(gt=0, le=100, description="bars, upper fork, lamp: turns with the steer")
+    head_inertia_kgm2: _positive(0.001, "kg m^2") = Field(gt=0, le=50, description="head inertia about the steering axis")
+    max_angle_deg: _positive(5.0, "deg") = Field(gt=0, le=80, description="steering lock [deg]")
+    max_rate_deg_per_s: _positive(10.0, "deg/s") = Field(gt=0, le=2000, description="fastest steering a driver applies")
+    servo_bandwidth_hz: _positive(0.5, "Hz") = Field(
         gt=0, le=50, description="steering servo natural frequency on the steered inertia [Hz]"
     )
-    servo_damping_ratio: float = Field(gt=0, le=3, description="steering servo damping ratio")
+    servo_damping_ratio: _positive(0.05, "") = Field(gt=0, le=3, description="steering servo damping ratio")
 
 
 class SuspensionSpec(_Spec):
@@ -118,19 +157,19 @@ class SuspensionSpec(_Spec):
     """
 
     kind: Literal["telescopic", "swing_arm"]
-    stiffness_N_per_m: float = Field(gt=0, le=1e7, description="wheel rate K [N/m]")
-    damping_Ns_per_m: float = Field(ge=0, le=1e6, description="wheel damping C [N s/m]")
-    natural_frequency_hz: float | None = Field(default=None, gt=0, le=50, description="measured f_n [Hz]")
+    stiffness_N_per_m: _positive(100.0, "N/m") = Field(gt=0, le=1e7, description="wheel rate K [N/m]")
+    damping_Ns_per_m: float = Field(ge=0, le=1e5, description="wheel damping C [N s/m]")
+    natural_frequency_hz: _positive(0.1, "Hz") | None = Field(default=None, gt=0, le=50, description="measured f_n [Hz]")
     damping_ratio: float | None = Field(default=None, ge=0, lt=1, description="measured damping ratio")
     moving_mass_kg: float = Field(ge=0, le=200, description="fork slider or swing arm, wheel excluded [kg]")
     moving_inertia_kgm2: float = Field(
         default=0.0, ge=0, le=50, description="swing arm inertia about its pivot [kg m^2]"
     )
-    arm_length_m: float | None = Field(default=None, gt=0, le=2, description="swing arm pivot to axle [m]")
-    pivot_height_m: float | None = Field(default=None, gt=0, le=2, description="swing arm pivot height [m]")
-    bump_travel_m: float = Field(gt=0, le=0.5, description="travel from static to the bump stop [m]")
-    rebound_travel_m: float = Field(gt=0, le=0.5, description="travel from static to full extension [m]")
-    bump_stop_stiffness_N_per_m: float = Field(gt=0, le=1e8, description="one-sided stop stiffness [N/m]")
+    arm_length_m: _positive(0.05, "m") | None = Field(default=None, gt=0, le=2, description="swing arm pivot to axle [m]")
+    pivot_height_m: _positive(0.01, "m") | None = Field(default=None, gt=0, le=2, description="swing arm pivot height [m]")
+    bump_travel_m: _positive(0.005, "m") = Field(gt=0, le=0.5, description="travel from static to the bump stop [m]")
+    rebound_travel_m: _positive(0.005, "m") = Field(gt=0, le=0.5, description="travel from static to full extension [m]")
+    bump_stop_stiffness_N_per_m: _positive(1000.0, "N/m") = Field(gt=0, le=1e8, description="one-sided stop stiffness [N/m]")
 
     @model_validator(mode="after")
     def _swing_arm_geometry(self):
@@ -144,13 +183,13 @@ class SuspensionSpec(_Spec):
 class WheelSpec(_Spec):
     """One wheel station: the wheel centre's position at static ride height and its suspension."""
 
-    name: str = Field(pattern=r"^[a-z][a-z0-9_]*$", description="front, rear_left, rear_right, ...")
+    name: str = Field(pattern=r"^[a-z][a-z0-9_]*$", max_length=40, description="front, rear_left, rear_right, ...")
     x_m: float = Field(ge=-5, le=10, description="contact point ahead of the rear axle [m]")
     y_m: float = Field(ge=-2, le=2, description="contact point left of the centre line [m]")
-    suspension: str = Field(description="name of an entry of [suspension]")
+    suspension: str = Field(max_length=40, description="name of an entry of [suspension]")
     radius_m: float = Field(gt=0.05, le=1.0, description="unloaded tyre radius [m]")
-    mass_kg: float = Field(gt=0, le=100, description="wheel with tyre, hub and brake disc [kg]")
-    spin_inertia_kgm2: float = Field(gt=0, le=20, description="inertia about the axle [kg m^2]")
+    mass_kg: _positive(0.2, "kg") = Field(gt=0, le=100, description="wheel with tyre, hub and brake disc [kg]")
+    spin_inertia_kgm2: _positive(0.001, "kg m^2") = Field(gt=0, le=20, description="inertia about the axle [kg m^2]")
     steered: bool = False
     driven: bool = False
     braked: bool = True
@@ -164,30 +203,30 @@ class TyreSpec(_Spec):
     longitudinal slip stiffness ``C_kappa = slip_stiffness_factor * Fz``.
     """
 
-    vertical_stiffness_N_per_m: float = Field(gt=0, le=1e7)
-    vertical_damping_Ns_per_m: float = Field(ge=0, le=1e5)
-    nominal_load_N: float = Field(gt=0, le=1e5, description="Fz0 of the Magic Formula [N]")
-    mu_x: float = Field(gt=0, le=3, description="longitudinal peak friction at Fz0")
-    mu_y: float = Field(gt=0, le=3, description="lateral peak friction at Fz0")
+    vertical_stiffness_N_per_m: _positive(1000.0, "N/m") = Field(gt=0, le=1e7)
+    vertical_damping_Ns_per_m: float = Field(ge=0, le=1e4)
+    nominal_load_N: _positive(10.0, "N") = Field(gt=0, le=1e5, description="Fz0 of the Magic Formula [N]")
+    mu_x: _positive(0.05, "") = Field(gt=0, le=3, description="longitudinal peak friction at Fz0")
+    mu_y: _positive(0.05, "") = Field(gt=0, le=3, description="lateral peak friction at Fz0")
     load_sensitivity: float = Field(ge=-1, le=0.5, description="d mu / d dfz (negative: mu falls with load)")
     shape_x: float = Field(gt=1, le=2, description="Magic Formula C, longitudinal")
     shape_y: float = Field(gt=1, le=2, description="Magic Formula C, lateral")
     curvature_x: float = Field(ge=-5, le=1, description="Magic Formula E, longitudinal")
     curvature_y: float = Field(ge=-5, le=1, description="Magic Formula E, lateral")
-    slip_stiffness_factor: float = Field(gt=0, le=100, description="C_kappa / Fz [1]")
-    cornering_stiffness_factor: float = Field(gt=0, le=100, description="pKy1: C_alpha / Fz0 at peak [1/rad]")
-    cornering_stiffness_load_factor: float = Field(gt=0, le=10, description="pKy2: load of peak C_alpha / Fz0")
+    slip_stiffness_factor: _positive(1.0, "") = Field(gt=0, le=100, description="C_kappa / Fz [1]")
+    cornering_stiffness_factor: _positive(1.0, "1/rad") = Field(gt=0, le=100, description="pKy1: C_alpha / Fz0 at peak [1/rad]")
+    cornering_stiffness_load_factor: _positive(0.1, "") = Field(gt=0, le=10, description="pKy2: load of peak C_alpha / Fz0")
     rolling_resistance: float = Field(ge=0, le=0.2, description="rolling resistance coefficient")
-    relaxation_length_x_m: float = Field(gt=0, le=3, description="longitudinal slip relaxation length [m]")
-    relaxation_length_y_m: float = Field(gt=0, le=3, description="lateral slip relaxation length [m]")
+    relaxation_length_x_m: _positive(0.01, "m") = Field(gt=0, le=3, description="longitudinal slip relaxation length [m]")
+    relaxation_length_y_m: _positive(0.01, "m") = Field(gt=0, le=3, description="lateral slip relaxation length [m]")
 
 
 class DriveSpec(_Spec):
     """Drive to the driven wheels through an open differential, and brakes."""
 
-    max_drive_torque_Nm: float = Field(gt=0, le=1e4, description="at the wheels, all driven wheels [N m]")
-    max_power_W: float = Field(gt=0, le=1e6, description="at the wheels [W]")
-    max_brake_torque_Nm: float = Field(gt=0, le=1e4, description="per braked wheel [N m]")
+    max_drive_torque_Nm: _positive(1.0, "N m") = Field(gt=0, le=1e4, description="at the wheels, all driven wheels [N m]")
+    max_power_W: _positive(10.0, "W") = Field(gt=0, le=1e6, description="at the wheels [W]")
+    max_brake_torque_Nm: _positive(1.0, "N m") = Field(gt=0, le=1e4, description="per braked wheel [N m]")
     differential: Literal["open"] = "open"
 
 
@@ -196,7 +235,7 @@ class AeroSpec(_Spec):
 
     drag_coefficient: float = Field(ge=0, le=3)
     frontal_area_m2: float = Field(ge=0, le=20)
-    air_density_kg_per_m3: float = Field(default=1.2, gt=0, le=2)
+    air_density_kg_per_m3: _positive(0.5, "kg/m^3") = Field(default=1.2, gt=0, le=2)
 
 
 class PointSpec(_Spec):
@@ -214,7 +253,7 @@ class PayloadItemSpec(_Spec):
     (a laden vehicle sinks on its springs) and the payload can be listed, changed and taken off again.
     """
 
-    name: str = Field(min_length=1)
+    name: str = Field(min_length=1, max_length=100)
     mass_kg: float = Field(ge=0, le=5000)
     x_m: float = Field(ge=-5, le=10)
     y_m: float = Field(ge=-2, le=2)
@@ -228,28 +267,28 @@ class PayloadItemSpec(_Spec):
 class BodySpec(_Spec):
     """Overall body dimensions (for lane widths and plots)."""
 
-    overall_width_m: float = Field(gt=0, le=5)
-    overall_length_m: float = Field(gt=0, le=15)
+    overall_width_m: _positive(0.3, "m") = Field(gt=0, le=5)
+    overall_length_m: _positive(0.5, "m") = Field(gt=0, le=15)
 
 
 class VehicleParameters(_Spec):
     """A whole vehicle. Load with :func:`trikedyn.params.load_vehicle`."""
 
-    name: str = Field(min_length=1)
-    description: str = Field(min_length=1)
-    source: str = Field(min_length=1)
+    name: str = Field(min_length=1, max_length=100)
+    description: str = Field(min_length=1, max_length=2000)
+    source: str = Field(min_length=1, max_length=2000)
     layout: Literal["delta", "tadpole"]
     mass: MassSpec
     body: BodySpec
     steering: SteeringSpec
-    suspension: dict[str, SuspensionSpec]
+    suspension: dict[str, SuspensionSpec] = Field(min_length=1, max_length=3)
     wheels: tuple[WheelSpec, ...] = Field(min_length=3, max_length=3)
     tyre: TyreSpec
     drive: DriveSpec
     aero: AeroSpec
     sensor: PointSpec
     freight: PointSpec = Field(description="where freight goes (the paper's back trunk)")
-    payload: tuple[PayloadItemSpec, ...] = ()
+    payload: tuple[PayloadItemSpec, ...] = Field(default=(), max_length=1000)
 
     @field_validator("wheels")
     @classmethod
@@ -288,6 +327,46 @@ class VehicleParameters(_Spec):
             if not rear[0].y_m * rear[1].y_m < 0:
                 raise ValueError("the two rear wheels must be on opposite sides (y_m of opposite signs)")
         return self
+
+    @field_validator("wheels")
+    @classmethod
+    def _support_triangle(cls, wheels):
+        """The contact points span a triangle: each at least MIN_SUPPORT_M from the line through the others."""
+        pts = [(w.x_m, w.y_m) for w in wheels]
+        (ax, ay), (bx, by), (cx, cy) = pts
+        twice_area = abs((bx - ax) * (cy - ay) - (by - ay) * (cx - ax))
+        for i, w in enumerate(wheels):
+            (px, py), (qx, qy) = pts[(i + 1) % 3], pts[(i + 2) % 3]
+            height = twice_area / max(math.hypot(qx - px, qy - py), 1e-12)
+            if height < MIN_SUPPORT_M:
+                raise ValueError(
+                    f"wheel '{w.name}' is {height:.3f} m from the line through the other two contact points; "
+                    f"the wheels must span a triangle at least {MIN_SUPPORT_M:g} m high"
+                )
+        return wheels
+
+    @field_validator("payload")
+    @classmethod
+    def _payload_leaves_a_vehicle(cls, payload, info):
+        """Payload taken off leaves at least MIN_MASS_KG, and the CG stays above the ground."""
+        base = info.data.get("mass")
+        if base is None:  # the mass section has its own error
+            return payload
+        mass, moment = base.total_kg, base.total_kg * base.cg_z_m
+        for item in payload:
+            sign = -1.0 if item.removed else 1.0
+            mass += sign * item.mass_kg
+            moment += sign * item.mass_kg * item.z_m
+        if mass < MIN_MASS_KG:
+            removed = sum(i.mass_kg for i in payload if i.removed)
+            raise ValueError(
+                f"cannot remove {removed:g} kg from {mass + removed:g} kg (at least {MIN_MASS_KG:g} kg must remain)"
+            )
+        if moment / mass < MIN_CG_HEIGHT_M:
+            raise ValueError(
+                f"puts the CG {moment / mass:.3f} m above the ground; it must stay at least {MIN_CG_HEIGHT_M:g} m"
+            )
+        return payload
 
     # ---- derived geometry -------------------------------------------------------------------------
     def wheel(self, name: str) -> WheelSpec:

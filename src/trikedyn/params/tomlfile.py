@@ -1,0 +1,109 @@
+"""Bounded reading of the TOML files a user gives trikedyn: vehicle parameter files, weighing records.
+
+A file is read only if it is a regular file (not a folder, a device or a pipe) of at most
+:data:`MAX_FILE_BYTES`, in UTF-8. Its TOML may nest tables and arrays at most :data:`MAX_NESTING` deep and
+hold integers of at most 64 bits, keys of at most :data:`MAX_KEY_CHARS` characters and texts of at most
+:data:`MAX_TEXT_CHARS`. Each breach is an :class:`~trikedyn.errors.InputError` (of the subclass the caller
+chooses) naming the file and, where it applies, the key; none shows the file's content.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+import tomllib
+from pathlib import Path
+
+from ..errors import InputError
+
+__all__ = ["MAX_FILE_BYTES", "MAX_KEY_CHARS", "MAX_NESTING", "MAX_TEXT_CHARS", "is_file", "parse_toml", "read_text"]
+
+MAX_FILE_BYTES = 1 << 20
+"""Largest TOML file read [bytes] (1 MiB: the reference vehicle, with every note, is 14 KiB)."""
+
+MAX_NESTING = 10
+"""Deepest nesting of tables and arrays (a vehicle file nests 4 deep: ``suspension.front.K.value``)."""
+
+MAX_KEY_CHARS = 100
+"""Longest key [characters]."""
+
+MAX_TEXT_CHARS = 10_000
+"""Longest text value [characters] (the longest note of the reference vehicle has about 600)."""
+
+_INT_LIMIT = 2**63
+
+
+def is_file(path: Path) -> bool:
+    """Whether ``path`` is an existing regular file; False for a name the system cannot even look up."""
+    try:
+        return path.is_file()
+    except (OSError, ValueError):  # a name too long, a NUL byte, a permission denied on the way
+        return False
+
+
+def read_text(path: Path, where: str, *, error: type[InputError] = InputError,
+              max_bytes: int = MAX_FILE_BYTES) -> str:
+    """The UTF-8 text of the regular file ``path`` of at most ``max_bytes``; ``error(..., where)`` else.
+
+    The file is opened without blocking and checked to be a regular file before anything is read, so a
+    pipe or a device named in place of a file is refused, not waited on or read without end.
+    """
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
+    except (OSError, ValueError) as exc:
+        raise error(f"cannot open it: {_reason(exc)}", where=where) from None
+    try:
+        with os.fdopen(fd, "rb") as fh:
+            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
+                raise error("is not a regular file", where=where)
+            raw = fh.read(max_bytes + 1)
+    except OSError as exc:
+        raise error(f"cannot read it: {_reason(exc)}", where=where) from None
+    if len(raw) > max_bytes:
+        raise error(f"larger than {max_bytes / 1024:g} KiB; expected a small TOML file", where=where)
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise error(f"not UTF-8 text ({exc.reason} at byte {exc.start})", where=where) from None
+    return text.removeprefix("\ufeff")
+
+
+def parse_toml(text: str, where: str, *, error: type[InputError] = InputError) -> dict:
+    """The TOML document ``text``, checked against the bounds of the module docstring."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"invalid TOML: {exc}", where=where) from None
+    except ValueError:  # an integer of more than 4300 digits
+        raise error("invalid TOML: a number too long to read", where=where) from None
+    except RecursionError:
+        raise error(f"invalid TOML: arrays or inline tables nested more than {MAX_NESTING} deep",
+                    where=where) from None
+    _check_bounds(data, where, error)
+    return data
+
+
+def _check_bounds(data: dict, where: str, error: type[InputError]) -> None:
+    stack = [(data, "", 0)]
+    while stack:
+        node, path, depth = stack.pop()
+        if depth > MAX_NESTING:
+            raise error(f"{path}: tables and arrays nested more than {MAX_NESTING} deep", where=where)
+        if isinstance(node, dict):
+            for key, value in node.items():
+                if len(key) > MAX_KEY_CHARS:
+                    raise error(f"a key of {len(key)} characters in {path or 'the top level'}; keys have at "
+                                f"most {MAX_KEY_CHARS}", where=where)
+                stack.append((value, f"{path}.{key}" if path else key, depth + 1))
+        elif isinstance(node, list):
+            stack.extend((value, f"{path}[{i}]", depth + 1) for i, value in enumerate(node))
+        elif isinstance(node, int) and not isinstance(node, bool) and abs(node) >= _INT_LIMIT:
+            raise error(f"{path}: integer beyond 64 bits; expected a number in physical units", where=where)
+        elif isinstance(node, str) and len(node) > MAX_TEXT_CHARS:
+            raise error(f"{path}: a text of {len(node)} characters; at most {MAX_TEXT_CHARS}", where=where)
+
+
+def _reason(exc: Exception) -> str:
+    """The reason of a file-system error, without the file name (which ``where`` gives)."""
+    reason = getattr(exc, "strerror", None) or str(exc) or exc.__class__.__name__
+    return reason[0].lower() + reason[1:]
