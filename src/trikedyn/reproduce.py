@@ -20,10 +20,12 @@ from pathlib import Path
 import numpy as np
 
 from . import paper
+from ._files import atomic_write
 from .measure.quarter_car import quarter_car_free_decay, quarter_car_modes
 from .measure.suspension import damping_coefficient, identify_suspension, sprung_mass_from_stiffness
 from .params import audit, load_vehicle, mass_properties, with_freight
 from .params.audit import static_wheel_loads, unsprung_mass
+from .report import figures as figures_module
 from .units import STANDARD_GRAVITY
 
 __all__ = ["BUMP", "reproduce"]
@@ -35,10 +37,16 @@ SENSOR = {"rate_hz": 10.0, "noise_std_mps2": 0.05, "bias_mps2": 0.2, "seed": 202
 
 
 def _write_csv(path: Path, rows: list[dict]) -> None:
-    with path.open("w", newline="", encoding="utf-8") as fh:
+    def write(fh):
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
+
+    atomic_write(path, write, binary=False)
+
+
+def _write_text(path: Path, text: str) -> None:
+    atomic_write(path, lambda fh: fh.write(text), binary=False)
 
 
 def _station(pset, wheel: str, suspension: str) -> dict:
@@ -122,10 +130,7 @@ def table1(out: Path, figures: bool = True) -> tuple[list[dict], list[dict]]:
                 fig = result.plot()
                 fig.axes[0].set_xlim(0.0, min(time_s[-1], result.decay_start_s + 6.0 / max(result.damping_ratio, 0.05)))
                 fig.suptitle(f"{preset}, {susp}: emulated 10 Hz bump record (Fig. 2c-d)", fontsize=10)
-                fig.savefig(out / f"fig2_identification_{preset}_{susp}.png", dpi=110)
-                import matplotlib.pyplot as plt
-
-                plt.close(fig)
+                figures_module.save(fig, out / f"fig2_identification_{preset}_{susp}.png")
     _write_csv(out / "table1_identified.csv", ident_rows)
     return eq_rows, ident_rows
 
@@ -154,10 +159,9 @@ def _audits(out: Path) -> dict:
     for preset in ("reference-etrike", "reference-etrike-eq4"):
         findings = audit(load_vehicle(preset))
         found[preset] = [f.to_dict() for f in findings]
-        with (out / f"audit_{preset}.txt").open("w", encoding="utf-8") as fh:
-            for f in findings:
-                fh.write(f"{f.level.upper():<12} {f.topic}: {f.message}\n")
-    (out / "audit.json").write_text(json.dumps(found, indent=2, default=float), encoding="utf-8")
+        _write_text(out / f"audit_{preset}.txt", "".join(f"{f.level.upper():<12} {f.topic}: {f.message}\n"
+                                                            for f in findings))
+    _write_text(out / "audit.json", json.dumps(found, indent=2, default=float))
     return found
 
 
@@ -319,12 +323,12 @@ def reproduce(out_dir: str | Path, *, figures: bool = True, study: bool = True, 
     if figures:
         _report(out, statements, study)
     summary["files"] = sorted(p.name for p in out.iterdir())
-    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=_jsonable), encoding="utf-8")
+    _write_text(out / "summary.json", json.dumps(summary, indent=2, default=_jsonable))
     lines = ["# trikedyn reproduce: the reference paper, end to end", ""]
     for s in statements:
         lines += [f"## {s['paper']}", f"**{s['verdict']}** - {s['evidence']}", ""]
     lines += ["Files: " + ", ".join(summary["files"]), ""]
-    (out / "summary.md").write_text("\n".join(lines), encoding="utf-8")
+    _write_text(out / "summary.md", "\n".join(lines))
     return summary
 
 

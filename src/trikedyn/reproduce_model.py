@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._files import atomic_write
 from .analysis.metrics import summary
 from .manoeuvres import registry, speed
 from .measure.suspension import identify_suspension
@@ -66,11 +67,10 @@ def model_bump_test(out: Path, figures_on: bool = True) -> list[dict]:
                 "warnings": " | ".join(result.warnings),
             })
             if figures_on and preset == "reference-etrike-eq4":
-                plt = figures._plt()
+                figures._plt()  # the Agg backend before the figure is made
                 fig = result.plot()
                 fig.suptitle(f"multibody model, {station} cushion: seat sensor at 10 Hz (Fig. 2c-d)", fontsize=10)
-                fig.savefig(out / f"fig2_model_bump_{station}.png", dpi=110)
-                plt.close(fig)
+                figures.save(fig, out / f"fig2_model_bump_{station}.png")
     return rows
 
 
@@ -89,7 +89,7 @@ def manoeuvres(out: Path, figures_on: bool = True) -> tuple[dict, list[dict], fl
     for label, result in runs.items():
         frame = result.to_pandas().reset_index()
         name = "slc" if label.startswith("single") else "dlc"
-        frame.to_csv(out / f"run_{name}.csv", index=False)
+        atomic_write(out / f"run_{name}.csv", lambda fh, frame=frame: frame.to_csv(fh, index=False), binary=False)
         rows.append({**summary(result), "manoeuvre": label})
     if figures_on:
         figures.time_histories({k: v for k, v in runs.items() if k.startswith("single")}, out / "fig7_slc.png",
@@ -108,7 +108,7 @@ def parametric_study(out: Path, workers: int | None = 2, figures_on: bool = True
     from .study.runner import run_study
 
     table = run_study("paper", out / "study", workers=workers, progress=False)
-    table.to_csv(out / "fig10_threshold_study.csv", index=False)
+    atomic_write(out / "fig10_threshold_study.csv", lambda fh: table.to_csv(fh, index=False), binary=False)
     if figures_on:
         figures.threshold_study(table, out / "fig10_threshold_study.png", "threshold velocity (cf. Fig. 10)")
     return table, study_findings(table)

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["time_histories", "rollover_index", "threshold_study"]
+__all__ = ["save", "time_histories", "rollover_index", "threshold_study"]
 
 
 def _plt():
@@ -23,6 +23,17 @@ def _plt():
     import matplotlib.pyplot as plt
 
     return plt
+
+
+def save(fig, path: Path, dpi: int = 110) -> Path:
+    """Write a figure atomically (a temporary file renamed into place) and close it."""
+    from .._files import atomic_write_path
+
+    try:
+        atomic_write_path(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=Path(path).suffix.lstrip(".") or "png"))
+    finally:
+        _plt().close(fig)
+    return Path(path)
 
 
 def shade_window(ax, result) -> None:
@@ -59,9 +70,7 @@ def time_histories(runs: dict, path: Path, title: str = "") -> Path:
     axes[-1].set_xlabel("time [s]")
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return Path(path)
+    return save(fig, path)
 
 
 def rollover_index(runs: dict, static_ri: float, path: Path, title: str = "") -> Path:
@@ -80,9 +89,7 @@ def rollover_index(runs: dict, static_ri: float, path: Path, title: str = "") ->
     axes[-1, 0].set_xlabel("time [s]")
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return Path(path)
+    return save(fig, path)
 
 
 def threshold_study(table, path: Path, title: str = "") -> Path:
@@ -109,6 +116,4 @@ def threshold_study(table, path: Path, title: str = "") -> Path:
             ax.legend(fontsize=8)
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return Path(path)
+    return save(fig, path)

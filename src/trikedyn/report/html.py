@@ -471,9 +471,7 @@ def write_report(out_dir: str | Path, title: str, sections: Sequence[Mapping], *
     document = render_report(title, sections, summary=summary, vehicle=vehicle, date=date)
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    path = out / "report.html"
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(document, encoding="utf-8")
-    tmp.replace(path)
-    return path
+    from .._files import atomic_write
+
+    return atomic_write(out / "report.html", lambda fh: fh.write(document), binary=False)
 
