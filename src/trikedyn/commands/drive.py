@@ -1,0 +1,224 @@
+"""``trikedyn modes``, ``manoeuvres``, ``simulate``, ``plot`` and ``compare``: the model, driven and looked at."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+
+from ..errors import InputError
+from ._common import (
+    ForceOpt,
+    JsonOpt,
+    ManoeuvreOpt,
+    OptionOpt,
+    VehicleArg,
+    emit,
+    finite,
+    json_default,
+    manoeuvre_options,
+    save_figure,
+    within,
+)
+
+
+def modes_cmd(
+    vehicle: VehicleArg,
+    freight: Annotated[float, typer.Option(callback=within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
+    as_json: JsonOpt = False,
+):
+    """Static equilibrium, and the vibration modes of the linearised model about it."""
+    from ..model.linear import modes
+    from ..model.statics import static_equilibrium
+    from ..model.vehicle import build_model
+    from ..params import load_vehicle, with_freight
+
+    model = build_model(with_freight(load_vehicle(vehicle), freight))
+    eq = static_equilibrium(model)
+    found = modes(model, eq)
+    data = {
+        "vehicle": model.params.name,
+        "freight_kg": freight,
+        "static_wheel_loads_N": eq.wheel_loads_N,
+        "modes": [m.to_dict() for m in found],
+    }
+    lines = [f"{model.params.name}: static wheel loads " + ", ".join(f"{k} {v:.0f} N" for k, v in eq.wheel_loads_N.items())]
+    lines += [f"{'mode':<24}{'f [Hz]':>9}{'zeta':>8}   participation"]
+    for m in found:
+        share = ", ".join(f"{k} {v:.0%}" for k, v in list(m.participation.items())[:3])
+        lines.append(f"{m.name:<24}{m.frequency_hz:>9.3f}{m.damping_ratio:>8.3f}   {share}")
+    emit(data, as_json, "\n".join(lines))
+
+
+def manoeuvres_cmd(as_json: JsonOpt = False):
+    """List the registered manoeuvres and their options (units in the option names)."""
+    from ..manoeuvres.registry import available
+
+    kinds = [k.to_dict() for k in available()]
+    lines = []
+    for k in kinds:
+        lines.append(f"{k['name']:<20} {k['title']} ({'closed loop' if k['closed_loop'] else 'open-loop steer'})")
+        lines.append(f"{'':<20} {k['summary']}")
+        for o in k["options"]:
+            unit = f" [{o['unit']}]" if o["unit"] else ""
+            lines.append(f"{'':<22}-o {o['name']}={o['default']}{unit}: {o['help']}")
+    lines.append("a path .csv file is driven as the 'path' manoeuvre (columns x_m, y_m)")
+    emit(kinds, as_json, "\n".join(lines))
+
+
+def _check_run_file(out: Path, force: bool, reads=()) -> None:
+    """A run file name (``.parquet`` or ``.csv``) and the ``.json`` beside it, checked before the run."""
+    from .._files import check_output
+
+    if out.suffix not in (".parquet", ".csv"):
+        raise InputError("expected a .parquet or .csv file name", where=str(out))
+    check_output(out, force=force, reads=reads)
+    check_output(out.with_suffix(".json"), force=force, reads=reads)
+
+
+def _write_run(result, out: Path, summary: dict) -> None:
+    from .._files import atomic_write_path
+
+    frame = result.to_pandas().reset_index()
+    if out.suffix == ".parquet":
+        atomic_write_path(out, lambda tmp: frame.to_parquet(tmp, index=False))
+    else:
+        atomic_write_path(out, lambda tmp: frame.to_csv(tmp, index=False))
+    meta = {k: v for k, v in result.meta.items() if k != "driver"} | {"summary": summary}
+    if result.manoeuvre is not None:
+        meta["manoeuvre_spec"] = result.manoeuvre.to_dict()
+    text = json.dumps(finite(meta)[0], indent=2, default=json_default, allow_nan=False)
+    atomic_write_path(out.with_suffix(".json"), lambda tmp: tmp.write_text(text, encoding="utf-8"))
+
+
+def simulate_cmd(
+    vehicle: VehicleArg,
+    manoeuvre: ManoeuvreOpt = "dlc",
+    speed: Annotated[float, typer.Option("--speed", callback=within(0, 400, "km/h", above=True), help="Target speed [km/h].")] = 30.0,
+    payload: Annotated[float, typer.Option("--payload", callback=within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
+    option: OptionOpt = [],  # noqa: B006
+    radius: Annotated[float | None, typer.Option("--radius", callback=within(1, 10_000, "m"), help="Circle radius [m] (same as -o radius_m=...).")] = None,
+    steer_deg: Annotated[float | None, typer.Option("--steer-deg", callback=within(-90, 90, "deg"), help="Step steer angle about the steering axis [deg] "
+                                                    "(same as -o steer_deg=...).")] = None,
+    duration: Annotated[float | None, typer.Option("--duration", callback=within(0, 3600, "s", above=True), help="Simulated time [s] (default: the manoeuvre's).")] = None,
+    out: Annotated[Path | None, typer.Option("--out", help="Write the run (.parquet or .csv; a .json summary beside it).")] = None,
+    force: ForceOpt = False,
+    as_json: JsonOpt = False,
+):
+    """Drive a manoeuvre and report how it went over its judged window (cone strikes, RI, wheel loads, ...)."""
+    import numpy as np
+
+    from ..analysis.metrics import summary
+    from ..params import load_vehicle, with_freight
+    from ..simulate.closed_loop import run
+
+    if not np.isfinite(speed) or speed <= 0:
+        raise InputError(f"must be > 0 km/h, got {speed!r}", where="--speed")
+    if duration is not None and (not np.isfinite(duration) or duration <= 0):
+        raise InputError(f"must be > 0 s, got {duration!r}", where="--duration")
+    options = manoeuvre_options(manoeuvre, option, radius_m=radius, steer_deg=steer_deg)
+    if out is not None:
+        _check_run_file(out, force, reads=[vehicle, manoeuvre, options.get("file")])
+    pset = with_freight(load_vehicle(vehicle), payload)
+    result = run(pset, manoeuvre, speed_kmh=speed, duration_s=duration, **options)
+    data = summary(result) | {"vehicle": pset.name, "payload_kg": payload, "speed_kmh": speed}
+    if not result.success:
+        data["failure"] = result.message
+    elif duration is None:
+        from ..analysis.handling_tests import manoeuvre_figures
+
+        try:  # the test's own figures (ISO 7401 step, sweep, ISO 7975, ISO 4138)
+            figures = manoeuvre_figures(result)
+        except InputError as exc:  # the run is fine; its reduction is not possible (say why)
+            data["figures_error"] = str(exc)
+        else:
+            if figures is not None:
+                data["figures"] = figures
+    if out is not None:
+        _write_run(result, out, data)
+        data["out"] = str(out)
+    emit(data, as_json, lambda: "\n".join(f"{k:<32} {v}" for k, v in data.items()))
+
+
+def plot_cmd(
+    run: Annotated[Path, typer.Argument(help="A run file written by `trikedyn simulate --out`.")],
+    out: Annotated[Path | None, typer.Option("--out", help="PNG to write (default: beside the run).")] = None,
+    channels: Annotated[str, typer.Option(help="Comma-separated channels to plot.")] = "speed_mps,ay_mps2,yaw_rate_radps,ri,min_wheel_load_N",
+    force: ForceOpt = False,
+    as_json: JsonOpt = False,
+):
+    """Time histories of a run (like the paper's Figs. 7-9)."""
+    from .._files import check_output
+
+    target = out or run.with_suffix(".png")
+    check_output(target, force=force, reads=[run])
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..analysis.compare import load_table
+
+    frame, kind = load_table(run)
+    names = [c.strip() for c in channels.split(",") if c.strip()]
+    missing = [c for c in names if c not in frame.columns]
+    if missing:
+        from difflib import get_close_matches
+
+        hint = get_close_matches(missing[0], list(frame.columns), n=1)
+        raise InputError(f"no channel '{missing[0]}'" + (f"; did you mean '{hint[0]}'?" if hint else ""), where=str(run))
+    fig, axes = plt.subplots(len(names), 1, sharex=True, figsize=(7, 1.8 * len(names)))
+    for ax, name in zip(np.atleast_1d(axes), names, strict=False):
+        ax.plot(frame["time_s"], frame[name])
+        ax.set_ylabel(name)
+        ax.grid(alpha=0.3)
+    np.atleast_1d(axes)[-1].set_xlabel("time [s]")
+    fig.tight_layout()
+    save_figure(fig, target, dpi=110)
+    emit({"wrote": str(target), "channels": names}, as_json, f"wrote {target}")
+
+
+def compare_cmd(
+    log: Annotated[Path, typer.Argument(help="Measured IMU log (any supported format) or a run file.")],
+    run: Annotated[Path, typer.Argument(help="Simulated run file (or another log).")],
+    channels: Annotated[str, typer.Option(help="Channels to compare (the paper compares lateral acceleration and yaw rate).")] = "ay_mps2,wz_radps",
+    max_offset: Annotated[float, typer.Option("--max-offset", callback=within(0, 600, "s", above=True), help="Largest time offset searched [s].")] = 5.0,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Write measured over simulated (PNG), like Figs. 7-8.")] = None,
+    force: ForceOpt = False,
+    as_json: JsonOpt = False,
+):
+    """Compare a measured log with a simulation: time offset by cross-correlation, RMSE, NRMSE, peak error."""
+    from ..analysis.compare import compare, load_table
+
+    if plot is not None:
+        from .._files import check_output
+
+        check_output(plot, force=force, reads=[log, run])
+
+    measured = _imu_view(load_table(log)[0])
+    simulated = _imu_view(load_table(run)[0])
+    names = [c.strip() for c in channels.split(",") if c.strip()]
+    result = compare(measured, simulated, channels=names, max_offset_s=max_offset)
+    data = result.to_dict()
+    if plot is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        save_figure(result.plot(), plot, dpi=110)
+        data["plot"] = str(plot)
+    lines = [f"time offset {data['offset_s']:+.3f} s (measured time + offset = simulated time)"]
+    for name, m in data["channels"].items():
+        lines.append(f"{name:<12} RMSE {m['rmse']:.4f}  NRMSE {m['nrmse']:.3f}  peak {m['peak_error']:.4f}  r {m['correlation']:.3f}")
+    emit(data, as_json, "\n".join(lines))
+
+
+def _imu_view(frame):
+    """A run table seen as an IMU log: its emulated sensor channels under the log names."""
+    renamed = {c: c[len("imu_"):] for c in frame.columns if c.startswith("imu_")}
+    if not renamed:
+        return frame
+    keep = ["time_s", *renamed]
+    return frame[keep].rename(columns=renamed)

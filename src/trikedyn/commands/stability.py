@@ -1,0 +1,148 @@
+"""``trikedyn threshold``, ``handling`` and ``tilt``: how fast, how it handles, how far it tilts."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import numpy as np
+import typer
+
+from ..errors import InputError
+from ._common import (
+    ForceOpt,
+    JsonOpt,
+    ManoeuvreOpt,
+    OptionOpt,
+    VehicleArg,
+    emit,
+    manoeuvre_options,
+    save_figure,
+    within,
+)
+
+
+def threshold_cmd(
+    vehicle: VehicleArg,
+    manoeuvre: ManoeuvreOpt = "dlc",
+    payload: Annotated[float, typer.Option("--payload", callback=within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
+    option: OptionOpt = [],  # noqa: B006
+    stiffness: Annotated[float, typer.Option("--stiffness-scale", callback=within(0, 100, above=True), help="Suspension stiffness factor (Table 2).")] = 1.0,
+    damping: Annotated[float, typer.Option("--damping-scale", callback=within(0, 100, above=True), help="Suspension damping factor (Table 2).")] = 1.0,
+    low: Annotated[float, typer.Option("--low", callback=within(0, 400, "km/h", above=True), help="Lowest speed searched [km/h].")] = 10.0,
+    high: Annotated[float, typer.Option("--high", callback=within(0, 400, "km/h", above=True), help="Highest speed searched [km/h].")] = 90.0,
+    resolution: Annotated[float, typer.Option("--resolution", callback=within(0.001, 50, "km/h"), help="Resolution [km/h].")] = 0.1,
+    as_json: JsonOpt = False,
+):
+    """Threshold velocity: the highest speed with every wheel on the ground through the manoeuvre."""
+    from ..analysis.threshold import threshold_velocity
+    from ..params import load_vehicle, scale_suspension, with_freight
+
+    options = manoeuvre_options(manoeuvre, option)
+    pset = with_freight(scale_suspension(load_vehicle(vehicle), stiffness=stiffness, damping=damping), payload)
+    result = threshold_velocity(pset, manoeuvre, options=options, low_kmh=low, high_kmh=high, resolution_kmh=resolution)
+    data = result.to_dict(runs=True) | {"vehicle": pset.name, "manoeuvre": manoeuvre, "options": options,
+                                        "payload_kg": payload, "stiffness_scale": stiffness, "damping_scale": damping}
+    if result.threshold_speed_kmh is None:
+        headline = f"no threshold: {result.detail}"
+    else:
+        headline = f"threshold velocity {result.threshold_speed_kmh:.1f} km/h ({result.limit or 'no limit found'})"
+    lines = [headline, f"  {result.detail}"]
+    if result.first_cone_strike_kmh is not None:
+        lines.append(f"  first cone strike seen at {result.first_cone_strike_kmh:.1f} km/h")
+    lines.append(f"  {len(result.runs)} runs")
+    emit(data, as_json, "\n".join(lines))
+
+
+def handling_cmd(
+    vehicle: VehicleArg,
+    radius: Annotated[float, typer.Option("--radius", callback=within(1, 1000, "m"), help="Circle radius [m].")] = 20.0,
+    payload: Annotated[float, typer.Option("--payload", callback=within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
+    start_speed: Annotated[float, typer.Option("--start-speed", callback=within(0, 200, "km/h", above=True), help="Speed at the start [km/h].")] = 15.0,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Write the handling diagram (PNG).")] = None,
+    force: ForceOpt = False,
+    as_json: JsonOpt = False,
+):
+    """ISO 4138 steady-state circular driving: handling diagram, understeer, roll and sideslip gradients [deg/g]."""
+    import numpy as np
+
+    from ..analysis.handling_tests import steady_state_test
+    from ..params import load_vehicle, with_freight
+
+    for value, where in ((radius, "--radius"), (start_speed, "--start-speed")):
+        if not np.isfinite(value) or value <= 0:
+            raise InputError(f"must be > 0, got {value!r}", where=where)
+    if plot is not None:
+        from .._files import check_output
+
+        check_output(plot, force=force, reads=[vehicle])
+    pset = with_freight(load_vehicle(vehicle), payload)
+    test = steady_state_test(pset, radius_m=radius, start_speed_kmh=start_speed)
+    data = test.to_dict() | {"vehicle": pset.name, "payload_kg": payload}
+    if plot is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        save_figure(test.plot(), plot, dpi=120)
+        data["plot"] = str(plot)
+    text = lambda: "\n".join([  # noqa: E731
+        f"{pset.name}: ISO 4138 constant radius {radius:g} m",
+        f"understeer gradient   {data['understeer_gradient_deg_per_g']:+.3f} deg/g",
+        f"roll gradient         {data['roll_gradient_deg_per_g']:+.3f} deg/g",
+        f"sideslip gradient     {data['sideslip_gradient_deg_per_g']:+.3f} deg/g",
+        f"ends at a_y           {data['max_lateral_acceleration_mps2']:.2f} m/s^2: {data['limit']} ({data['limit_detail']})",
+    ])
+    emit(data, as_json, text)
+
+
+def tilt_cmd(
+    vehicle: VehicleArg,
+    payload: Annotated[float, typer.Option("--payload", callback=within(0, 2000, "kg"), help="The paper's freight aboard \\[kg].")] = 0.0,
+    side: Annotated[str, typer.Option("--side", help="The side that goes down: left, right or both.")] = "both",
+    require_deg: Annotated[
+        float | None, typer.Option("--require-deg", help="Required tilt angle \\[deg] (e.g. 35): pass or fail.")
+    ] = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Write wheel loads \\[N] against table angle \\[deg] (PNG).")] = None,
+    force: ForceOpt = False,
+    as_json: JsonOpt = False,
+):
+    """Tilt-table test: the table angle at which the first wheel lifts, on the compliant model."""
+    from ..analysis.tilt import tilt_table
+    from ..params import load_vehicle, with_freight
+
+    if side not in ("left", "right", "both"):
+        raise InputError(f"expected left, right or both, got '{side}'", where="--side")
+    if not np.isfinite(payload) or payload < 0:
+        raise InputError(f"must be >= 0 kg, got {payload!r}", where="--payload")
+    if require_deg is not None and not (np.isfinite(require_deg) and 0.0 < require_deg < 90.0):
+        raise InputError(f"expected an angle between 0 and 90 deg, got {require_deg!r}", where="--require-deg")
+    if plot is not None:
+        from .._files import check_output
+
+        check_output(plot, force=force, reads=[vehicle])
+    pset = with_freight(load_vehicle(vehicle), payload)
+    result = tilt_table(pset, side=side, require_deg=require_deg)
+    data = result.to_dict() | {"payload_kg": payload}
+    if plot is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        save_figure(result.plot(), plot, dpi=110)
+        data["plot"] = str(plot)
+    lines = [
+        f"tilt angle {result.tilt_angle_deg:.1f} deg ({result.side}; {result.first_lifting_wheel} lifts first); "
+        f"rigid {result.rigid_tilt_angle_deg:.1f} deg"
+    ]
+    for s in result.sides.values():
+        lines.append(
+            f"  {s.side:<6} {s.tilt_angle_deg:6.2f} deg  {s.first_lifting_wheel} lifts, body roll {s.body_roll_deg:.1f} deg; "
+            f"rigid {s.rigid_tilt_angle_deg:.2f} deg about {s.tip_axis}"
+        )
+    if result.passes is not None:
+        lines.append(f"  required {result.require_deg:g} deg: {'passes' if result.passes else 'FAILS'}")
+    if plot is not None:
+        lines.append(f"  wrote {plot}")
+    emit(data, as_json, "\n".join(lines))
+
+
+# ------------------------------------------------------------------------------------------------

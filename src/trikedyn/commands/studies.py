@@ -1,0 +1,70 @@
+"""``trikedyn study`` and ``trikedyn reproduce``: parametric studies and the paper's whole workflow."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..errors import InputError
+from ._common import (
+    JsonOpt,
+    emit,
+    within,
+)
+
+
+def study_cmd(
+    spec: Annotated[str, typer.Argument(help="Study spec (TOML file), or 'paper' for the built-in Fig. 10 study.")],
+    workers: Annotated[int | None, typer.Option("--workers", callback=within(0, 256), help="Processes on this machine (default: all cores).")] = None,
+    dask_local: Annotated[int | None, typer.Option("--dask-local", callback=within(1, 256), help="Run on a local Dask cluster of N workers.")] = None,
+    scheduler: Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:port).")] = None,
+    out: Annotated[Path, typer.Option("--out", help="Output folder (its store makes a re-run resume).")] = Path("study-output"),
+    dry_run: Annotated[bool, typer.Option("--dry-run", help="Check the spec and count its scenarios; run nothing.")] = False,
+    max_scenarios: Annotated[int, typer.Option("--max-scenarios", callback=within(1, 1e9), help="Refuse a spec with more scenarios than this.")] = 10_000,
+    as_json: JsonOpt = False,
+):
+    """Parametric study of the threshold velocity: parallel, resumable, CSV and Parquet tables."""
+    if dry_run:
+        from ..study import count_scenarios, load_spec
+
+        loaded = load_spec(spec)
+        count, exact = count_scenarios(loaded)
+        if count > max_scenarios:
+            raise InputError(f"the spec expands to {'up to ' if not exact else ''}{count:,} scenarios, more than the "
+                             f"limit {max_scenarios:,}; pass --max-scenarios {count} to run it", where=str(spec))
+        data = {"study": loaded.name, "vehicle": loaded.vehicle, "manoeuvres": list(loaded.manoeuvres),
+                "scenarios": count, "exact": exact, "groups": [g.name for g in loaded.groups]}
+        emit(data, as_json, lambda: (f"study '{loaded.name}': {count} scenarios on {loaded.vehicle} "
+                                      f"({', '.join(loaded.manoeuvres)}); nothing run"))
+        return
+    from ..study.runner import study_command
+
+    study_command(spec, workers, dask_local, scheduler, out, as_json, max_scenarios=max_scenarios)
+
+
+def reproduce_cmd(
+    out: Annotated[Path, typer.Option("--out", help="Output folder (created; a non-empty one needs --force).")] = Path(
+        "trikedyn-output"
+    ),
+    no_figures: Annotated[bool, typer.Option("--no-figures", help="Skip the PNG figures and the report.")] = False,
+    no_study: Annotated[bool, typer.Option("--no-study", help="Skip the parametric study (Fig. 10).")] = False,
+    workers: Annotated[int | None, typer.Option("--workers", help="Processes for the study (default 2).")] = 2,
+    force: Annotated[bool, typer.Option("--force", help="Write into a folder that holds files (they are replaced).")] = False,
+    as_json: JsonOpt = False,
+):
+    """The reference paper's workflow on the built-in reference vehicle: tables, figures, verdicts, report.html."""
+    from .._files import check_output_folder
+    from ..reproduce import reproduce
+
+    if workers is not None and not 1 <= workers <= 256:
+        raise InputError(f"expected 1 to 256 processes, got {workers}", where="--workers")
+    check_output_folder(out, force=force)
+    summary = reproduce(out, figures=not no_figures, study=not no_study, workers=workers)
+    text = "\n".join(
+        [f"wrote {len(summary['files'])} files to {out}"]
+        + [f"- {s['verdict'].upper()}: {s['paper']}" for s in summary["statements"]]
+        + [f"see {out / 'summary.md'}"]
+    )
+    emit({k: summary[k] for k in ("out_dir", "statements", "files")}, as_json, text)
