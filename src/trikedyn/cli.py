@@ -42,12 +42,13 @@ def _root(
 # ------------------------------------------------------------------------------------------------
 # the command map: each group lives in trikedyn.commands
 # ------------------------------------------------------------------------------------------------
-from .commands import cg, drive, logs, stability, studies, vehicle  # noqa: E402
+from .commands import cg, drive, logs, stability, studies, tyre, vehicle  # noqa: E402
 from .commands._common import WARNINGS, emit  # noqa: E402
 
 app.add_typer(vehicle.vehicle_app, name="vehicle")
 app.add_typer(cg.cg_app, name="cg")
 app.add_typer(logs.log_app, name="log")
+app.add_typer(tyre.tyre_app, name="tyre")
 app.command("identify")(logs.identify)
 app.command("modes")(drive.modes_cmd)
 app.command("manoeuvres")(drive.manoeuvres_cmd)
