@@ -24,7 +24,7 @@ from ._files import atomic_write
 from .measure.quarter_car import quarter_car_free_decay, quarter_car_modes
 from .measure.suspension import damping_coefficient, identify_suspension, sprung_mass_from_stiffness
 from .params import audit, load_vehicle, mass_properties, with_freight
-from .params.audit import static_wheel_loads, unsprung_mass
+from .params.ops import static_wheel_loads, unsprung_mass
 from .report import figures as figures_module
 from .units import STANDARD_GRAVITY
 

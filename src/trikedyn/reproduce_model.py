@@ -16,7 +16,7 @@ from .measure.suspension import identify_suspension
 from .model.statics import static_equilibrium
 from .model.vehicle import build_model, speed_bump
 from .params import load_vehicle
-from .params.audit import static_wheel_loads, unsprung_mass
+from .params.ops import static_wheel_loads, unsprung_mass
 from .report import figures
 from .simulate.closed_loop import run
 from .simulate.result import rollover_index

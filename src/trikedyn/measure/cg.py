@@ -10,18 +10,20 @@ reductions here, as pure functions with uncertainties (after BicycleParameters' 
 * :func:`wheel_loads_from_cg` -- the inverse (static loads of a rigid three-point support), for round
   trips and for audits.
 
-Mass composition uses :class:`MassProperties` (mass, CG, inertia about the CG) with point masses and
-boxes; adding and removing payloads is exact (parallel-axis theorem).
+Mass composition (:class:`MassProperties`, point masses, boxes, payloads) and the static support loads
+live in :mod:`trikedyn.mechanics` and are re-exported here.
 All lengths [m], masses [kg], forces [N], angles [rad]; vehicle axes x forward, y left, z up.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import InputError
+from ..mechanics import Box, MassProperties, Payload, PointMass, combine, wheel_loads_from_cg
+from ..mechanics.support import as_points
 from ..units import STANDARD_GRAVITY
 
 __all__ = [
@@ -33,170 +35,15 @@ __all__ = [
     "TiltedWeighingResult",
     "cg_from_level_weighing",
     "cg_height_from_tilted_weighings",
+    "combine",
     "tilted_wheel_loads",
     "wheel_loads_from_cg",
 ]
 
 
 # ------------------------------------------------------------------------------------------------
-# Mass composition
-# ------------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class MassProperties:
-    """Mass, centre of gravity and inertia tensor of a rigid body or assembly.
-
-    Parameters
-    ----------
-    mass_kg : float
-        Mass [kg]; negative only transiently, never in a result.
-    cg_m : array_like, shape (3,)
-        Centre of gravity in vehicle axes [m].
-    inertia_kgm2 : array_like, shape (3, 3), optional
-        Inertia tensor about the CG in vehicle axes [kg m^2]; zero for a point mass.
-    """
-
-    mass_kg: float
-    cg_m: np.ndarray
-    inertia_kgm2: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
-
-    def __post_init__(self):
-        object.__setattr__(self, "cg_m", np.asarray(self.cg_m, dtype=float).reshape(3))
-        object.__setattr__(self, "inertia_kgm2", np.asarray(self.inertia_kgm2, dtype=float).reshape(3, 3))
-
-    def _inertia_about_origin(self) -> np.ndarray:
-        r = self.cg_m
-        return self.inertia_kgm2 + self.mass_kg * (np.dot(r, r) * np.eye(3) - np.outer(r, r))
-
-    def __add__(self, other: MassProperties) -> MassProperties:
-        return combine([self, other])
-
-    def __sub__(self, other: MassProperties) -> MassProperties:
-        """Remove ``other`` (a part of ``self``) from the assembly."""
-        mass = self.mass_kg - other.mass_kg
-        if mass <= 1e-9 * max(self.mass_kg, 1.0):
-            raise InputError(
-                f"cannot remove {other.mass_kg:g} kg from an assembly of {self.mass_kg:g} kg", where="payload"
-            )
-        cg = (self.mass_kg * self.cg_m - other.mass_kg * other.cg_m) / mass
-        about_origin = self._inertia_about_origin() - other._inertia_about_origin()
-        return MassProperties(mass, cg, about_origin - mass * (np.dot(cg, cg) * np.eye(3) - np.outer(cg, cg)))
-
-
-def combine(parts) -> MassProperties:
-    """Combine rigidly attached parts into one :class:`MassProperties` (parallel-axis theorem)."""
-    parts = [p.mass_properties() if hasattr(p, "mass_properties") else p for p in parts]
-    mass = sum(p.mass_kg for p in parts)
-    if mass <= 0:
-        raise InputError(f"total mass must be positive, got {mass:g} kg", where="payload")
-    cg = sum(p.mass_kg * p.cg_m for p in parts) / mass
-    about_origin = sum(p._inertia_about_origin() for p in parts)
-    return MassProperties(mass, cg, about_origin - mass * (np.dot(cg, cg) * np.eye(3) - np.outer(cg, cg)))
-
-
-def _check_mass(mass_kg: float, what: str) -> float:
-    if not np.isfinite(mass_kg) or mass_kg < 0:
-        raise InputError(f"mass must be a finite number >= 0 kg, got {mass_kg!r}", where=what)
-    return float(mass_kg)
-
-
-@dataclass(frozen=True)
-class PointMass:
-    """A point mass [kg] at ``position_m`` (x, y, z) [m]."""
-
-    mass_kg: float
-    position_m: tuple[float, float, float]
-    name: str = "point mass"
-
-    def mass_properties(self) -> MassProperties:
-        return MassProperties(_check_mass(self.mass_kg, self.name), self.position_m)
-
-
-@dataclass(frozen=True)
-class Box:
-    """A uniform box [kg] centred at ``centre_m`` with edge lengths ``size_m`` (along x, y, z) [m]."""
-
-    mass_kg: float
-    centre_m: tuple[float, float, float]
-    size_m: tuple[float, float, float]
-    name: str = "box"
-
-    def mass_properties(self) -> MassProperties:
-        m = _check_mass(self.mass_kg, self.name)
-        a, b, c = (float(s) for s in self.size_m)
-        if min(a, b, c) < 0:
-            raise InputError(f"box edge lengths must be >= 0 m, got {self.size_m}", where=self.name)
-        inertia = m / 12.0 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b])
-        return MassProperties(m, self.centre_m, inertia)
-
-
-@dataclass(frozen=True)
-class Payload:
-    """A named set of point masses and boxes, added to (or removed from) a vehicle.
-
-    Examples
-    --------
-    >>> freight = Payload("paper-freight", (PointMass(100.0, (0.146, 0.0, 1.094)),))
-    >>> freight.mass_kg
-    100.0
-    """
-
-    name: str
-    items: tuple = ()
-
-    @property
-    def mass_kg(self) -> float:
-        return float(sum(_check_mass(i.mass_kg, i.name) for i in self.items))
-
-    def mass_properties(self) -> MassProperties:
-        return combine(self.items) if self.mass_kg > 0 else MassProperties(0.0, np.zeros(3))
-
-    def added_to(self, base: MassProperties) -> MassProperties:
-        """The assembly ``base`` with this payload aboard."""
-        return base if self.mass_kg == 0 else base + self.mass_properties()
-
-    def removed_from(self, base: MassProperties) -> MassProperties:
-        """The assembly ``base`` with this payload taken off."""
-        return base if self.mass_kg == 0 else base - self.mass_properties()
-
-
-# ------------------------------------------------------------------------------------------------
 # Weighing reduction
 # ------------------------------------------------------------------------------------------------
-def _as_points(contacts) -> np.ndarray:
-    pts = np.asarray(contacts, dtype=float)
-    if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 3:
-        raise InputError("contact points must be an (n >= 3, 2) array of (x, y) [m]", where="contacts")
-    return pts
-
-
-def wheel_loads_from_cg(mass_kg: float, cg_xy_m, contacts_xy_m, g: float = STANDARD_GRAVITY) -> np.ndarray:
-    """Static wheel loads [N] of a rigid vehicle on three level contact points.
-
-    Solves vertical force balance and the two moment balances (statically determinate for three
-    non-collinear points).
-
-    Parameters
-    ----------
-    mass_kg : float
-        Mass [kg].
-    cg_xy_m : array_like, shape (2,)
-        CG ground projection (x, y) [m].
-    contacts_xy_m : array_like, shape (3, 2)
-        Wheel contact points (x, y) [m].
-    g : float
-        Gravity [m/s^2].
-
-    Returns
-    -------
-    numpy.ndarray, shape (3,)
-        Vertical load on each wheel [N], in the order of ``contacts_xy_m``.
-    """
-    pts = _as_points(contacts_xy_m)
-    a = np.vstack([np.ones(3), pts[:, 0], pts[:, 1]])
-    b = mass_kg * g * np.array([1.0, cg_xy_m[0], cg_xy_m[1]])
-    return np.linalg.solve(a, b)
-
-
 @dataclass(frozen=True)
 class LevelWeighingResult:
     """CG ground projection from a level weighing, with its standard uncertainty."""
@@ -238,7 +85,7 @@ def cg_from_level_weighing(
         Mass [kg], CG x and y [m] and their first-order standard uncertainties.
     """
     loads = np.asarray(loads_N, dtype=float)
-    pts = _as_points(contacts_xy_m)
+    pts = as_points(contacts_xy_m)
     if loads.shape != (pts.shape[0],):
         raise InputError(f"need one load per contact point ({pts.shape[0]}), got {loads.size}", where="loads")
     if not np.all(np.isfinite(loads)) or np.any(loads < 0):

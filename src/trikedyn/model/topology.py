@@ -26,9 +26,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ParameterError
-from ..measure.cg import MassProperties, combine
-from ..params.audit import static_wheel_loads, unsprung_mass
-from ..params.ops import mass_properties
+from ..mechanics import MassProperties, combine
+from ..params.ops import mass_properties, static_wheel_loads, unsprung_mass
 from ..params.schema import VehicleParameters
 from ..units import STANDARD_GRAVITY
 from .dynamics import JOINT_FREE, JOINT_PRISMATIC, JOINT_REVOLUTE, JOINT_ROTOR

@@ -23,10 +23,9 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from ..measure.cg import wheel_loads_from_cg
 from ..units import STANDARD_GRAVITY
 from .io import ParameterSet
-from .ops import mass_properties
+from .ops import mass_properties, static_wheel_loads, unsprung_mass  # the last two re-exported
 from .schema import VehicleParameters
 
 __all__ = ["Finding", "audit", "static_wheel_loads", "tip_over_thresholds", "unsprung_mass"]
@@ -45,22 +44,6 @@ class Finding:
 
     def to_dict(self) -> dict:
         return asdict(self)
-
-
-def unsprung_mass(params: VehicleParameters, wheel_name: str) -> float:
-    """Mass moving with the wheel vertically [kg]: wheel plus fork slider, or plus half the swing arm."""
-    wheel = params.wheel(wheel_name)
-    susp = params.suspension[wheel.suspension]
-    share = 1.0 if susp.kind == "telescopic" else 0.5  # arm's CG taken midway between pivot and axle
-    return wheel.mass_kg + share * susp.moving_mass_kg
-
-
-def static_wheel_loads(params: VehicleParameters, g: float = STANDARD_GRAVITY) -> dict[str, float]:
-    """Static vertical load on each wheel [N] of the vehicle as a rigid body on level ground."""
-    contacts = [(w.x_m, w.y_m) for w in params.wheels]
-    mp = mass_properties(params)
-    loads = wheel_loads_from_cg(mp.mass_kg, mp.cg_m[:2], contacts, g)
-    return {w.name: float(f) for w, f in zip(params.wheels, loads, strict=True)}
 
 
 def tip_over_thresholds(params: VehicleParameters) -> list[dict]:

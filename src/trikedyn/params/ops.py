@@ -10,11 +10,13 @@ import numpy as np
 from pydantic import ValidationError
 
 from ..errors import ParameterError
-from ..measure.cg import Box, MassProperties, Payload, PointMass
+from ..mechanics import Box, MassProperties, Payload, PointMass, wheel_loads_from_cg
+from ..units import STANDARD_GRAVITY
 from .io import ParameterSet, _describe
 from .schema import VehicleParameters
 
-__all__ = ["freight", "mass_properties", "override", "scale_suspension", "with_freight", "with_payload"]
+__all__ = ["freight", "mass_properties", "override", "scale_suspension", "static_wheel_loads", "unsprung_mass",
+           "with_freight", "with_payload"]
 
 
 def _base_mass_properties(params: VehicleParameters) -> MassProperties:
@@ -122,3 +124,19 @@ def override(pset: ParameterSet, values: dict) -> ParameterSet:
             raise ParameterError(f"no parameter '{dotted}'{tip}", where="override")
         node[keys[-1]] = value
     return _revalidate(pset, data, "override")
+
+
+def unsprung_mass(params: VehicleParameters, wheel_name: str) -> float:
+    """Mass moving with the wheel vertically [kg]: wheel plus fork slider, or plus half the swing arm."""
+    wheel = params.wheel(wheel_name)
+    susp = params.suspension[wheel.suspension]
+    share = 1.0 if susp.kind == "telescopic" else 0.5  # arm's CG taken midway between pivot and axle
+    return wheel.mass_kg + share * susp.moving_mass_kg
+
+
+def static_wheel_loads(params: VehicleParameters, g: float = STANDARD_GRAVITY) -> dict[str, float]:
+    """Static vertical load on each wheel [N] of the vehicle as a rigid body on level ground."""
+    contacts = [(w.x_m, w.y_m) for w in params.wheels]
+    mp = mass_properties(params)
+    loads = wheel_loads_from_cg(mp.mass_kg, mp.cg_m[:2], contacts, g)
+    return {w.name: float(f) for w, f in zip(params.wheels, loads, strict=True)}
