@@ -114,3 +114,15 @@ def test_json_is_valid_even_with_non_finite_numbers(capsys, tmp_path):
         assert all("non-finite" in w or w for w in data.get("warnings", []))
     else:
         assert code == 2 and _strict_json(out)["error"]
+
+
+@pytest.mark.parametrize(("command", "units"), [
+    (["simulate"], ["[km/h]", "[kg]", "[m]", "[s]"]), (["threshold"], ["[km/h]", "[kg]"]),
+    (["tilt"], ["[kg]", "[deg]"]), (["identify"], ["[kg]", "[N/m]"]), (["cg", "payload"], ["[kg]"]),
+])
+def test_help_keeps_its_units(capsys, command, units):
+    """Units in brackets survive the help formatter (rich markup used to swallow them)."""
+    assert main([*command, "--help"]) == 0
+    out = capsys.readouterr().out
+    for unit in units:
+        assert unit in out, f"{command}: {unit} missing from --help"

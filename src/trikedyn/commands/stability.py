@@ -97,12 +97,12 @@ def handling_cmd(
 
 def tilt_cmd(
     vehicle: VehicleArg,
-    payload: Annotated[float, typer.Option("--payload", callback=within(0, 2000, "kg"), help="The paper's freight aboard \\[kg].")] = 0.0,
+    payload: Annotated[float, typer.Option("--payload", callback=within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
     side: Annotated[str, typer.Option("--side", help="The side that goes down: left, right or both.")] = "both",
     require_deg: Annotated[
-        float | None, typer.Option("--require-deg", help="Required tilt angle \\[deg] (e.g. 35): pass or fail.")
+        float | None, typer.Option("--require-deg", help="Required tilt angle [deg] (e.g. 35): pass or fail.")
     ] = None,
-    plot: Annotated[Path | None, typer.Option("--plot", help="Write wheel loads \\[N] against table angle \\[deg] (PNG).")] = None,
+    plot: Annotated[Path | None, typer.Option("--plot", help="Write wheel loads [N] against table angle [deg] (PNG).")] = None,
     force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):

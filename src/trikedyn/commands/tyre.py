@@ -50,7 +50,7 @@ def _bound(value: float):
 def show_cmd(
     file: TirArg,
     load: Annotated[float | None, typer.Option("--load", callback=within(0, 1e6, "N", above=True),
-                                               help="Vertical load \\[N] for the figures (default: FNOMIN).")] = None,
+                                               help="Vertical load [N] for the figures (default: FNOMIN).")] = None,
     side: SideOpt = None,
     as_json: JsonOpt = False,
 ):
@@ -124,15 +124,15 @@ def show_cmd(
 @tyre_app.command("forces")
 def forces_cmd(
     file: TirArg,
-    load: Annotated[float, typer.Option("--load", callback=within(0, 1e6, "N"), help="Vertical load \\[N].")],
+    load: Annotated[float, typer.Option("--load", callback=within(0, 1e6, "N"), help="Vertical load [N].")],
     slip_angle_deg: Annotated[float, typer.Option("--slip-angle-deg", callback=within(-90, 90, "deg"),
-                                                  help="Slip angle \\[deg], ISO: > 0 when sliding to the left.")] = 0.0,
+                                                  help="Slip angle [deg], ISO: > 0 when sliding to the left.")] = 0.0,
     slip_ratio: Annotated[float, typer.Option("--slip-ratio", callback=within(-100, 100),
-                                              help="Longitudinal slip \\[-], > 0 driving, -1 locked.")] = 0.0,
+                                              help="Longitudinal slip [-], > 0 driving, -1 locked.")] = 0.0,
     camber_deg: Annotated[float, typer.Option("--camber-deg", callback=within(-90, 90, "deg"),
-                                              help="Inclination angle \\[deg], ISO: > 0 leans the top to the right.")] = 0.0,
+                                              help="Inclination angle [deg], ISO: > 0 leans the top to the right.")] = 0.0,
     speed: Annotated[float | None, typer.Option("--speed", callback=within(-200, 200, "m/s"),
-                                                help="Forward speed \\[m/s] (default: the file's LONGVL).")] = None,
+                                                help="Forward speed [m/s] (default: the file's LONGVL).")] = None,
     side: SideOpt = None,
     as_json: JsonOpt = False,
 ):
