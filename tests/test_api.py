@@ -25,3 +25,15 @@ def test_manoeuvre_level_api():
     figures = td.summary(result)
     assert result.success and figures["cone_strikes"] == 0 and not figures["wheel_lifted"]
     assert "fishhook" in [m.name for m in td.list_manoeuvres()]
+
+
+def test_the_command_line_starts_without_the_heavy_libraries():
+    """`trikedyn --version` and `--help` load neither scipy, pandas, numba nor matplotlib (issue 11)."""
+    import subprocess
+    import sys
+
+    code = ("import sys, contextlib, io\nfrom trikedyn.cli import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n    main(['--version']); main(['--help'])\n"
+            "print(sorted(m for m in ('scipy', 'pandas', 'numba', 'matplotlib') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"

@@ -40,52 +40,69 @@ def _numba_cache_dir() -> None:
 _numba_cache_dir()
 
 from .errors import InputError, LogFormatError, ParameterError, SimulationError, TrikedynError
-from .measure.cg import Box, MassProperties, Payload, PointMass
-from .measure.logs import ImuLog, read_log, write_log
-from .measure.suspension import identify_suspension
-from .measure.weighing import reduce_weighing
-from .model.linear import modes
-from .model.statics import static_equilibrium
-from .model.vehicle import Road, build_model, flat_road, speed_bump
-from .params import (
-    ParameterSet,
-    VehicleParameters,
-    audit,
-    list_presets,
-    load_vehicle,
-    save_vehicle,
-    scale_suspension,
-    with_freight,
-    with_payload,
-)
-from .simulate.result import Result, rollover_index
-from .simulate.run import simulate
+
+# The flat API, each name imported from its module when first used (``import trikedyn`` and
+# ``trikedyn --version`` load neither scipy, pandas nor the compiled model).
+_LAZY = {
+    "Box": ("mechanics", "Box"),
+    "MassProperties": ("mechanics", "MassProperties"),
+    "Payload": ("mechanics", "Payload"),
+    "PointMass": ("mechanics", "PointMass"),
+    "ImuLog": ("measure.logs", "ImuLog"),
+    "read_log": ("measure.logs", "read_log"),
+    "write_log": ("measure.logs", "write_log"),
+    "identify_suspension": ("measure.suspension", "identify_suspension"),
+    "reduce_weighing": ("measure.weighing", "reduce_weighing"),
+    "modes": ("model.linear", "modes"),
+    "static_equilibrium": ("model.statics", "static_equilibrium"),
+    "Road": ("model.vehicle", "Road"),
+    "build_model": ("model.vehicle", "build_model"),
+    "flat_road": ("model.vehicle", "flat_road"),
+    "speed_bump": ("model.vehicle", "speed_bump"),
+    "ParameterSet": ("params", "ParameterSet"),
+    "VehicleParameters": ("params", "VehicleParameters"),
+    "audit": ("params", "audit"),
+    "list_presets": ("params", "list_presets"),
+    "load_vehicle": ("params", "load_vehicle"),
+    "save_vehicle": ("params", "save_vehicle"),
+    "scale_suspension": ("params", "scale_suspension"),
+    "with_freight": ("params", "with_freight"),
+    "with_payload": ("params", "with_payload"),
+    "Result": ("simulate.result", "Result"),
+    "rollover_index": ("simulate.result", "rollover_index"),
+    "run": ("simulate.closed_loop", "run"),
+    "threshold_velocity": ("analysis.threshold", "threshold_velocity"),
+    "tilt_table": ("analysis.tilt", "tilt_table"),
+    "summary": ("analysis.metrics", "summary"),
+    "list_manoeuvres": ("manoeuvres.registry", "available"),
+}
+
+
+from . import simulate as _simulate_package  # noqa: E402,F401  (light; bound first so the name below wins)
+
+
+def simulate(*args, **kwargs):
+    """Open-loop simulation: :func:`trikedyn.simulate.run.simulate` (imported on first call)."""
+    from .simulate.run import simulate as _simulate
+
+    return _simulate(*args, **kwargs)
 
 
 def __getattr__(name):
-    """The manoeuvre-level API, imported when first used: ``run``, ``threshold_velocity``, ``tilt_table``,
-    ``summary`` (the metrics of a run) and ``list_manoeuvres`` (the registered manoeuvres)."""
-    if name == "run":
-        from .simulate.closed_loop import run
+    """A name of the flat API, imported from its module on first use (then cached in this module)."""
+    if name not in _LAZY:
+        raise AttributeError(f"module 'trikedyn' has no attribute {name!r}")
+    import importlib
 
-        return run
-    if name == "threshold_velocity":
-        from .analysis.threshold import threshold_velocity
+    module, attribute = _LAZY[name]
+    value = getattr(importlib.import_module(f".{module}", __name__), attribute)
+    globals()[name] = value
+    return value
 
-        return threshold_velocity
-    if name == "tilt_table":
-        from .analysis.tilt import tilt_table
 
-        return tilt_table
-    if name == "summary":
-        from .analysis.metrics import summary
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
 
-        return summary
-    if name == "list_manoeuvres":
-        from .manoeuvres.registry import available
-
-        return available
-    raise AttributeError(f"module 'trikedyn' has no attribute {name!r}")
 
 __all__ = [
     "Box",
