@@ -14,8 +14,7 @@ Every file trikedyn writes for a user goes through here:
   may be a link; only the files in it are checked;
 - :func:`atomic_write` writes a file to a fresh temporary name in the same folder (created exclusively,
   never through a link), flushes it to disk and renames it into place (``os.replace``): an interrupted
-  write leaves the old file (or none) and no temporary file, never half a file;
-  :func:`atomic_write_path` does the same for writers that want a file name.
+  write leaves the old file (or none) and no temporary file, never half a file.
 
 The SQLite store (``study.sqlite``) has its own crash safety (:mod:`trikedyn.study.store`).
 """
@@ -32,7 +31,7 @@ from typing import IO
 
 from .errors import InputError
 
-__all__ = ["atomic_write", "atomic_write_path", "check_output", "check_output_folder", "describe_os_error",
+__all__ = ["atomic_write", "check_output", "check_output_folder", "describe_os_error",
            "ensure_folder", "open_nofollow", "refuse_symlink"]
 
 
@@ -186,27 +185,6 @@ def atomic_write(path: str | os.PathLike, write: Callable[[IO], object], *, bina
             raise InputError(f"cannot write ({describe_os_error(exc)})", where=str(path)) from None
         raise
     _fsync_folder(folder)
-    return path
-
-
-def atomic_write_path(path: str | os.PathLike, write: Callable[[Path], object]) -> Path:
-    """Like :func:`atomic_write`, for writers that take a file name: ``write(temporary_path)``.
-
-    The temporary name keeps the suffix, so writers that look at it (pandas, matplotlib) pick the format.
-    """
-    path = refuse_symlink(path)
-    tmp = path.with_name(f".{path.name}.{secrets.token_hex(6)}.tmp{path.suffix}")
-    try:
-        write(tmp)
-        refuse_symlink(path)
-        os.replace(tmp, path)
-    except BaseException as exc:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        if isinstance(exc, OSError):
-            raise InputError(f"cannot write ({describe_os_error(exc)})", where=str(path)) from None
-        raise
-    _fsync_folder(path.parent)
     return path
 
 

@@ -74,6 +74,9 @@ def test_result_is_immutable_and_labelled(reference):
     assert result.state("x_m")[-1] == pytest.approx(result["x_m"][-1])
     assert len(result.state_names) == result.states.shape[1]
     assert "front_kappa" in result.state_names
+    assert np.allclose(result.state("wz_radps"), result["yaw_rate_radps"])  # angular before linear
+    # the rolling start: forward speed along the (statically pitched) chassis x axis
+    assert result.state("vx_mps")[0] == pytest.approx(20.0 / 3.6 * np.cos(result.state("pitch_rad")[0]), rel=1e-9)
 
 
 def test_step_steer_holds_the_speed(reference):
@@ -94,3 +97,13 @@ def test_fishhook_amplitude_follows_the_reference_steer(reference):
     assert p["amplitude_deg"] == pytest.approx(2.0 * p["reference_steer_deg"])
     assert m.steer[:, 1].max() == pytest.approx(np.radians(p["amplitude_deg"]))
     assert m.steer[:, 1].min() == pytest.approx(-np.radians(p["amplitude_deg"]))
+
+
+def test_a_longer_run_gets_a_longer_run_out(reference):
+    """run(..., duration_s=longer): the path grows with it, so the driver still does not run out of road."""
+    result = run(reference, "slc", speed_kmh=30.0, duration_s=registry.build("slc", reference.params, 30.0).duration_s + 8)
+    v = 30.0 / 3.6
+    assert result.manoeuvre.path.s_m[-1] > v * result.time_s[-1] + 10.0
+    judged = metrics.judged_mask(result)
+    after = result.time_s > result.time_s[judged][-1]
+    assert np.abs(result["steer_cmd_rad"][after]).max() <= np.abs(result["steer_cmd_rad"][judged]).max()

@@ -24,7 +24,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from ..driver.preview import DriverSettings
-from ..errors import InputError, SimulationError
+from ..errors import InputError
 from ..model.vehicle import VehicleModel, build_model
 from ..params.io import ParameterSet
 
@@ -42,11 +42,9 @@ def manoeuvre_builder(manoeuvre, options: dict | None = None):
     options = dict(options or {})
     if isinstance(manoeuvre, Path):
         from ..manoeuvres import speed as speeds
-        from ..manoeuvres.base import path_manoeuvre
+        from ..manoeuvres.base import whole_path
 
-        return lambda params, v: path_manoeuvre(manoeuvre.name, manoeuvre.name, manoeuvre, speeds.constant(v, 1.0),
-                                                entry_m=0.0, exit_m=float(manoeuvre.s_m[-1]),
-                                                description=manoeuvre.description)
+        return lambda params, v: whole_path(manoeuvre, speeds.constant(v, 1.0))
     if isinstance(manoeuvre, Manoeuvre):
         raise InputError("give the manoeuvre by name: a threshold search builds it at each speed", where="manoeuvre")
     from ..manoeuvres import registry
@@ -137,13 +135,7 @@ class ThresholdResult:
 def _run(model, build, speed_kmh, driver, dt):
     from ..simulate.closed_loop import run
 
-    try:
-        result = run(model, build(model.params, speed_kmh), driver=driver, dt=dt)
-    except SimulationError as err:
-        result = getattr(err, "result", None)
-        if result is None:
-            raise
-    return judge_run(result, speed_kmh=speed_kmh)
+    return judge_run(run(model, build(model.params, speed_kmh), driver=driver, dt=dt), speed_kmh=speed_kmh)
 
 
 def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *, options: dict | None = None,

@@ -121,14 +121,7 @@ def manoeuvre_options(manoeuvre: str, pairs: list[str], **legacy) -> dict:
 
 
 def save_figure(fig, path: Path, dpi: int = 110) -> None:
-    """Save a matplotlib figure atomically and close it."""
-    import matplotlib.pyplot as plt
+    """Save a matplotlib figure atomically and close it (:func:`trikedyn.report.figures.save`)."""
+    from ..report.figures import save
 
-    from .._files import atomic_write_path
-
-    try:
-        atomic_write_path(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=path.suffix.lstrip(".").lower() or "png"))
-    except ValueError as exc:  # an unknown image format
-        raise InputError(f"cannot write this kind of figure: {exc}", where=str(path)) from None
-    finally:
-        plt.close(fig)
+    save(fig, path, dpi=dpi)

@@ -80,18 +80,18 @@ def _check_run_file(out: Path, force: bool, reads=()) -> None:
 
 
 def _write_run(result, out: Path, summary: dict) -> None:
-    from .._files import atomic_write_path
+    from .._files import atomic_write
 
     frame = result.to_pandas().reset_index()
     if out.suffix == ".parquet":
-        atomic_write_path(out, lambda tmp: frame.to_parquet(tmp, index=False))
+        atomic_write(out, lambda fh: frame.to_parquet(fh, index=False))
     else:
-        atomic_write_path(out, lambda tmp: frame.to_csv(tmp, index=False))
+        atomic_write(out, lambda fh: frame.to_csv(fh, index=False), binary=False)
     meta = {k: v for k, v in result.meta.items() if k != "driver"} | {"summary": summary}
     if result.manoeuvre is not None:
         meta["manoeuvre_spec"] = result.manoeuvre.to_dict()
     text = json.dumps(finite(meta)[0], indent=2, default=json_default, allow_nan=False)
-    atomic_write_path(out.with_suffix(".json"), lambda tmp: tmp.write_text(text, encoding="utf-8"))
+    atomic_write(out.with_suffix(".json"), lambda fh: fh.write(text), binary=False)
 
 
 def simulate_cmd(

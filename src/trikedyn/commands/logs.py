@@ -78,11 +78,11 @@ def log_convert(
     as_json: JsonOpt = False,
 ):
     """Convert an IMU log to a plain CSV in SI units (never onto the log itself)."""
-    from .._files import atomic_write_path, check_output
+    from .._files import atomic_write, check_output
 
     check_output(out, force=force, reads=[log])
     imu = _read(log, fmt, sensor, rate)
-    atomic_write_path(out, lambda tmp: imu.data.to_csv(tmp, index=False))
+    atomic_write(out, lambda fh: imu.data.to_csv(fh, index=False), binary=False)
     emit({"wrote": str(out), "samples": len(imu.data)}, as_json, f"wrote {out} ({len(imu.data)} samples)")
 
 

@@ -85,10 +85,9 @@ def vehicle_export(
     as_json: JsonOpt = False,
 ):
     """Write a parameter set to a TOML file (with its notes) to start your own vehicle from."""
-    from .._files import atomic_write_path, check_output
+    from .._files import check_output
     from ..params import load_vehicle, save_vehicle
 
     check_output(file, force=force, reads=[vehicle])
-    pset = load_vehicle(vehicle)
-    atomic_write_path(file, lambda tmp: save_vehicle(pset, tmp))
+    save_vehicle(load_vehicle(vehicle), file)
     emit({"wrote": str(file)}, as_json, f"wrote {file}")

@@ -18,7 +18,7 @@ window is judged.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -26,7 +26,7 @@ from ..errors import InputError
 from .paths import DS_MAX_M, Path
 from .speed import SpeedProfile
 
-__all__ = ["Manoeuvre", "Window", "check_duration", "path_manoeuvre", "time_to_cover", "with_run_out"]
+__all__ = ["Manoeuvre", "Window", "check_duration", "path_manoeuvre", "time_to_cover", "whole_path", "with_run_out"]
 
 MAX_DURATION_S = 3600.0
 """Longest manoeuvre accepted [s] (a longer one is almost certainly a unit mistake)."""
@@ -125,6 +125,15 @@ class Manoeuvre:
         """True when the driver steers along the path."""
         return self.steer is None
 
+    def lasting(self, duration_s: float) -> Manoeuvre:
+        """The same manoeuvre simulated for ``duration_s`` [s]; a longer run gets a longer run-out, so the
+        driver still never reaches the end of the path."""
+        duration = check_duration(self.name, float(duration_s))
+        path = self.path
+        if path is not None and duration > self.duration_s:
+            path = with_run_out(path, (duration - self.duration_s) * float(self.speed.speed_mps.max()))
+        return replace(self, duration_s=duration, path=path)
+
     def at_speed(self, speed: SpeedProfile) -> Manoeuvre:
         """The same closed-loop manoeuvre (distance window) driven at another target speed profile."""
         if self.window.kind != "distance":
@@ -219,3 +228,9 @@ def path_manoeuvre(name: str, title: str, path: Path, speed: SpeedProfile, *, en
     full = with_run_out(path, max(0.0, needed - float(path.s_m[-1])))
     return Manoeuvre(name=name, title=title, speed=speed, duration_s=duration, window=Window("distance", entry_m, exit_m),
                      path=full, parameters=dict(parameters or {}), description=description)
+
+
+def whole_path(path: Path, speed: SpeedProfile) -> Manoeuvre:
+    """A bare :class:`~trikedyn.manoeuvres.paths.Path` as a manoeuvre judged over its whole length."""
+    return path_manoeuvre(path.name, path.name, path, speed, entry_m=0.0, exit_m=float(path.s_m[-1]),
+                          description=path.description)

@@ -127,14 +127,16 @@ def _parse(toml_text: str, origin: str, folder: Path | None, chain: tuple) -> Pa
 
 
 def save_vehicle(pset: ParameterSet | VehicleParameters, path: str | Path) -> Path:
-    """Write a parameter set as TOML, with its provenance notes next to the values."""
+    """Write a parameter set as TOML, with its provenance notes next to the values (atomically: a temporary
+    file renamed into place)."""
     if isinstance(pset, VehicleParameters):
         pset = ParameterSet(pset)
     data = pset.params.model_dump(mode="json", exclude_none=True)
     _merge_notes(data, pset.notes)
-    path = Path(path)
-    path.write_text(_to_toml(data), encoding="utf-8")
-    return path
+    from .._files import atomic_write
+
+    text = _to_toml(data)
+    return atomic_write(Path(path), lambda fh: fh.write(text), binary=False)
 
 
 def _toml_value(value) -> str:

@@ -26,14 +26,20 @@ def _plt():
 
 
 def save(fig, path: Path, dpi: int = 110) -> Path:
-    """Write a figure atomically (a temporary file renamed into place) and close it."""
-    from .._files import atomic_write_path
+    """Write a figure atomically (a temporary file renamed into place), in the format its suffix names
+    (PNG without one), and close it."""
+    from .._files import atomic_write
+    from ..errors import InputError
 
+    path = Path(path)
+    kind = path.suffix.lstrip(".").lower() or "png"
     try:
-        atomic_write_path(path, lambda tmp: fig.savefig(tmp, dpi=dpi, format=Path(path).suffix.lstrip(".") or "png"))
+        atomic_write(path, lambda fh: fig.savefig(fh, dpi=dpi, format=kind))
+    except ValueError as exc:  # a format matplotlib cannot write
+        raise InputError(f"cannot write this kind of figure: {exc}", where=str(path)) from None
     finally:
         _plt().close(fig)
-    return Path(path)
+    return path
 
 
 def shade_window(ax, result) -> None:

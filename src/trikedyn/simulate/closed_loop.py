@@ -16,7 +16,7 @@ import numpy as np
 
 from ..driver.preview import DriverSettings, driver_array, with_steering
 from ..errors import InputError
-from ..manoeuvres.base import Manoeuvre, Window
+from ..manoeuvres.base import Manoeuvre
 from ..model.statics import rolling_state, static_equilibrium
 from ..model.vehicle import VehicleModel, build_model
 from ..params.io import ParameterSet
@@ -104,9 +104,9 @@ def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc"
         manoeuvre = build(manoeuvre, params, speed_kmh, **options)
     elif options:
         raise InputError(f"options {sorted(options)} apply only to a manoeuvre given by name", where="run")
-    duration = manoeuvre.duration_s if duration_s is None else float(duration_s)
-    if not np.isfinite(duration) or duration <= 0:
-        raise InputError(f"must be > 0 s, got {duration_s!r}", where="duration_s")
+    if duration_s is not None:
+        manoeuvre = manoeuvre.lasting(duration_s)
+    duration = manoeuvre.duration_s
     settings = driver or DriverSettings()
     v0 = float(manoeuvre.speed.speed_mps[0])
     eq = static_equilibrium(model.on_flat_road())
@@ -147,7 +147,7 @@ def drive(vehicle: ParameterSet | VehicleModel, path, speed, *, driver: DriverSe
     :func:`run` with a registered manoeuvre, which knows its own gates.
     """
     from ..manoeuvres import speed as speeds
-    from ..manoeuvres.base import path_manoeuvre
+    from ..manoeuvres.base import whole_path
 
     if hasattr(speed, "speed_mps"):
         profile = speed
@@ -156,11 +156,5 @@ def drive(vehicle: ParameterSet | VehicleModel, path, speed, *, driver: DriverSe
         if not np.isfinite(value) or value <= 0:
             raise InputError(f"speed must be > 0 km/h, got {speed!r}", where="speed")
         profile = speeds.constant(value, 1.0)
-    manoeuvre = path_manoeuvre(path.name, path.name, path, profile, entry_m=0.0, exit_m=float(path.s_m[-1]),
-                               description=path.description)
-    if duration_s is not None:
-        manoeuvre = Manoeuvre(manoeuvre.name, manoeuvre.title, profile, float(duration_s),
-                              Window("distance", 0.0, float(path.s_m[-1])), manoeuvre.path,
-                              description=manoeuvre.description)
-    return run(vehicle, manoeuvre, driver=driver, dt=dt, output_rate_hz=output_rate_hz,
-               raise_on_failure=raise_on_failure)
+    return run(vehicle, whole_path(path, profile), driver=driver, dt=dt, output_rate_hz=output_rate_hz,
+               raise_on_failure=raise_on_failure, duration_s=duration_s)

@@ -33,13 +33,14 @@ def state_names(model) -> tuple[str, ...]:
     """Labels of the state vector: positions, velocities, transient slips.
 
     ``x_m, y_m, z_m, roll_rad, pitch_rad, yaw_rad`` (chassis, road axes), one per joint (``<body>_q``),
-    the chassis velocities in its own axes (``vx_mps, vy_mps, vz_mps, wx_radps, wy_radps, wz_radps``),
+    the chassis velocities in its own axes, angular then linear (``wx_radps, wy_radps, wz_radps, vx_mps,
+    vy_mps, vz_mps``, of the chassis origin),
     one rate per joint (``<body>_qd``), then per wheel the transient slips ``<wheel>_kappa`` and
     ``<wheel>_tan_alpha``.
     """
     bodies = model.tree.body_names[1:]
     q = ["x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", *(f"{b}_q" for b in bodies)]
-    u = ["vx_mps", "vy_mps", "vz_mps", "wx_radps", "wy_radps", "wz_radps", *(f"{b}_qd" for b in bodies)]
+    u = ["wx_radps", "wy_radps", "wz_radps", "vx_mps", "vy_mps", "vz_mps", *(f"{b}_qd" for b in bodies)]
     slips = [f"{w.name}_{s}" for w in model.tree.wheels for s in ("kappa", "tan_alpha")]
     return tuple(q + u + slips)
 
