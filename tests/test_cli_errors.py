@@ -1,17 +1,11 @@
 """The error contract of the command line (issue 9): one line, exit 2, valid JSON, nothing overwritten."""
 
-import json
 
 import pytest
 
 from trikedyn.cli import main
 
-
-def _strict_json(text: str):
-    def refuse(name):
-        raise ValueError(f"non-finite {name} in JSON")
-
-    return json.loads(text, parse_constant=refuse)
+from .conftest import strict_json
 
 
 def _one_line_error(capsys, code, where=None):
@@ -91,7 +85,7 @@ def test_a_vehicle_that_cannot_stand_is_a_user_error(capsys, tmp_path):
 def test_errors_under_json_are_json_too(capsys):
     code = main(["simulate", "reference-etrike", "--speed", "-3", "--json"])
     captured = _one_line_error(capsys, code)
-    data = _strict_json(captured.out)
+    data = strict_json(captured.out)
     assert data["where"] == "--speed" and "must be > 0" in data["error"]
 
 
@@ -110,10 +104,10 @@ def test_json_is_valid_even_with_non_finite_numbers(capsys, tmp_path):
     code = main(["log", "info", str(one), "--json"])
     out = capsys.readouterr().out
     if code == 0:
-        data = _strict_json(out)
+        data = strict_json(out)
         assert all("non-finite" in w or w for w in data.get("warnings", []))
     else:
-        assert code == 2 and _strict_json(out)["error"]
+        assert code == 2 and strict_json(out)["error"]
 
 
 @pytest.mark.parametrize(("command", "units"), [

@@ -1,19 +1,13 @@
 """Every case reported against the error contract (issue 9), through the command line: exit 2 with one
 line (or 0 where the input is in fact valid), valid JSON under --json, and quickly."""
 
-import json
 import time
 
 import pytest
 
 from trikedyn.cli import main
 
-
-def _strict(text):
-    def refuse(name):
-        raise AssertionError(f"non-finite {name} in JSON")
-
-    return json.loads(text, parse_constant=refuse)
+from .conftest import WEIGHING, strict_json
 
 
 def run(capsys, *args):
@@ -27,7 +21,7 @@ def run(capsys, *args):
         errors = [line for line in captured.err.splitlines() if line.startswith("trikedyn: error: ")]
         assert len(errors) == 1, captured.err
     if "--json" in args:
-        _strict(captured.out)
+        strict_json(captured.out)
     return code, captured
 
 
@@ -60,17 +54,6 @@ def test_vehicle_values_out_of_physical_range(capsys, tmp_path):
     assert code == 2
 
 
-WEIGHING = '''reading_std_kg = 0.5
-wheel_radius_m = 0.27
-[contacts]
-front = [1.95, 0.0]
-rear_left = [0.0, 0.55]
-rear_right = [0.0, -0.55]
-[level]
-front = 249.1
-rear_left = 175.6
-rear_right = 158.3
-'''
 
 
 @pytest.mark.parametrize("extra", ["tilted = [1.0]\n", "[[tilted]]\nraised = {}\nheight_m = 0.2\nraised_axle_kg = 200\n",
@@ -112,7 +95,7 @@ def test_identification_inputs_are_bounded(capsys, tmp_path):
     code, _ = run(capsys, "identify", file, "--sprung-mass", "240", "--resample-hz", "1e9", "--json")
     assert code == 2
     code, captured = run(capsys, "identify", file, "--sprung-mass", "1e300", "--sample-rate", "1e-300", "--json")
-    assert code == 2 and _strict(captured.out)["error"]
+    assert code == 2 and strict_json(captured.out)["error"]
 
 
 def test_logs_with_one_row_or_huge_values_give_valid_json(capsys, tmp_path):
