@@ -20,7 +20,7 @@ from trikedyn.manoeuvres import (
     single_lane_change,
     straight,
 )
-from trikedyn.manoeuvres import paths as paths_module
+from trikedyn.manoeuvres import csv_path as paths_module
 
 TRIKE_WIDTH_M = 1.25  # the paper's e-trike
 
