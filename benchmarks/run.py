@@ -56,7 +56,7 @@ def bench_sine_steer() -> dict:
     x0 = rolling_state(model, eq, 30 / 3.6)
     dt = 5e-3
     inputs = input_table(duration, dt, sine_steer, 50.0)
-    loop = best_of(lambda: rk4_loop(x0, 0.0, dt, int(duration / dt), 2, inputs, *OPEN_LOOP, *model.arrays()))
+    loop = best_of(lambda: rk4_loop(x0, 0.0, dt, int(duration / dt), 2, inputs, *OPEN_LOOP, model.plant))
     per_eval = loop / (4 * int(duration / dt))  # four RK4 stages a step
     return {
         "sine_steer_10s_30kmh": {

@@ -3,7 +3,7 @@
 import numpy as np
 
 from trikedyn.model.dynamics import crba, joint_transforms, world_transforms
-from trikedyn.model.rhs import N_WOUT, W_DEFLECTION, evaluate
+from trikedyn.model.statics import state_derivative
 
 
 def kinetic_energy(model, x):
@@ -19,13 +19,12 @@ def potential_energy(model, x):
     tree = model.tree
     e, r = joint_transforms(q, tree.parent, tree.jtype, tree.jaxis, tree.tree_e, tree.tree_r)
     ew, pw = world_transforms(tree.parent, e, r)
-    g = model.scalars[0]
+    g = model.gravity
     energy = 0.0
     for i in range(tree.n_bodies):
         cg_world = pw[i] + ew[i].T @ (tree.h[i] / tree.mass[i])
         energy += tree.mass[i] * g * cg_world[2]
-    wout = np.zeros((len(tree.wheels), N_WOUT))
-    evaluate(0.0, x, np.zeros((1, 4)), *model.arrays(), wout)
+    _, wout = state_derivative(model, x)
     for k, w in enumerate(tree.wheels):
         z = q[5 + w.spring_body]
         energy += w.preload * z + 0.5 * w.stiffness * z * z
@@ -34,12 +33,12 @@ def potential_energy(model, x):
             energy += 0.5 * w.bump_stop_stiffness * (travel - w.bump_travel) ** 2
         elif travel < -w.rebound_travel:
             energy += 0.5 * w.bump_stop_stiffness * (travel + w.rebound_travel) ** 2
-        d = wout[k, W_DEFLECTION]
+        d = wout[k]["deflection"]
         if d > 0:
-            energy += 0.5 * model.tyre[0] * d * d
+            energy += 0.5 * model.wheels[k]["vertical_stiffness"] * d * d
         if w.steer_body >= 0:
             delta = q[5 + w.steer_body]
-            energy += 0.5 * model.scalars[1] * delta * delta
+            energy += 0.5 * model.wheels[k]["steer_kp"] * delta * delta
     return energy
 
 
@@ -50,9 +49,10 @@ def momenta(model, x):
     tree = model.tree
     e, r = joint_transforms(q, tree.parent, tree.jtype, tree.jaxis, tree.tree_e, tree.tree_r)
     ew, pw = world_transforms(tree.parent, e, r)
-    from trikedyn.model.rhs import _body_velocities_py
+    from trikedyn.model.dynamics import body_velocities_into
 
-    v = _body_velocities_py(e, r, u, tree)
+    v = np.empty((tree.n_bodies, 6))
+    body_velocities_into(e, r, u, tree.parent, tree.jtype, tree.jaxis, v)
     lin = np.zeros(3)
     ang = np.zeros(3)
     for i in range(tree.n_bodies):

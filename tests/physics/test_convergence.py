@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from trikedyn.model.rhs import N_WOUT, W_FZ, evaluate
+from trikedyn.model.rhs import f, f_with_outputs
 from trikedyn.model.statics import rolling_state, static_equilibrium
 from trikedyn.model.vehicle import build_model
 from trikedyn.simulate.integrator import OPEN_LOOP, STATUS_OK, rk4_loop
@@ -16,21 +16,16 @@ def test_rk4_wheel_loads_match_dop853(reference, dt):
     eq = static_equilibrium(model)
     x0 = rolling_state(model, eq, 30 / 3.6)
     inputs = np.array([[0.0, 0.04, 60.0, 0.0]])  # a steer step to 0.04 rad, some drive torque
-    wout = np.zeros((len(model.tree.wheels), N_WOUT))
-    arrays = model.arrays()
-
-    def rhs(t, x):
-        return evaluate(t, x, inputs, *arrays, wout)
+    u = inputs[0, 1:].copy()
 
     def loads(x):
-        evaluate(0.0, x, inputs, *arrays, wout)
-        return wout[:, W_FZ].copy()
+        return f_with_outputs(0.0, x, u, model.plant)[1]["fz"].copy()
 
     duration = 5.0
     record = int(round(0.01 / dt))
-    times, states, _, _, _, status, rec, _ = rk4_loop(x0, 0.0, dt, int(round(duration / dt)), record, inputs, *OPEN_LOOP, *arrays)
+    times, states, _, _, _, status, rec, _ = rk4_loop(x0, 0.0, dt, int(round(duration / dt)), record, inputs, *OPEN_LOOP, model.plant)
     assert status == STATUS_OK
-    reference_run = solve_ivp(rhs, (0.0, duration), x0, method="DOP853", rtol=1e-10, atol=1e-12,
+    reference_run = solve_ivp(f, (0.0, duration), x0, args=(u, model.plant), method="DOP853", rtol=1e-10, atol=1e-12,
                               t_eval=times[:rec])
     assert reference_run.success
     ours = np.array([loads(x) for x in states[:rec]])

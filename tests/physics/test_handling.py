@@ -8,7 +8,7 @@ from trikedyn.model.statics import static_equilibrium
 from trikedyn.model.vehicle import build_model
 from trikedyn.params import load_vehicle, mass_properties, override
 from trikedyn.simulate.run import simulate
-from trikedyn.tyre.magic_formula import cornering_stiffness
+from trikedyn.tyre.interface import linear_stiffnesses
 from trikedyn.units import STANDARD_GRAVITY as G
 
 
@@ -19,8 +19,10 @@ def test_steady_cornering_matches_single_track_yaw_rate_gain(reference, speed_mp
     model = build_model(reference)
     p = reference.params
     eq = static_equilibrium(model)
-    c_front = cornering_stiffness(eq.wheel_loads_N["front"], model.tyre)
-    c_rear = sum(cornering_stiffness(eq.wheel_loads_N[w], model.tyre) for w in ("rear_left", "rear_right"))
+    stiffness = {w.name: linear_stiffnesses(t.model, t.coefficients, eq.wheel_loads_N[w.name])[1]
+                 for w, t in zip(model.tree.wheels, model.tyres, strict=True)}
+    c_front = stiffness["front"]
+    c_rear = stiffness["rear_left"] + stiffness["rear_right"]
     m_front = eq.wheel_loads_N["front"] / G
     k_us = m_front / c_front - (model.tree.total_mass() - m_front) / c_rear
     run = simulate(model, duration_s=8.0, speed_kmh=speed_mps * 3.6, steer_rad=steer_rad, drive_torque_Nm=51.0)

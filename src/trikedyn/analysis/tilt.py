@@ -52,13 +52,11 @@ from scipy.optimize import brentq
 
 from ..errors import InputError, SimulationError
 from ..model.dynamics import crba, joint_transforms, rnea, world_transforms
-from ..model.rhs import W_DEFLECTION
 from ..model.statics import state_derivative, static_equilibrium
-from ..model.vehicle import S_G, VehicleModel, build_model
+from ..model.vehicle import VehicleModel, build_model
 from ..params.audit import tip_over_thresholds
 from ..params.io import ParameterSet
 from ..params.schema import VehicleParameters
-from ..tyre.magic_formula import KZ
 
 __all__ = ["TiltResult", "TiltSide", "rigid_tilt_angles", "tilt_table"]
 
@@ -234,8 +232,8 @@ class _Table:
         for k, w in enumerate(self.model.params.wheels):
             groups.setdefault(round(w.x_m, 3), []).append(k)
         self.groups = list(groups.values())
-        self.kz = float(self.model.tyre[KZ])
-        self.g = float(self.model.scalars[S_G])
+        self.kz = np.array(self.model.wheels["vertical_stiffness"], dtype=float)
+        self.g = self.model.gravity
         self.tol = 1e-8 * tree.total_mass() * self.g
         cs = self._contacts(self.q0)[0]
         self.y0 = np.array([np.mean([cs[k][1] for k in gr]) for gr in self.groups])
@@ -278,7 +276,7 @@ class _Table:
         x[: self.n] = q
         xdot, wout = state_derivative(self.bare, x)
         own = crba(q, *self.arrays) @ xdot[self.n : 2 * self.n]
-        loads = self.kz * wout[:, W_DEFLECTION]
+        loads = self.kz * wout["deflection"]
         points, arms, ew = self._contacts(q)
         fext = np.zeros((self.model.tree.n_bodies, 6))
         pins = np.empty(len(self.groups))

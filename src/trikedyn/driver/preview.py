@@ -34,33 +34,39 @@ import numpy as np
 from .._jit import jit
 from ..model.rhs import interpolate_inputs
 
-__all__ = ["DriverSettings", "driver_array", "driver_step", "with_steering", "N_DRIVER", "N_DRIVER_STATE",
-           "PATH_COLUMNS"]
+__all__ = ["DRIVER", "DRIVER_STATE", "PATH_COLUMNS", "DriverSettings", "driver_array", "driver_step", "open_loop_driver",
+           "with_steering"]
 
-(
-    D_ON,
-    D_PREVIEW_TIME,
-    D_PREVIEW_MIN,
-    D_WHEELBASE,
-    D_COS_RAKE,
-    D_MAX_STEER,
-    D_RATE_LIMIT,
-    D_DELAY_STEPS,
-    D_LAG,
-    D_KP,
-    D_KI,
-    D_MAX_DRIVE,
-    D_MAX_BRAKE,
-    D_KUS,
-    D_PREDICT,
-    D_STEER_OPEN,
-    D_HOLD_AFTER,
-) = range(17)
-N_DRIVER = 17
-# controller state: speed error integral, delayed-line write position, lagged steer, rate-limited steer, path index
-S_INTEGRAL, S_WRITE, S_LAGGED, S_OUTPUT, S_INDEX = range(5)
-N_DRIVER_STATE = 5
+DRIVER = np.dtype(
+    [
+        ("on", "f8"),  # 1: the driver closes the loop; 0: open-loop inputs
+        ("preview_time", "f8"),  # T_p [s]
+        ("preview_min", "f8"),  # L_min [m]
+        ("rate_limit", "f8"),  # steering rate limit about the steering axis [rad/s]; < 0: the vehicle's
+        ("delay_steps", "i8"),  # reaction delay in time steps
+        ("lag", "f8"),  # neuromuscular lag T_n [s]
+        ("kp", "f8"),  # speed controller P gain [N m / (m/s)]
+        ("ki", "f8"),  # speed controller I gain [N m / m]
+        ("kus", "f8"),  # understeer feed-forward K_us [rad / (m/s^2)]
+        ("predict", "f8"),  # T_pred [s]
+        ("steer_open", "f8"),  # 1: the steer comes from the input table
+        ("hold_after", "f8"),  # hold the steering from this time on [s]; < 0: never
+    ],
+    align=True,
+)
+"""The driver's settings (one record)."""
+
+DRIVER_STATE = np.dtype(
+    [("integral", "f8"), ("write", "i8"), ("lagged", "f8"), ("output", "f8"), ("index", "i8")], align=True
+)
+"""The driver's memory: speed error integral, delay-line write position, lagged steer, rate-limited steer,
+path index."""
 PATH_COLUMNS = ("x_m", "y_m", "s_m", "heading_rad", "curvature_per_m")
+
+
+def open_loop_driver() -> np.ndarray:
+    """The driver record of an open-loop run (``on = 0``)."""
+    return np.zeros(1, DRIVER)
 
 
 @dataclass(frozen=True)
@@ -99,7 +105,11 @@ class DriverSettings:
 
 
 def driver_array(settings: DriverSettings, params, dt: float) -> np.ndarray:
-    """Pack the driver's settings and the vehicle values it uses into the compiled loop's array."""
+    """The driver's settings as a :data:`DRIVER` record (a length-1 array) for the compiled loop.
+
+    The vehicle values the driver uses (wheelbase, rake, lock, drive and brake torques) it reads from the
+    plant's vehicle record; ``params`` gives only the default steering rate limit.
+    """
     from ..errors import InputError
 
     for name in ("preview_time_s", "preview_min_m", "reaction_delay_s", "neuromuscular_lag_s"):
@@ -110,25 +120,20 @@ def driver_array(settings: DriverSettings, params, dt: float) -> np.ndarray:
     rate = math.radians(params.steering.max_rate_deg_per_s) if rate is None else rate
     if rate <= 0:
         raise InputError(f"must be > 0, got {rate!r}", where="driver.steer_rate_limit_radps")
-    out = np.zeros(N_DRIVER)
-    out[D_ON] = 1.0
-    out[D_PREVIEW_TIME] = settings.preview_time_s
-    out[D_PREVIEW_MIN] = max(settings.preview_min_m, 0.1)
-    out[D_WHEELBASE] = params.wheelbase_m
-    out[D_COS_RAKE] = math.cos(math.radians(params.steering.axis_angle_deg))
-    out[D_MAX_STEER] = math.radians(params.steering.max_angle_deg)
-    out[D_RATE_LIMIT] = rate
-    out[D_DELAY_STEPS] = float(int(round(settings.reaction_delay_s / dt)))
-    out[D_LAG] = settings.neuromuscular_lag_s
-    out[D_KP] = settings.speed_kp_Nm_per_mps
-    out[D_KI] = settings.speed_ki_Nm_per_m
-    out[D_MAX_DRIVE] = params.drive.max_drive_torque_Nm
-    n_braked = sum(w.braked for w in params.wheels)
-    out[D_MAX_BRAKE] = params.drive.max_brake_torque_Nm * n_braked
-    out[D_KUS] = settings.understeer_gradient_rad_per_mps2
+    out = np.zeros(1, DRIVER)
+    d = out[0]
+    d["on"] = 1.0
+    d["preview_time"] = settings.preview_time_s
+    d["preview_min"] = max(settings.preview_min_m, 0.1)
+    d["rate_limit"] = rate
+    d["delay_steps"] = int(round(settings.reaction_delay_s / dt))
+    d["lag"] = settings.neuromuscular_lag_s
+    d["kp"] = settings.speed_kp_Nm_per_mps
+    d["ki"] = settings.speed_ki_Nm_per_m
+    d["kus"] = settings.understeer_gradient_rad_per_mps2
     predict = settings.prediction_s
-    out[D_PREDICT] = settings.reaction_delay_s + settings.neuromuscular_lag_s if predict is None else predict
-    out[D_HOLD_AFTER] = -1.0
+    d["predict"] = settings.reaction_delay_s + settings.neuromuscular_lag_s if predict is None else predict
+    d["hold_after"] = -1.0
     return out
 
 
@@ -136,8 +141,8 @@ def with_steering(drv: np.ndarray, *, open_loop: bool = False, hold_after_s: flo
     """The driver array with its steering mode set: ``open_loop`` takes the steer command from the input
     table (the driver only holds the speed); ``hold_after_s`` freezes the steering from that time on [s]."""
     out = drv.copy()
-    out[D_STEER_OPEN] = 1.0 if open_loop else 0.0
-    out[D_HOLD_AFTER] = -1.0 if hold_after_s is None else float(hold_after_s)
+    out[0]["steer_open"] = 1.0 if open_loop else 0.0
+    out[0]["hold_after"] = -1.0 if hold_after_s is None else float(hold_after_s)
     return out
 
 
@@ -175,17 +180,17 @@ def _nearest(path, px, py, start):
 
 
 @jit
-def _pursuit(t, dt, px, py, yaw, yaw_rate, speed, path, drv, state, delay_line):
+def _pursuit(t, dt, px, py, yaw, yaw_rate, speed, path, drv, veh, state, delay_line):
     """Pure pursuit from the pose predicted ``T_pred`` ahead, through the delay, lag and rate limit."""
-    tp = drv[D_PREDICT]
+    tp = drv.predict
     mid = yaw + 0.5 * yaw_rate * tp
     px = px + speed * tp * math.cos(mid)
     py = py + speed * tp * math.sin(mid)
     yaw = yaw + yaw_rate * tp
-    idx = _nearest(path, px, py, int(state[S_INDEX]))
-    state[S_INDEX] = idx
+    idx = _nearest(path, px, py, state.index)
+    state.index = idx
     m = path.shape[0]
-    preview = max(drv[D_PREVIEW_MIN], drv[D_PREVIEW_TIME] * abs(speed))
+    preview = max(drv.preview_min, drv.preview_time * abs(speed))
     ds = path[1, 2] - path[0, 2]
     goal = min(m - 1, idx + int(preview / ds))
     gx = path[goal, 0] - px
@@ -193,55 +198,58 @@ def _pursuit(t, dt, px, py, yaw, yaw_rate, speed, path, drv, state, delay_line):
     alpha = math.atan2(gy, gx) - yaw
     alpha = math.atan2(math.sin(alpha), math.cos(alpha))
     dist = max(math.sqrt(gx * gx + gy * gy), 1e-6)
-    road = math.atan(2.0 * drv[D_WHEELBASE] * math.sin(alpha) / dist)
-    road += drv[D_KUS] * speed * speed * path[idx, 4]
-    wanted = road / drv[D_COS_RAKE]
+    road = math.atan(2.0 * veh.wheelbase * math.sin(alpha) / dist)
+    road += drv.kus * speed * speed * path[idx, 4]
+    wanted = road / veh.cos_rake
     # reaction delay: write now, read what was written delay steps ago
-    n_delay = int(drv[D_DELAY_STEPS])
+    n_delay = drv.delay_steps
     size = delay_line.shape[0]
-    write = int(state[S_WRITE])
+    write = state.write
     delay_line[write] = wanted
     delayed = delay_line[(write - n_delay) % size]
-    state[S_WRITE] = (write + 1) % size
+    state.write = (write + 1) % size
     # neuromuscular lag (exact discretisation of a first-order lag), then the rate limit
-    if drv[D_LAG] > 0.0:
-        a = math.exp(-dt / drv[D_LAG])
-        state[S_LAGGED] = a * state[S_LAGGED] + (1.0 - a) * delayed
+    if drv.lag > 0.0:
+        a = math.exp(-dt / drv.lag)
+        state.lagged = a * state.lagged + (1.0 - a) * delayed
     else:
-        state[S_LAGGED] = delayed
-    step_max = drv[D_RATE_LIMIT] * dt
-    change = min(max(state[S_LAGGED] - state[S_OUTPUT], -step_max), step_max)
-    steer = min(max(state[S_OUTPUT] + change, -drv[D_MAX_STEER]), drv[D_MAX_STEER])
-    state[S_OUTPUT] = steer
+        state.lagged = delayed
+    rate = drv.rate_limit if drv.rate_limit > 0.0 else veh.max_steer_rate
+    step_max = rate * dt
+    change = min(max(state.lagged - state.output, -step_max), step_max)
+    steer = min(max(state.output + change, -veh.max_steer), veh.max_steer)
+    state.output = steer
     return steer
 
 
 @jit
-def driver_step(t, dt, px, py, yaw, yaw_rate, speed, path, speed_profile, drv, state, delay_line, n_braked, inputs):
+def driver_step(t, dt, px, py, yaw, yaw_rate, speed, path, speed_profile, drv, veh, state, delay_line, inputs):
     """One step of the driver: steer command about the steering axis [rad], drive torque [N m], brake
     torque per braked wheel [N m]. ``(px, py)`` is the rear-axle centre, ``yaw`` the heading, ``speed``
-    the forward speed; ``state`` and ``delay_line`` carry the controller's memory between steps."""
+    the forward speed; ``drv`` the :data:`DRIVER` record, ``veh`` the plant's vehicle record; ``state`` (a
+    :data:`DRIVER_STATE` record) and ``delay_line`` carry the controller's memory between steps."""
     # --- steering: held still, from the input table (open loop), or pure pursuit on the path
-    if drv[D_HOLD_AFTER] >= 0.0 and t >= drv[D_HOLD_AFTER]:
-        steer = state[S_OUTPUT]
-    elif drv[D_STEER_OPEN] > 0.0:
+    if drv.hold_after >= 0.0 and t >= drv.hold_after:
+        steer = state.output
+    elif drv.steer_open > 0.0:
         steer, _, _ = interpolate_inputs(t, inputs)
-        state[S_OUTPUT] = steer
+        state.output = steer
     else:
-        steer = _pursuit(t, dt, px, py, yaw, yaw_rate, speed, path, drv, state, delay_line)
+        steer = _pursuit(t, dt, px, py, yaw, yaw_rate, speed, path, drv, veh, state, delay_line)
     # --- speed: PI toward the target speed, with anti-windup
     if speed_profile.shape[0] == 1:
         target = speed_profile[0, 1]
     else:
         target = np.interp(t, speed_profile[:, 0], speed_profile[:, 1])
     error = target - speed
-    demand = drv[D_KP] * error + drv[D_KI] * (state[S_INTEGRAL] + error * dt)
-    if -drv[D_MAX_BRAKE] < demand < drv[D_MAX_DRIVE]:
-        state[S_INTEGRAL] += error * dt
+    max_brake = veh.max_brake * veh.n_braked
+    demand = drv.kp * error + drv.ki * (state.integral + error * dt)
+    if -max_brake < demand < veh.max_torque:
+        state.integral += error * dt
     drive = 0.0
     brake = 0.0
     if demand >= 0.0:
-        drive = min(demand, drv[D_MAX_DRIVE])
+        drive = min(demand, veh.max_torque)
     else:
-        brake = min(-demand, drv[D_MAX_BRAKE]) / max(n_braked, 1)
+        brake = min(-demand, max_brake) / max(veh.n_braked, 1)
     return steer, drive, brake

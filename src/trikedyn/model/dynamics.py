@@ -17,6 +17,8 @@ setup code and tests.
 
 from __future__ import annotations
 
+from collections import namedtuple
+
 import numpy as np
 
 from .._jit import jit
@@ -57,8 +59,8 @@ its frame is kept fixed to the parent (it does not spin with the body), which le
 every equation, unchanged while saving the spin rotation in every transform."""
 
 # workspace slots
-(W_E, W_R, W_EW, W_PW, W_V, W_A, W_F, W_FEXT, W_MC, W_HC, W_IC, W_HMAT, W_LOW, W_VEC, W_T6A, W_T6B, W_T33,
- W_TAU, W_BIAS, W_ZERO) = range(20)
+Workspace = namedtuple("Workspace", "e r ew pw v a f fext mc hc ic hmat low vec t6a t6b t33 tau bias zero")
+"""Scratch arrays of the compiled dynamics, by name (see :func:`workspace`)."""
 
 
 @jit
@@ -66,7 +68,7 @@ def workspace(parent):
     """Scratch arrays for the tree of ``parent`` (``nb + 5`` DOF), allocated once per time loop."""
     nb = parent.shape[0]
     n = nb + 5
-    return (
+    return Workspace(
         np.empty((nb, 3, 3)),  # e: parent -> body rotations
         np.empty((nb, 3)),  # r: body origins in parent coordinates
         np.empty((nb, 3, 3)),  # ew: world -> body rotations
@@ -154,12 +156,12 @@ def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar,
     """Inverse dynamics: ``tau = H udot + C(q, u, f_ext)`` (RNEA, gravity as a base acceleration).
 
     ``fext[i]`` is the external spatial force on body ``i`` in its coordinates, about its origin.
-    The first six entries of ``tau`` are the force on the base in base coordinates. Fills ``ws[W_V]``
+    The first six entries of ``tau`` are the force on the base in base coordinates. Fills ``ws.v``
     with the body velocities, or uses them as they are with ``have_velocities``.
     """
     nb = parent.shape[0]
-    v, a, f = ws[W_V], ws[W_A], ws[W_F]
-    t6a, t6b = ws[W_T6A], ws[W_T6B]
+    v, a, f = ws.v, ws.a, ws.f
+    t6a, t6b = ws.t6a, ws.t6b
     e0 = e[0]
     for k in range(6):
         v[0, k] = u[k]
@@ -203,10 +205,10 @@ def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar,
 
 @jit(inline="always")
 def crba_into(e, r, parent, jtype, jaxis, mass, h, ibar, ws):
-    """Joint-space mass matrix ``H(q)`` into ``ws[W_HMAT]`` by the composite-rigid-body algorithm."""
+    """Joint-space mass matrix ``H(q)`` into ``ws.hmat`` by the composite-rigid-body algorithm."""
     nb = parent.shape[0]
-    mc, hc, ic, hmat = ws[W_MC], ws[W_HC], ws[W_IC], ws[W_HMAT]
-    f, tmp, scratch = ws[W_T6A], ws[W_T6B], ws[W_T33]
+    mc, hc, ic, hmat = ws.mc, ws.hc, ws.ic, ws.hmat
+    f, tmp, scratch = ws.t6a, ws.t6b, ws.t33
     hmat[:, :] = 0.0
     for b in range(nb):
         mc[b] = mass[b]
@@ -335,9 +337,9 @@ def world_transforms(parent, e, r):
 def rnea(q, u, udot, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
     """``H udot + C(q, u, f_ext)`` (allocating; see :func:`rnea_into`)."""
     ws = workspace(parent)
-    joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws[W_E], ws[W_R], ws[W_T33])
+    joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws.e, ws.r, ws.t33)
     tau = np.empty(u.shape[0])
-    rnea_into(ws[W_E], ws[W_R], u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, tau)
+    rnea_into(ws.e, ws.r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, tau)
     return tau
 
 
@@ -345,20 +347,20 @@ def rnea(q, u, udot, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, 
 def crba(q, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
     """Joint-space mass matrix ``H(q)`` (allocating; see :func:`crba_into`)."""
     ws = workspace(parent)
-    joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws[W_E], ws[W_R], ws[W_T33])
-    crba_into(ws[W_E], ws[W_R], parent, jtype, jaxis, mass, h, ibar, ws)
-    return ws[W_HMAT].copy()
+    joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws.e, ws.r, ws.t33)
+    crba_into(ws.e, ws.r, parent, jtype, jaxis, mass, h, ibar, ws)
+    return ws.hmat.copy()
 
 
 @jit
 def forward_dynamics(q, u, tau, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
     """Accelerations ``du/dt = H^-1 (tau - C(q, u, f_ext))`` (allocating)."""
     ws = workspace(parent)
-    joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws[W_E], ws[W_R], ws[W_T33])
+    joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws.e, ws.r, ws.t33)
     n = u.shape[0]
     bias = np.empty(n)
-    rnea_into(ws[W_E], ws[W_R], u, np.zeros(n), fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, bias)
-    crba_into(ws[W_E], ws[W_R], parent, jtype, jaxis, mass, h, ibar, ws)
+    rnea_into(ws.e, ws.r, u, np.zeros(n), fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, bias)
+    crba_into(ws.e, ws.r, parent, jtype, jaxis, mass, h, ibar, ws)
     out = np.empty(n)
-    cholesky_solve_into(ws[W_HMAT], tau - bias, ws[W_LOW], ws[W_VEC], out)
+    cholesky_solve_into(ws.hmat, tau - bias, ws.low, ws.vec, out)
     return out

@@ -148,22 +148,22 @@ class SingleTrack:
 
 def single_track(model: VehicleModel) -> SingleTrack:
     """The linear single-track model from the static wheel loads and the tyres' cornering stiffness."""
-    from ..tyre.magic_formula import cornering_stiffness
+    from ..tyre.interface import linear_stiffnesses
     from .statics import static_equilibrium
 
     key = ("single_track",)
     if key in model.cache:
         return model.cache[key]
     eq = static_equilibrium(model.on_flat_road())
-    from .vehicle import S_G
-
-    g = float(model.scalars[S_G])
+    g = model.gravity
     front = [w.name for w in model.tree.wheels if model.params.wheel(w.name).x_m > 0.5 * model.params.wheelbase_m]
     loads = eq.wheel_loads_N
     f_front = sum(loads[n] for n in front)
     f_rear = sum(v for n, v in loads.items() if n not in front)
-    c_front = sum(cornering_stiffness(loads[n], model.tyre) for n in front)
-    c_rear = sum(cornering_stiffness(v, model.tyre) for n, v in loads.items() if n not in front)
+    stiffness = {w.name: linear_stiffnesses(t.model, t.coefficients, loads[w.name])[1]
+                 for w, t in zip(model.tree.wheels, model.tyres, strict=True)}
+    c_front = sum(stiffness[n] for n in front)
+    c_rear = sum(v for n, v in stiffness.items() if n not in front)
     k = f_front / g / c_front - f_rear / g / c_rear
     out = SingleTrack(model.params.wheelbase_m, (f_front + f_rear) / g, f_front, f_rear, c_front, c_rear, k)
     model.cache[key] = out

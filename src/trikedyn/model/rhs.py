@@ -1,25 +1,23 @@
 """The compiled right-hand side of the trike: forces, then exact multibody accelerations.
 
-State ``x = (q, u)`` (see :mod:`trikedyn.model.dynamics`). Per evaluation:
+``f(t, x, u, p)``: the state ``x = (q, u, slips)`` (labels: :func:`trikedyn.model.packing.state_labels`,
+``VehicleModel.state_names``), the inputs ``u = (steer [rad], drive torque [N m], brake torque per braked
+wheel [N m])`` (:data:`~trikedyn.model.packing.INPUT_NAMES`), the plant ``p`` (a
+:class:`~trikedyn.model.packing.Plant`, ``VehicleModel.plant``). Per evaluation:
 
 1. kinematics of the tree and the body velocities;
-2. per wheel: disc-on-road contact (the lowest point of the wheel disc along the road normal),
-   tyre deflection and its rate, tyre axes, slips and the tyre forces
-   (:mod:`trikedyn.tyre.magic_formula`), applied at the contact point as an external force on the wheel;
+2. per wheel: the tyre (:func:`trikedyn.tyre.interface.wheel_wrench`: contact, transient slips, the
+   wheel's tyre model), applied as an external force and moment on the wheel;
 3. joint forces: suspension springs with preload, dampers and one-sided bump stops (wheel rates through
-   the motion ratio); the steering servo ``kp (delta_cmd - delta) - kd delta'``; drive torque split
+   the motion ratio); per steering head a servo ``kp (delta_k - delta) - kd delta'`` on its own inertia,
+   toward the angle the steering linkage gives that wheel (:func:`linkage_angle`: Ackermann geometry of a
+   steered pair, by its Ackermann fraction; a single steered wheel takes the command); drive torque split
    equally over the driven wheels (open differential), limited by torque and power; brakes;
-   Slips are transient (first-order relaxation, Pacejka 2006 ch. 7): per wheel two states, the
-   longitudinal slip ``kappa'`` and the lateral slip ``s_y' = tan(alpha')``, with
-   ``sigma_x dkappa'/dt = (omega R_e - v_x) - v_ref kappa'`` and ``sigma_y ds_y'/dt = -v_y - v_ref s_y'``
-   (``v_ref`` the regularised speed of :func:`~trikedyn.tyre.magic_formula.slip_quantities`); in steady
-   state they equal the slips. This keeps the wheel-spin mode a well-damped oscillation at every speed
-   instead of a stiff mode whose rate grows as 1/v;
 4. aerodynamic drag at the chassis CG, ``-0.5 rho Cd A |v_x| v_x`` along the chassis x axis;
 5. ``du/dt = H^-1 (tau - C(q, u, f_ext))`` with gravity in ``C`` (RNEA, CRBA, Cholesky).
 
-Inputs are a table ``(time [s], steer command [rad], drive torque [N m], brake torque per wheel [N m])``
-interpolated linearly in time.
+The time loop tabulates its inputs as ``(time [s], steer [rad], drive [N m], brake [N m])`` rows and
+interpolates them linearly (:func:`interpolate_inputs`).
 """
 
 from __future__ import annotations
@@ -29,21 +27,8 @@ import math
 import numpy as np
 
 from .._jit import jit
-from ..tyre.magic_formula import combined_forces, rolling_resistance_moment, vertical_force
+from ..tyre.interface import wheel_wrench
 from .dynamics import (
-    W_BIAS,
-    W_E,
-    W_EW,
-    W_FEXT,
-    W_HMAT,
-    W_LOW,
-    W_PW,
-    W_R,
-    W_T33,
-    W_TAU,
-    W_V,
-    W_VEC,
-    W_ZERO,
     body_velocities_into,
     cholesky_solve_into,
     crba_into,
@@ -53,64 +38,9 @@ from .dynamics import (
     workspace,
     world_transforms_into,
 )
-from .vehicle import (
-    R_HEIGHT,
-    R_KIND,
-    R_LENGTH,
-    R_X0,
-    R_YMAX,
-    R_YMIN,
-    ROAD_BUMP,
-    S_AERO,
-    S_AERO_Z,
-    S_G,
-    S_MAX_BRAKE,
-    S_MAX_POWER,
-    S_MAX_STEER,
-    S_MAX_TORQUE,
-    S_N_DRIVEN,
-    S_SIGMA_X,
-    S_SIGMA_Y,
-    S_SLIP_FORCES,
-    S_STEER_KD,
-    S_STEER_KP,
-    S_V_LOW,
-    S_W_LOW,
-    WF_BUMP,
-    WF_C,
-    WF_K,
-    WF_KSTOP,
-    WF_MR,
-    WF_PRELOAD,
-    WF_RADIUS,
-    WF_REBOUND,
-    WI_BRAKED,
-    WI_DRIVEN,
-    WI_SPRING,
-    WI_STEER,
-    WI_WHEEL,
-)
+from .packing import WHEEL_OUT
 
-__all__ = ["N_WOUT", "W_FX", "W_FY", "W_FZ", "evaluate", "evaluate_into", "interpolate_inputs", "road_height", "workspace"]
-
-# per-wheel outputs of :func:`evaluate`
-W_FX, W_FY, W_FZ, W_KAPPA, W_ALPHA, W_DEFLECTION, W_TRAVEL, W_SPIN, W_VX = range(9)
-N_WOUT = 9
-
-
-@jit(inline="always")
-def road_height(x, y, road):
-    """Road height [m] and its slopes ``dh/dx``, ``dh/dy`` at ``(x, y)``."""
-    if road[R_KIND] == ROAD_BUMP and road[R_YMIN] <= abs(y) <= road[R_YMAX]:
-        s = (x - road[R_X0]) / road[R_LENGTH]
-        if 0.0 < s < 1.0:
-            height = road[R_HEIGHT]
-            return (
-                0.5 * height * (1.0 - math.cos(2.0 * math.pi * s)),
-                height * math.pi / road[R_LENGTH] * math.sin(2.0 * math.pi * s),
-                0.0,
-            )
-    return 0.0, 0.0, 0.0
+__all__ = ["evaluate_into", "f", "f_with_outputs", "interpolate_inputs", "linkage_angle", "workspace"]
 
 
 @jit(inline="always")
@@ -141,163 +71,141 @@ def interpolate_inputs(t, inputs):
 
 
 @jit(inline="always")
-def _tyre(k, wheel_f, wheel_i, tyre, sc, road, ew, pw, v, slip, xdot, slip_off, fext, wout):
-    """Contact and tyre forces of wheel ``k``: fills ``fext`` of its body, its slip rates and ``wout``."""
-    wb = wheel_i[k, WI_WHEEL]
-    radius = wheel_f[k, WF_RADIUS]
-    e = ew[wb]
-    cx, cy, cz = pw[wb, 0], pw[wb, 1], pw[wb, 2]
-    ax, ay, az = e[1, 0], e[1, 1], e[1, 2]  # wheel spin axis in world coordinates
-    flat = road[R_KIND] != ROAD_BUMP
-    if flat:
-        hx, hy = 0.0, 0.0
-    else:
-        _, hx, hy = road_height(cx, cy, road)
-    nn = 1.0 / math.sqrt(hx * hx + hy * hy + 1.0)
-    nx, ny, nz = -hx * nn, -hy * nn, nn
-    dot = nx * ax + ny * ay + nz * az
-    dx, dy, dz = nx - dot * ax, ny - dot * ay, nz - dot * az
-    dn = -radius / math.sqrt(dx * dx + dy * dy + dz * dz)
-    rx, ry, rz = dx * dn, dy * dn, dz * dn  # centre -> contact point
-    px, py, pz = cx + rx, cy + ry, cz + rz
-    if flat:
-        hp, hpx, hpy = 0.0, 0.0, 0.0
-    else:
-        hp, hpx, hpy = road_height(px, py, road)
-    deflection = (hp - pz) * nz
-    # wheel angular velocity and centre velocity in world coordinates
-    vb = v[wb]
-    wx = e[0, 0] * vb[0] + e[1, 0] * vb[1] + e[2, 0] * vb[2]
-    wy = e[0, 1] * vb[0] + e[1, 1] * vb[1] + e[2, 1] * vb[2]
-    wz = e[0, 2] * vb[0] + e[1, 2] * vb[1] + e[2, 2] * vb[2]
-    vcx = e[0, 0] * vb[3] + e[1, 0] * vb[4] + e[2, 0] * vb[5]
-    vcy = e[0, 1] * vb[3] + e[1, 1] * vb[4] + e[2, 1] * vb[5]
-    vcz = e[0, 2] * vb[3] + e[1, 2] * vb[4] + e[2, 2] * vb[5]
-    rate = (hpx * vcx + hpy * vcy - vcz) * nz
-    # tyre axes: ex = axle x n (forward), ey = n x ex
-    exx, exy, exz = ay * nz - az * ny, az * nx - ax * nz, ax * ny - ay * nx
-    en = 1.0 / math.sqrt(exx * exx + exy * exy + exz * exz)
-    exx, exy, exz = exx * en, exy * en, exz * en
-    eyx, eyy, eyz = ny * exz - nz * exy, nz * exx - nx * exz, nx * exy - ny * exx
-    vx = vcx * exx + vcy * exy + vcz * exz
-    vy = vcx * eyx + vcy * eyy + vcz * eyz
-    spin = wx * ax + wy * ay + wz * az
-    r_eff = radius - deflection / 3.0
-    v_low = sc[S_V_LOW]
-    v_ref = math.sqrt(math.sqrt(vx * vx * vx * vx + v_low * v_low * v_low * v_low))
-    kappa = slip[2 * k]
-    tan_alpha = slip[2 * k + 1]
-    alpha = math.atan(tan_alpha)
-    xdot[slip_off + 2 * k] = (spin * r_eff - vx - v_ref * kappa) / sc[S_SIGMA_X]
-    xdot[slip_off + 2 * k + 1] = (-vy - v_ref * tan_alpha) / sc[S_SIGMA_Y]
-    fz = vertical_force(deflection, rate, tyre)
-    fx = 0.0
-    fy = 0.0
-    my = 0.0
-    if fz > 0.0 and sc[S_SLIP_FORCES] > 0.0:
-        fx, fy = combined_forces(kappa, alpha, fz, tyre)
-        my = rolling_resistance_moment(fz, spin, r_eff, tyre, sc[S_W_LOW])
-    fwx = fx * exx + fy * eyx + fz * nx
-    fwy = fx * exy + fy * eyy + fz * ny
-    fwz = fx * exz + fy * eyz + fz * nz
-    mwx = ry * fwz - rz * fwy + my * ax
-    mwy = rz * fwx - rx * fwz + my * ay
-    mwz = rx * fwy - ry * fwx + my * az
-    for i in range(3):
-        fext[wb, i] = e[i, 0] * mwx + e[i, 1] * mwy + e[i, 2] * mwz
-        fext[wb, 3 + i] = e[i, 0] * fwx + e[i, 1] * fwy + e[i, 2] * fwz
-    wout[k, W_FX] = fx
-    wout[k, W_FY] = fy
-    wout[k, W_FZ] = fz
-    wout[k, W_KAPPA] = kappa
-    wout[k, W_ALPHA] = alpha
-    wout[k, W_DEFLECTION] = deflection
-    wout[k, W_SPIN] = spin
-    wout[k, W_VX] = vx
+def linkage_angle(command, steer_y, veh):
+    """The steer angle of one steered wheel [rad, about its steering axis] for a steer command [rad].
+
+    The command is the angle of a single wheel on the centre line. A wheel ``steer_y`` [m] off the centre
+    line, on a linkage with Ackermann fraction ``f``, turns by ``delta + f (delta_A - delta)`` in road
+    angles, where ``tan(delta_A) = L tan(delta) / (L - y tan(delta))`` points it at the turn centre on the
+    rear axle line (``L`` the wheelbase): the inner wheel steers more. A wheel on the centre line, or
+    ``f = 0`` (parallel steer), takes the command unchanged.
+    """
+    if steer_y == 0.0 or veh.ackermann == 0.0:
+        return command
+    road = command * veh.cos_rake
+    tan_road = math.tan(road)
+    wheelbase = veh.wheelbase
+    den = max(wheelbase - steer_y * tan_road, 0.05 * wheelbase)
+    ackermann = math.atan(wheelbase * tan_road / den)
+    return (road + veh.ackermann * (ackermann - road)) / veh.cos_rake
 
 
 @jit
-def evaluate_into(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
-                  wheel_f, wheel_i, tyre, sc, road, wout, ws, xdot):
-    """``xdot = dx/dt`` at ``(t, x)``; fills ``wout`` (n_wheels, N_WOUT); ``ws`` from :func:`workspace`."""
-    nb = parent.shape[0]
+def evaluate_into(t, x, u, p, wout, ws, xdot):
+    """``xdot = f(t, x, u, p)`` into ``xdot``; fills ``wout`` (:data:`WHEEL_OUT` per wheel); ``ws`` from
+    :func:`workspace`."""
+    nb = p.parent.shape[0]
     n = nb + 5
-    nw = wheel_f.shape[0]
+    wheels = p.wheels
+    nw = wheels.shape[0]
+    veh = p.vehicle[0]
     q = x[:n]
-    u = x[n : 2 * n]
+    qd = x[n : 2 * n]
     slip = x[2 * n :]
-    e, r, ew, pw, v, fext = ws[W_E], ws[W_R], ws[W_EW], ws[W_PW], ws[W_V], ws[W_FEXT]
-    joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, e, r, ws[W_T33])
-    world_transforms_into(parent, e, r, ew, pw)
-    body_velocities_into(e, r, u, parent, jtype, jaxis, v)
+    e, ew, pw, v, fext = ws.e, ws.ew, ws.pw, ws.v, ws.fext
+    joint_transforms_into(q, p.parent, p.jtype, p.jaxis, p.tree_e, p.tree_r, e, ws.r, ws.t33)
+    world_transforms_into(p.parent, e, ws.r, ew, pw)
+    body_velocities_into(e, ws.r, qd, p.parent, p.jtype, p.jaxis, v)
     fext[:, :] = 0.0
-    tau = ws[W_TAU]
+    tau = ws.tau
     tau[:] = 0.0
-    steer_cmd, drive_cmd, brake_cmd = interpolate_inputs(t, inputs)
+    steer_cmd, drive_cmd, brake_cmd = u[0], u[1], u[2]
 
-    drive = min(max(drive_cmd, -sc[S_MAX_TORQUE]), sc[S_MAX_TORQUE])
+    drive = min(max(drive_cmd, -veh.max_torque), veh.max_torque)
     spin_sum = 0.0
     for k in range(nw):
-        if wheel_i[k, WI_DRIVEN] == 1:
-            spin_sum += abs(u[5 + wheel_i[k, WI_WHEEL]])
-    spin_mean = spin_sum / sc[S_N_DRIVEN]
-    if abs(drive) * spin_mean > sc[S_MAX_POWER]:
-        drive = math.copysign(sc[S_MAX_POWER] / spin_mean, drive)
-    brake = min(max(brake_cmd, 0.0), sc[S_MAX_BRAKE])
+        if wheels[k].driven == 1:
+            spin_sum += abs(qd[5 + wheels[k].wheel_body])
+    spin_mean = spin_sum / veh.n_driven
+    if abs(drive) * spin_mean > veh.max_power:
+        drive = math.copysign(veh.max_power / spin_mean, drive)
+    brake = min(max(brake_cmd, 0.0), veh.max_brake)
+    steer = min(max(steer_cmd, -veh.max_steer), veh.max_steer)
 
+    slip_off = 2 * n
     for k in range(nw):
-        _tyre(k, wheel_f, wheel_i, tyre, sc, road, ew, pw, v, slip, xdot, 2 * n, fext, wout)
-        sb = wheel_i[k, WI_SPRING]
+        w = wheels[k]
+        wb = w.wheel_body
+        out = wout[k]
+        fwx, fwy, fwz, mwx, mwy, mwz, dkappa, dtan = wheel_wrench(
+            w, p.tyres[k], veh, p.road[0], ew[wb], pw[wb, 0], pw[wb, 1], pw[wb, 2], v[wb], slip[2 * k],
+            slip[2 * k + 1], out)
+        xdot[slip_off + 2 * k] = dkappa
+        xdot[slip_off + 2 * k + 1] = dtan
+        eb = ew[wb]
+        for i in range(3):
+            fext[wb, i] = eb[i, 0] * mwx + eb[i, 1] * mwy + eb[i, 2] * mwz
+            fext[wb, 3 + i] = eb[i, 0] * fwx + eb[i, 1] * fwy + eb[i, 2] * fwz
+        sb = w.spring_body
         z = q[5 + sb]
-        zd = u[5 + sb]
-        mr = wheel_f[k, WF_MR]
+        zd = qd[5 + sb]
+        mr = w.motion_ratio
         travel = mr * z
-        force = -wheel_f[k, WF_PRELOAD] - wheel_f[k, WF_K] * z - wheel_f[k, WF_C] * zd
-        if travel > wheel_f[k, WF_BUMP]:
-            force -= wheel_f[k, WF_KSTOP] * (travel - wheel_f[k, WF_BUMP]) * mr
-        elif travel < -wheel_f[k, WF_REBOUND]:
-            force += wheel_f[k, WF_KSTOP] * (-wheel_f[k, WF_REBOUND] - travel) * mr
+        force = -w.preload - w.stiffness * z - w.damping * zd
+        if travel > w.bump_travel:
+            force -= w.bump_stop_stiffness * (travel - w.bump_travel) * mr
+        elif travel < -w.rebound_travel:
+            force += w.bump_stop_stiffness * (-w.rebound_travel - travel) * mr
         tau[5 + sb] += force
-        wout[k, W_TRAVEL] = travel
-        hb = wheel_i[k, WI_STEER]
+        out.travel = travel
+        hb = w.steer_body
         if hb >= 0:
-            cmd = min(max(steer_cmd, -sc[S_MAX_STEER]), sc[S_MAX_STEER])
-            tau[5 + hb] += sc[S_STEER_KP] * (cmd - q[5 + hb]) - sc[S_STEER_KD] * u[5 + hb]
-        wb = wheel_i[k, WI_WHEEL]
-        if wheel_i[k, WI_DRIVEN] == 1:
-            tau[5 + wb] += drive / sc[S_N_DRIVEN]
-        if wheel_i[k, WI_BRAKED] == 1 and brake > 0.0:
-            tau[5 + wb] -= brake * math.tanh(u[5 + wb] / sc[S_W_LOW])
+            target = linkage_angle(steer, w.steer_y, veh)
+            tau[5 + hb] += w.steer_kp * (target - q[5 + hb]) - w.steer_kd * qd[5 + hb]
+        if w.driven == 1:
+            tau[5 + wb] += drive / veh.n_driven
+        if w.braked == 1 and brake > 0.0:
+            tau[5 + wb] -= brake * math.tanh(qd[5 + wb] / veh.w_low)
 
-    if sc[S_AERO] > 0.0:
-        pz = sc[S_AERO_Z]  # drag acts at (S_AERO_X, 0, pz); its x does not change the moment
+    if veh.aero > 0.0:
+        pz = veh.aero_z  # drag acts at (aero_x, 0, pz); its x does not change the moment
         vax = v[0, 3] + (v[0, 1] * pz)  # x component of v + w x p
-        drag = -sc[S_AERO] * abs(vax) * vax
+        drag = -veh.aero * abs(vax) * vax
         fext[0, 1] += pz * drag  # p x (drag, 0, 0) = (0, pz drag, 0)
         fext[0, 3] += drag
 
-    gravity = (0.0, 0.0, -sc[S_G])
-    bias = ws[W_BIAS]
-    rnea_into(e, r, u, ws[W_ZERO], fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, bias, True)
-    crba_into(e, r, parent, jtype, jaxis, mass, h, ibar, ws)
+    gravity = (0.0, 0.0, -veh.g)
+    bias = ws.bias
+    rnea_into(e, ws.r, qd, ws.zero, fext, gravity, p.parent, p.jtype, p.jaxis, p.mass, p.h, p.ibar, ws, bias, True)
+    crba_into(e, ws.r, p.parent, p.jtype, p.jaxis, p.mass, p.h, p.ibar, ws)
     for i in range(n):
         tau[i] -= bias[i]
-    cholesky_solve_into(ws[W_HMAT], tau, ws[W_LOW], ws[W_VEC], xdot[n : 2 * n])
-    euler_rates_into(q, u, e[0], xdot[:n])
+    cholesky_solve_into(ws.hmat, tau, ws.low, ws.vec, xdot[n : 2 * n])
+    euler_rates_into(q, qd, e[0], xdot[:n])
 
 
 @jit
-def evaluate(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar, wheel_f, wheel_i, tyre, sc, road, wout):
-    """``dx/dt`` at ``(t, x)`` (allocating; see :func:`evaluate_into`)."""
-    ws = workspace(parent)
+def f(t, x, u, p):
+    """The right-hand side ``dx/dt = f(t, x, u, p)`` (allocating; for tests and scipy's solvers).
+
+    Parameters
+    ----------
+    t : float
+        Time [s] (the model is autonomous: unused but for the signature).
+    x : ndarray
+        State (``VehicleModel.state_names``).
+    u : ndarray (3,)
+        Inputs (:data:`~trikedyn.model.packing.INPUT_NAMES`).
+    p : Plant
+        ``VehicleModel.plant``.
+
+    Returns
+    -------
+    ndarray
+        ``dx/dt``. ``scipy.integrate.solve_ivp(f, span, x0, args=(u, model.plant))`` integrates it.
+    """
+    ws = workspace(p.parent)
     xdot = np.empty(x.shape[0])
-    evaluate_into(t, x, inputs, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar,
-                  wheel_f, wheel_i, tyre, sc, road, wout, ws, xdot)
+    wout = np.zeros(p.wheels.shape[0], WHEEL_OUT)
+    evaluate_into(t, x, u, p, wout, ws, xdot)
     return xdot
 
 
-def _body_velocities_py(e, r, u, tree):
-    """Body spatial velocities (for tests and post-processing; allocating)."""
-    v = np.empty((tree.n_bodies, 6))
-    body_velocities_into(e, r, u, tree.parent, tree.jtype, tree.jaxis, v)
-    return v
+@jit
+def f_with_outputs(t, x, u, p):
+    """:func:`f` and the per-wheel outputs (a :data:`WHEEL_OUT` array)."""
+    ws = workspace(p.parent)
+    xdot = np.empty(x.shape[0])
+    wout = np.zeros(p.wheels.shape[0], WHEEL_OUT)
+    evaluate_into(t, x, u, p, wout, ws, xdot)
+    return xdot, wout

@@ -13,17 +13,19 @@ import numpy as np
 from scipy.optimize import root
 
 from ..errors import SimulationError
-from .rhs import N_WOUT, W_FZ, evaluate
+from .rhs import f_with_outputs
 from .vehicle import VehicleModel
 
 __all__ = ["Equilibrium", "rolling_state", "state_derivative", "static_equilibrium"]
 
 
 def state_derivative(model: VehicleModel, x: np.ndarray, t: float = 0.0, inputs: np.ndarray | None = None):
-    """``dx/dt`` and the per-wheel outputs at one state (a Python-side call of the compiled function)."""
-    wout = np.zeros((len(model.tree.wheels), N_WOUT))
-    inp = np.zeros((1, 4)) if inputs is None else inputs
-    return evaluate(t, x, inp, *model.arrays(), wout), wout
+    """``dx/dt`` and the per-wheel outputs (:data:`~trikedyn.model.packing.WHEEL_OUT`) at one state.
+
+    ``inputs``: the inputs ``(steer [rad], drive [N m], brake [N m])``; zero by default.
+    """
+    u = np.zeros(3) if inputs is None else np.array(inputs, dtype=float).reshape(3)
+    return f_with_outputs(t, np.ascontiguousarray(x, dtype=float), u, model.plant)
 
 
 def _free_joints(model: VehicleModel) -> list[int]:
@@ -62,7 +64,7 @@ def _solve_static(model: VehicleModel, tol: float) -> Equilibrium:
     radius = float(np.mean([w.radius for w in model.tree.wheels]))
     load = model.tree.total_mass() * 9.81 / len(model.tree.wheels)
     guess = np.zeros(len(unknown))
-    guess[0] = -load / model.tyre[0]
+    guess[0] = -load / float(np.mean(model.wheels["vertical_stiffness"]))
 
     def residual(p):
         x = np.zeros(model.n_states)
@@ -79,7 +81,7 @@ def _solve_static(model: VehicleModel, tol: float) -> Equilibrium:
         raise SimulationError(f"no static equilibrium found ({sol.message}; residual {res:.2e} m/s^2)", 0.0)
     if x[2] < -radius:
         raise SimulationError("static equilibrium has the chassis below the road", 0.0)
-    loads = {w.name: float(wout[k, W_FZ]) for k, w in enumerate(model.tree.wheels)}
+    loads = {w.name: float(wout[k]["fz"]) for k, w in enumerate(model.tree.wheels)}
     return Equilibrium(x, loads, res)
 
 
@@ -96,6 +98,6 @@ def rolling_state(model: VehicleModel, equilibrium: Equilibrium, speed_mps: floa
     x[n + 3] = speed_mps * np.cos(pitch)
     x[n + 5] = speed_mps * np.sin(pitch)
     for k, w in enumerate(model.tree.wheels):
-        r_eff = w.radius - wout[k, 5] / 3.0
+        r_eff = w.radius - wout[k]["deflection"] / 3.0
         x[n + 5 + w.wheel_body] = speed_mps / r_eff
     return x

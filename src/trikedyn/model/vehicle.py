@@ -1,9 +1,9 @@
-"""A vehicle ready for the compiled loop: its tree and every force parameter packed in plain arrays.
+"""A vehicle ready for the compiled loop: its tree and every force parameter packed once, by name.
 
-:func:`build_model` turns a parameter set into a :class:`VehicleModel` (tree arrays, per-wheel arrays,
-tyre coefficients, scalars and the road). The compiled right-hand side
-(:mod:`trikedyn.model.rhs`) reads those arrays by the index constants defined here, so nothing in the
-time loop is a Python object.
+:func:`build_model` turns a parameter set into a :class:`VehicleModel`: the multibody tree
+(:mod:`trikedyn.model.topology`), and the :class:`~trikedyn.model.packing.Plant` the compiled right-hand
+side ``f(t, x, u, p)`` (:mod:`trikedyn.model.rhs`) and the driver read: named records per wheel, per tyre,
+for the vehicle and the road (:mod:`trikedyn.model.packing`). Nothing in the time loop is a Python object.
 """
 
 from __future__ import annotations
@@ -13,44 +13,14 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from ..params.io import ParameterSet
+from ..params.ops import static_wheel_loads
 from ..params.schema import VehicleParameters
-from ..tyre.magic_formula import tyre_coefficients
+from ..tyre.interface import COEFFS_WIDTH, TyreSetup, tyre_setup
 from ..units import STANDARD_GRAVITY
+from .packing import VEHICLE, WHEEL, Plant, road_record, state_labels
 from .topology import Tree, build_tree
 
 __all__ = ["Road", "VehicleModel", "build_model", "flat_road", "speed_bump"]
-
-# per-wheel float parameters
-WF_RADIUS, WF_MR, WF_K, WF_C, WF_PRELOAD, WF_BUMP, WF_REBOUND, WF_KSTOP = range(8)
-N_WF = 8
-# per-wheel integer parameters
-WI_WHEEL, WI_SPRING, WI_STEER, WI_DRIVEN, WI_BRAKED = range(5)
-N_WI = 5
-# scalars
-(
-    S_G,
-    S_STEER_KP,
-    S_STEER_KD,
-    S_MAX_STEER,
-    S_MAX_TORQUE,
-    S_MAX_POWER,
-    S_MAX_BRAKE,
-    S_AERO,
-    S_AERO_X,
-    S_AERO_Z,
-    S_V_LOW,
-    S_W_LOW,
-    S_SLIP_FORCES,
-    S_N_DRIVEN,
-    S_ROLL_LIMIT,
-    S_PENETRATION_LIMIT,
-    S_SIGMA_X,
-    S_SIGMA_Y,
-) = range(18)
-N_S = 18
-# road
-R_KIND, R_X0, R_LENGTH, R_HEIGHT, R_YMIN, R_YMAX = range(6)
-ROAD_FLAT, ROAD_BUMP = 0.0, 1.0
 
 
 @dataclass(frozen=True)
@@ -73,9 +43,9 @@ class Road:
     height_m: float = 0.0
     lateral_m: tuple[float, float] = (0.0, 1e9)
 
-    def array(self) -> np.ndarray:
-        kind = ROAD_FLAT if self.kind == "flat" else ROAD_BUMP
-        return np.array([kind, self.start_m, self.length_m, self.height_m, *self.lateral_m])
+    def record(self) -> np.ndarray:
+        """The compiled :data:`~trikedyn.model.packing.ROAD` record (a length-1 array)."""
+        return road_record(self.kind != "flat", self.start_m, self.length_m, self.height_m, *self.lateral_m)
 
 
 def flat_road() -> Road:
@@ -91,18 +61,29 @@ def speed_bump(start_m: float, length_m: float = 0.9, height_m: float = 0.06,
 
 @dataclass(frozen=True)
 class VehicleModel:
-    """Arrays of one vehicle for the compiled loop. Build with :func:`build_model`."""
+    """One vehicle for the compiled loop. Build with :func:`build_model`.
+
+    Attributes
+    ----------
+    params : VehicleParameters
+    tree : Tree
+        The multibody tree and its wheel stations.
+    plant : Plant
+        What the compiled right-hand side reads: ``f(t, x, u, model.plant)``.
+    tyres : tuple of TyreSetup
+        Each wheel's tyre, as built.
+    steer_inertia : float
+        Inertia of the first steered assembly about its steering axis [kg m^2].
+    cache : dict
+        Results that depend only on the model (static equilibrium, stability limit), kept across runs.
+    """
 
     params: VehicleParameters
     tree: Tree
-    wheel_f: np.ndarray
-    wheel_i: np.ndarray
-    tyre: np.ndarray
-    scalars: np.ndarray
-    road: np.ndarray
+    plant: Plant
+    tyres: tuple[TyreSetup, ...]
     steer_inertia: float
     cache: dict = field(default_factory=dict, compare=False, repr=False)
-    """Results that depend only on the model (static equilibrium, stability limit), kept across runs."""
 
     @property
     def n_dof(self) -> int:
@@ -117,39 +98,59 @@ class VehicleModel:
     def wheel_names(self) -> tuple[str, ...]:
         return tuple(w.name for w in self.tree.wheels)
 
-    def arrays(self):
-        """Everything the compiled right-hand side takes after ``t, x, inputs``."""
-        return (*self.tree.arrays(), self.wheel_f, self.wheel_i, self.tyre, self.scalars, self.road)
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        """Labels of the state vector (:func:`~trikedyn.model.packing.state_labels`)."""
+        return state_labels(self.tree.body_names, self.wheel_names)
+
+    @property
+    def wheels(self) -> np.ndarray:
+        """The :data:`~trikedyn.model.packing.WHEEL` records."""
+        return self.plant.wheels
+
+    @property
+    def vehicle(self):
+        """The :data:`~trikedyn.model.packing.VEHICLE` record."""
+        return self.plant.vehicle[0]
+
+    @property
+    def gravity(self) -> float:
+        """g [m/s^2]."""
+        return float(self.plant.vehicle[0]["g"])
+
+    @property
+    def flat(self) -> bool:
+        """True on a flat road."""
+        return int(self.plant.road[0]["bump"]) == 0
 
     def with_road(self, road: Road) -> VehicleModel:
-        return replace(self, road=road.array(), cache={})
+        return replace(self, plant=self.plant._replace(road=road.record()), cache={})
 
     def on_flat_road(self) -> VehicleModel:
         """This model on a flat road (itself if its road is flat, keeping its cache)."""
-        return self if self.road[R_KIND] == ROAD_FLAT else self.with_road(flat_road())
+        return self if self.flat else self.with_road(flat_road())
 
     def variant(self, *, slip_forces: bool | None = None, damping: bool | None = None,
                 gravity: float | None = None, drag: bool | None = None) -> VehicleModel:
         """A copy with model parts switched off, for verification (energy, momentum).
 
-        ``damping=False`` removes the suspension and tyre dampers and the steering servo's damping;
+        ``damping=False`` removes the suspension and tyre dampers and the steering servos' damping;
         ``slip_forces=False`` the tyres' horizontal forces and rolling resistance; ``drag=False`` the
         aerodynamic drag; ``gravity`` sets g [m/s^2].
         """
-        scalars = self.scalars.copy()
-        wheel_f = self.wheel_f.copy()
-        tyre = self.tyre.copy()
+        wheels = self.plant.wheels.copy()
+        vehicle = self.plant.vehicle.copy()
         if slip_forces is not None:
-            scalars[S_SLIP_FORCES] = 1.0 if slip_forces else 0.0
+            vehicle["slip_forces"] = 1.0 if slip_forces else 0.0
         if damping is False:
-            wheel_f[:, WF_C] = 0.0
-            tyre[1] = 0.0  # CZ
-            scalars[S_STEER_KD] = 0.0
+            wheels["damping"] = 0.0
+            wheels["vertical_damping"] = 0.0
+            wheels["steer_kd"] = 0.0
         if gravity is not None:
-            scalars[S_G] = gravity
+            vehicle["g"] = gravity
         if drag is False:
-            scalars[S_AERO] = 0.0
-        return replace(self, scalars=scalars, wheel_f=wheel_f, tyre=tyre, cache={})
+            vehicle["aero"] = 0.0
+        return replace(self, plant=self.plant._replace(wheels=wheels, vehicle=vehicle), cache={})
 
 
 def _steer_axis_inertia(tree: Tree, steer_body: int) -> float:
@@ -192,33 +193,48 @@ def build_model(vehicle: ParameterSet | VehicleParameters, *, road: Road | None 
     params = vehicle.params if isinstance(vehicle, ParameterSet) else vehicle
     tree = build_tree(params)
     nw = len(tree.wheels)
-    wheel_f = np.zeros((nw, N_WF))
-    wheel_i = np.zeros((nw, N_WI), dtype=np.int64)
-    for k, w in enumerate(tree.wheels):
-        wheel_f[k] = (w.radius, w.motion_ratio, w.stiffness, w.damping, w.preload, w.bump_travel,
-                      w.rebound_travel, w.bump_stop_stiffness)
-        wheel_i[k] = (w.wheel_body, w.spring_body, w.steer_body, int(w.driven), int(w.braked))
-    steer_bodies = [w.steer_body for w in tree.wheels if w.steer_body >= 0]
-    inertia = _steer_axis_inertia(tree, steer_bodies[0]) if steer_bodies else 1.0
+    loads = static_wheel_loads(params, STANDARD_GRAVITY)
     omega = 2.0 * np.pi * params.steering.servo_bandwidth_hz
-    scalars = np.zeros(N_S)
-    scalars[S_G] = STANDARD_GRAVITY
-    scalars[S_STEER_KP] = inertia * omega**2
-    scalars[S_STEER_KD] = 2.0 * params.steering.servo_damping_ratio * inertia * omega
-    scalars[S_MAX_STEER] = np.radians(params.steering.max_angle_deg)
-    scalars[S_MAX_TORQUE] = params.drive.max_drive_torque_Nm
-    scalars[S_MAX_POWER] = params.drive.max_power_W
-    scalars[S_MAX_BRAKE] = params.drive.max_brake_torque_Nm
-    scalars[S_AERO] = 0.5 * params.aero.air_density_kg_per_m3 * params.aero.drag_coefficient * params.aero.frontal_area_m2
-    scalars[S_AERO_X] = tree.chassis_cg[0]
-    scalars[S_AERO_Z] = tree.chassis_cg[2]
-    scalars[S_V_LOW] = v_low_mps
-    scalars[S_W_LOW] = w_low_radps
-    scalars[S_SLIP_FORCES] = 1.0
-    scalars[S_N_DRIVEN] = max(1, sum(w.driven for w in tree.wheels))
-    scalars[S_ROLL_LIMIT] = np.radians(60.0)
-    scalars[S_PENETRATION_LIMIT] = 0.5
-    scalars[S_SIGMA_X] = params.tyre.relaxation_length_x_m
-    scalars[S_SIGMA_Y] = params.tyre.relaxation_length_y_m
-    return VehicleModel(params, tree, wheel_f, wheel_i, tyre_coefficients(params.tyre), scalars,
-                        (road or flat_road()).array(), inertia)
+    zeta = params.steering.servo_damping_ratio
+    wheels = np.zeros(nw, WHEEL)
+    tyres = np.zeros((nw, COEFFS_WIDTH))
+    setups = []
+    inertias = []
+    for k, w in enumerate(tree.wheels):
+        spec = params.wheel(w.name)
+        setup = tyre_setup(params, spec, loads[w.name])
+        setups.append(setup)
+        tyres[k] = setup.coefficients
+        inertia = _steer_axis_inertia(tree, w.steer_body) if w.steer_body >= 0 else 0.0
+        if w.steer_body >= 0:
+            inertias.append(inertia)
+        wheels[k] = (
+            w.radius, w.motion_ratio, w.stiffness, w.damping, w.preload, w.bump_travel, w.rebound_travel,
+            w.bump_stop_stiffness, w.wheel_body, w.spring_body, w.steer_body, int(w.driven), int(w.braked),
+            inertia * omega**2, 2.0 * zeta * inertia * omega, spec.y_m if w.steer_body >= 0 else 0.0,
+            setup.model, setup.vertical_stiffness_N_per_m, setup.vertical_damping_Ns_per_m, setup.relaxation_x_m,
+            setup.relaxation_y_m,
+        )
+    veh = np.zeros(1, VEHICLE)
+    v = veh[0]
+    v["g"] = STANDARD_GRAVITY
+    v["max_steer"] = np.radians(params.steering.max_angle_deg)
+    v["max_steer_rate"] = np.radians(params.steering.max_rate_deg_per_s)
+    v["max_torque"] = params.drive.max_drive_torque_Nm
+    v["max_power"] = params.drive.max_power_W
+    v["max_brake"] = params.drive.max_brake_torque_Nm
+    v["aero"] = 0.5 * params.aero.air_density_kg_per_m3 * params.aero.drag_coefficient * params.aero.frontal_area_m2
+    v["aero_x"] = tree.chassis_cg[0]
+    v["aero_z"] = tree.chassis_cg[2]
+    v["v_low"] = v_low_mps
+    v["w_low"] = w_low_radps
+    v["slip_forces"] = 1.0
+    v["n_driven"] = max(1, sum(w.driven for w in tree.wheels))
+    v["n_braked"] = sum(w.braked for w in tree.wheels)
+    v["roll_limit"] = np.radians(60.0)
+    v["penetration_limit"] = 0.5
+    v["wheelbase"] = params.wheelbase_m
+    v["cos_rake"] = np.cos(params.steering_axis_angle_rad)
+    v["ackermann"] = getattr(params.steering, "ackermann_fraction", 1.0)
+    plant = Plant(*tree.arrays(), wheels, tyres, veh, (road or flat_road()).record())
+    return VehicleModel(params, tree, plant, tuple(setups), inertias[0] if inertias else 1.0)

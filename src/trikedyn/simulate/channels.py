@@ -38,7 +38,11 @@ BASE_CHANNELS = (
     "speed_mps",
     "steer_rad",
 )
-WHEEL_CHANNELS = ("fx_N", "fy_N", "fz_N", "kappa", "alpha_rad", "deflection_m", "travel_m", "spin_radps", "vx_mps")
+WHEEL_CHANNELS = {
+    "fx_N": "fx", "fy_N": "fy", "fz_N": "fz", "kappa": "kappa", "alpha_rad": "alpha", "deflection_m": "deflection",
+    "travel_m": "travel", "spin_radps": "spin", "vx_mps": "vx", "mz_Nm": "mz", "camber_rad": "camber",
+}
+"""Per-wheel channels (``<wheel>_<name>``) and the :data:`~trikedyn.model.packing.WHEEL_OUT` field of each."""
 
 
 @jit

@@ -9,9 +9,9 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
-from ..driver.preview import D_DELAY_STEPS, D_ON, N_DRIVER, N_DRIVER_STATE, driver_step
-from ..model.rhs import N_WOUT, W_DEFLECTION, evaluate_into, interpolate_inputs, workspace
-from ..model.vehicle import S_PENETRATION_LIMIT, S_ROLL_LIMIT, WF_RADIUS, WI_BRAKED
+from ..driver.preview import DRIVER_STATE, driver_step, open_loop_driver
+from ..model.packing import WHEEL_OUT
+from ..model.rhs import evaluate_into, interpolate_inputs, workspace
 
 __all__ = ["STATUS_NAN", "STATUS_OK", "STATUS_PENETRATION", "STATUS_ROLLOVER", "STATUS_TEXT", "rk4_loop"]
 
@@ -26,17 +26,16 @@ STATUS_TEXT = {
 
 OPEN_LOOP_PATH = np.zeros((0, 5))
 OPEN_LOOP_SPEED = np.zeros((1, 2))
-OPEN_LOOP_DRIVER = np.zeros(N_DRIVER)
+OPEN_LOOP_DRIVER = open_loop_driver()
 OPEN_LOOP = (OPEN_LOOP_PATH, OPEN_LOOP_SPEED, OPEN_LOOP_DRIVER)
 """Pass ``*OPEN_LOOP`` for the path, speed profile and driver arguments of an open-loop run."""
 
 
 @jit
-def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv,
-             parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar, wheel_f, wheel_i, tyre, sc, road):
-    """Integrate ``n_steps`` RK4 steps of ``dt`` [s] from ``x0`` at ``t0``.
+def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv, p):
+    """Integrate ``n_steps`` RK4 steps of ``dt`` [s] from ``x0`` at ``t0`` on the plant ``p``.
 
-    Open loop (``drv[0] == 0``): the inputs come from the ``inputs`` table. Closed loop: the driver
+    Open loop (``drv[0].on == 0``): the inputs come from the ``inputs`` table. Closed loop: the driver
     (:func:`~trikedyn.driver.preview.driver_step`) holds the target speeds of ``speed_profile``
     ``(time, speed)`` and steers along ``path`` (or, in its open-loop steering mode, takes the steer column
     of ``inputs``); it runs once per step and holds its commands over the step.
@@ -48,7 +47,7 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
     -------
     times : ndarray (m,)
     states, derivatives : ndarray (m, len(x0))
-    wheels : ndarray (m, n_wheels, N_WOUT)
+    wheels : ndarray (m, n_wheels) of :data:`~trikedyn.model.packing.WHEEL_OUT`
     commands : ndarray (m, 3)
         Steer command [rad], drive torque [N m], brake torque per wheel [N m].
     status : int
@@ -63,61 +62,62 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
     times = np.empty(n_rec)
     states = np.empty((n_rec, nx))
     derivs = np.empty((n_rec, nx))
-    nw = wheel_f.shape[0]
-    wheels = np.empty((n_rec, nw, N_WOUT))
+    nw = p.wheels.shape[0]
+    wheels = np.empty((n_rec, nw), WHEEL_OUT)
     commands = np.empty((n_rec, 3))
-    closed = drv[D_ON] > 0.0
-    step_inputs = np.zeros((1, 4))
-    stage_inputs = step_inputs if closed else inputs
-    dstate = np.zeros(N_DRIVER_STATE)
-    delay_line = np.zeros(int(drv[D_DELAY_STEPS]) + 2) if closed else np.zeros(1)
-    n_braked = 0
-    for k in range(nw):
-        n_braked += wheel_i[k, WI_BRAKED]
-    n = parent.shape[0] + 5
-    wout = np.empty((nw, N_WOUT))
+    d = drv[0]
+    veh = p.vehicle[0]
+    closed = d.on > 0.0
+    dstate = np.zeros(1, DRIVER_STATE)[0]
+    delay_line = np.zeros(d.delay_steps + 2) if closed else np.zeros(1)
+    wout = np.zeros(nw, WHEEL_OUT)
     x = x0.copy()
     xs = np.empty(nx)
     k1 = np.empty(nx)
     k2 = np.empty(nx)
     k3 = np.empty(nx)
     k4 = np.empty(nx)
-    ws = workspace(parent)
+    u = np.zeros(3)
+    ws = workspace(p.parent)
+    n = p.parent.shape[0] + 5
     t = t0
     rec = 0
     status = STATUS_OK
-    arrays = (parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar, wheel_f, wheel_i, tyre, sc, road)
     half = 0.5 * dt
     step = 0
     while True:
         if closed:
-            steer, drive, brake = driver_step(t, dt, x[0], x[1], x[5], x[n + 2], x[n + 3], path, speed_profile, drv,
-                                              dstate, delay_line, n_braked, inputs)
-            step_inputs[0, 1] = steer
-            step_inputs[0, 2] = drive
-            step_inputs[0, 3] = brake
-        evaluate_into(t, x, stage_inputs, *arrays, wout, ws, k1)
+            u[0], u[1], u[2] = driver_step(t, dt, x[0], x[1], x[5], x[n + 2], x[n + 3], path, speed_profile, d, veh,
+                                           dstate, delay_line, inputs)
+        else:
+            u[0], u[1], u[2] = interpolate_inputs(t, inputs)
+        evaluate_into(t, x, u, p, wout, ws, k1)
         if (step % record_every == 0 or status != STATUS_OK) and rec < n_rec:
             times[rec] = t
             states[rec] = x
             derivs[rec] = k1
-            wheels[rec] = wout
-            commands[rec, 0], commands[rec, 1], commands[rec, 2] = interpolate_inputs(t, stage_inputs)
+            for k in range(nw):
+                wheels[rec, k] = wout[k]
+            commands[rec, 0], commands[rec, 1], commands[rec, 2] = u[0], u[1], u[2]
             rec += 1
         if status != STATUS_OK or step == n_steps:
             break
         for k in range(nw):
-            if wout[k, W_DEFLECTION] > sc[S_PENETRATION_LIMIT] * wheel_f[k, WF_RADIUS]:
+            if wout[k].deflection > veh.penetration_limit * p.wheels[k].radius:
                 return times, states, derivs, wheels, commands, STATUS_PENETRATION, rec, t
         for i in range(nx):
             xs[i] = x[i] + half * k1[i]
-        evaluate_into(t + half, xs, stage_inputs, *arrays, wout, ws, k2)
+        if not closed:
+            u[0], u[1], u[2] = interpolate_inputs(t + half, inputs)
+        evaluate_into(t + half, xs, u, p, wout, ws, k2)
         for i in range(nx):
             xs[i] = x[i] + half * k2[i]
-        evaluate_into(t + half, xs, stage_inputs, *arrays, wout, ws, k3)
+        evaluate_into(t + half, xs, u, p, wout, ws, k3)
         for i in range(nx):
             xs[i] = x[i] + dt * k3[i]
-        evaluate_into(t + dt, xs, stage_inputs, *arrays, wout, ws, k4)
+        if not closed:
+            u[0], u[1], u[2] = interpolate_inputs(t + dt, inputs)
+        evaluate_into(t + dt, xs, u, p, wout, ws, k4)
         finite = True
         for i in range(nx):
             x[i] += (dt / 6.0) * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
@@ -127,6 +127,6 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
         t = t0 + step * dt
         if not finite:
             return times, states, derivs, wheels, commands, STATUS_NAN, rec, t
-        if abs(x[3]) > sc[S_ROLL_LIMIT] or abs(x[4]) > sc[S_ROLL_LIMIT]:
+        if abs(x[3]) > veh.roll_limit or abs(x[4]) > veh.roll_limit:
             status = STATUS_ROLLOVER  # recorded at the top of the loop, then the loop ends
     return times, states, derivs, wheels, commands, status, rec, t

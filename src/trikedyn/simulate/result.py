@@ -30,19 +30,9 @@ def load_transfer_ratio(fz_right_total, fz_left_total):
 
 
 def state_names(model) -> tuple[str, ...]:
-    """Labels of the state vector: positions, velocities, transient slips.
-
-    ``x_m, y_m, z_m, roll_rad, pitch_rad, yaw_rad`` (chassis, road axes), one per joint (``<body>_q``),
-    the chassis velocities in its own axes, angular then linear (``wx_radps, wy_radps, wz_radps, vx_mps,
-    vy_mps, vz_mps``, of the chassis origin),
-    one rate per joint (``<body>_qd``), then per wheel the transient slips ``<wheel>_kappa`` and
-    ``<wheel>_tan_alpha``.
-    """
-    bodies = model.tree.body_names[1:]
-    q = ["x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", *(f"{b}_q" for b in bodies)]
-    u = ["wx_radps", "wy_radps", "wz_radps", "vx_mps", "vy_mps", "vz_mps", *(f"{b}_qd" for b in bodies)]
-    slips = [f"{w.name}_{s}" for w in model.tree.wheels for s in ("kappa", "tan_alpha")]
-    return tuple(q + u + slips)
+    """Labels of the state vector: positions, velocities, transient slips
+    (:func:`trikedyn.model.packing.state_labels`)."""
+    return model.state_names
 
 
 @dataclass(frozen=True)
@@ -116,9 +106,9 @@ class Result:
         channels = {name: base[:, i].copy() for i, name in enumerate(BASE_CHANNELS)}
         names = model.wheel_names
         for k, wname in enumerate(names):
-            for j, quantity in enumerate(WHEEL_CHANNELS):
-                channels[f"{wname}_{quantity}"] = wheels[:, k, j].copy()
-        fz = wheels[:, :, 2]
+            for quantity, field_name in WHEEL_CHANNELS.items():
+                channels[f"{wname}_{quantity}"] = wheels[field_name][:, k].copy()
+        fz = wheels["fz"]
         ys = np.array([w.y_m for w in (model.params.wheel(n) for n in names)])
         pair = [k for k, n in enumerate(names) if not model.params.wheel(n).steered] if model.params.layout == "delta" \
             else [k for k, n in enumerate(names) if model.params.wheel(n).steered]

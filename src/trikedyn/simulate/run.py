@@ -14,7 +14,7 @@ import numpy as np
 
 from ..errors import InputError, SimulationError
 from ..model.statics import rolling_state, static_equilibrium
-from ..model.vehicle import S_G, VehicleModel, build_model
+from ..model.vehicle import VehicleModel, build_model
 from ..params.io import ParameterSet
 from .channels import compute_channels, imu_readings
 from .integrator import OPEN_LOOP_DRIVER, OPEN_LOOP_PATH, OPEN_LOOP_SPEED, STATUS_OK, STATUS_TEXT, rk4_loop
@@ -80,9 +80,10 @@ def max_stable_step(model: VehicleModel, state: np.ndarray | None = None) -> tup
     a, _ = linearise(model, state)
     fastest = float(np.abs(np.linalg.eigvals(a)).max())
     limits = [(RK4_STABILITY / fastest, f"the fastest mode of the linearised model ({fastest:.0f} rad/s)")]
-    for w in model.tree.wheels:
+    for k, w in enumerate(model.tree.wheels):
         unsprung = model.tree.mass[w.wheel_body] + model.tree.mass[w.spring_body] * (1.0 if w.steer_body >= 0 else 0.5)
-        omega = np.sqrt((model.tyre[0] + w.bump_stop_stiffness) / unsprung)
+        kz = float(model.wheels[k]["vertical_stiffness"])
+        omega = np.sqrt((kz + w.bump_stop_stiffness) / unsprung)
         limits.append((RK4_STABILITY / omega, f"{w.name} wheel hop on its bump stop ({omega:.0f} rad/s)"))
     model.cache[key] = min(limits)
     return model.cache[key]
@@ -111,7 +112,7 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
         np.ascontiguousarray(path) if closed else OPEN_LOOP_PATH,
         np.ascontiguousarray(speed_profile) if closed else OPEN_LOOP_SPEED,
         driver if closed else OPEN_LOOP_DRIVER,
-        *model.arrays(),
+        model.plant,
     )
     times, states, derivs, wheels, commands, status, n_rec, t_stop = out
     times, states, derivs, wheels, commands = (a[:n_rec] for a in (times, states, derivs, wheels, commands))
@@ -119,7 +120,7 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
     cg = model.tree.chassis_cg  # the sprung body's CG, fixed in the chassis
     base = compute_channels(states, derivs, cg, steer[0] if steer else -1, model.n_dof)
     sensor = np.array([model.params.sensor.x_m, model.params.sensor.y_m, model.params.sensor.z_m])
-    imu = imu_readings(states, derivs, sensor, float(model.scalars[S_G]), model.n_dof)
+    imu = imu_readings(states, derivs, sensor, model.gravity, model.n_dof)
     more = None
     if extra is not None:
         from .channels import BASE_CHANNELS

@@ -1,0 +1,267 @@
+"""The tyre behind one compiled entry point: contact, transient slip and forces of one wheel.
+
+:func:`wheel_wrench` is what the compiled right-hand side calls for every wheel: it finds the contact
+(:func:`~trikedyn.tyre.contact.contact_geometry`), the rates of the transient slips
+(:func:`~trikedyn.tyre.contact.slip_rates`), the vertical force, and the horizontal forces and moments of
+the wheel's tyre model, and returns the resultant on the wheel (force, and moment about its centre, in
+world axes). The tyre model is chosen per wheel when the vehicle is built (:func:`tyre_setup`):
+
+``similarity`` (:data:`SIMILARITY`)
+    The reduced Magic Formula with similarity combined slip of :mod:`trikedyn.tyre.magic_formula`, from the
+    vehicle file's ``[tyre]`` section (the paper's "Pacejka similarity" tyre): Fx, Fy and a rolling
+    resistance moment; no aligning or overturning moment, no camber.
+``magic-formula`` (:data:`MAGIC_FORMULA`)
+    The full Magic Formula of a ``.tir`` file (:mod:`trikedyn.tyre.pac2002`: PAC2002 / MF 5.2 / MF 6.1):
+    Fx, Fy, the aligning moment Mz (it acts on the wheel about the road normal, so the steering feels it),
+    the overturning moment Mx and the rolling resistance My, with load and camber dependence, the file's
+    scaling factors, ``TYRESIDE`` mirroring (a tyre on the left of the vehicle is mounted as a left tyre)
+    and its validity ranges (inputs clamped; the loop reports which, :data:`WHEEL_OUT` ``clamped``).
+    Vertical stiffness and damping come from ``VERTICAL_STIFFNESS`` / ``VERTICAL_DAMPING``; the relaxation
+    lengths from ``PTX*`` / ``PTY*`` (MF 6.1: the carcass stiffnesses), evaluated at the wheel's static
+    load and held constant through the run (a load-dependent length would make the slip equations stiffer
+    as a wheel unloads; the paper's tyre has constant lengths too).
+
+Signs: the loop keeps trikedyn's slip angle (``tan(alpha) = -vy / |vx|``,
+:mod:`~trikedyn.tyre.magic_formula`); the full Magic Formula is evaluated at the ISO slip angle
+``-alpha``, and its outputs are in the same axes. The rolling resistance moment of the full Magic
+Formula is evaluated at the regularised forward speed ``v_ref`` and smoothed like the similarity model's
+(``tanh(omega / w_low)``), so that it has no jump at standstill.
+
+A new tyre model is a new number here and a branch in :func:`tyre_forces` and :func:`tyre_setup`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from .._jit import jit
+from .contact import contact_geometry, slip_rates
+from .magic_formula import (
+    N_COEFFS,
+    combined_forces,
+    cornering_stiffness,
+    rolling_resistance_moment,
+    slip_stiffness,
+    tyre_coefficients,
+)
+from .pac2002 import (
+    N_PACKED,
+    VERTICAL_DAMPING,
+    VERTICAL_STIFFNESS,
+    mf_forces,
+    mf_relaxation_lengths,
+    mf_stiffness,
+    pack,
+)
+
+__all__ = ["COEFFS_WIDTH", "MAGIC_FORMULA", "SIMILARITY", "TYRE_MODELS", "TyreSetup", "linear_stiffnesses",
+           "tyre_forces", "tyre_setup", "vertical_force", "wheel_wrench"]
+
+SIMILARITY, MAGIC_FORMULA = 0, 1
+TYRE_MODELS = {"similarity": SIMILARITY, "magic-formula": MAGIC_FORMULA}
+"""Tyre model names and their numbers in the compiled records."""
+COEFFS_WIDTH = max(N_COEFFS, N_PACKED)
+"""Width of a wheel's coefficient row: the longest of the models' coefficient vectors."""
+
+
+@dataclass(frozen=True)
+class TyreSetup:
+    """One wheel's tyre, ready for packing.
+
+    Attributes
+    ----------
+    model : int
+        ``SIMILARITY`` or ``MAGIC_FORMULA``.
+    coefficients : numpy.ndarray
+        The model's coefficient vector, padded to ``COEFFS_WIDTH``.
+    vertical_stiffness_N_per_m, vertical_damping_Ns_per_m : float
+    relaxation_x_m, relaxation_y_m : float
+        Relaxation lengths [m].
+    source : str
+        ``"[tyre]"`` or the ``.tir`` file.
+    """
+
+    model: int
+    coefficients: np.ndarray
+    vertical_stiffness_N_per_m: float
+    vertical_damping_Ns_per_m: float
+    relaxation_x_m: float
+    relaxation_y_m: float
+    source: str
+
+
+@lru_cache(maxsize=32)
+def _read(path: str, mtime_ns: int):
+    from .tir import read_tir
+
+    return read_tir(path)
+
+
+def tyre_setup(params, wheel, static_load_N: float) -> TyreSetup:
+    """The tyre of one wheel station: its ``.tir`` file when it names one, else the ``[tyre]`` section.
+
+    Parameters
+    ----------
+    params : VehicleParameters
+    wheel : WheelSpec
+    static_load_N : float
+        The wheel's static load [N]: the relaxation lengths of a ``.tir`` tyre are taken there.
+    """
+    tyre_file = getattr(wheel, "tyre_file", None)
+    row = np.zeros(COEFFS_WIDTH)
+    if tyre_file is None:
+        spec = params.tyre
+        row[:N_COEFFS] = tyre_coefficients(spec)
+        return TyreSetup(SIMILARITY, row, spec.vertical_stiffness_N_per_m, spec.vertical_damping_Ns_per_m,
+                         spec.relaxation_length_x_m, spec.relaxation_length_y_m, "[tyre]")
+    path = Path(tyre_file)
+    tir = _read(str(path), path.stat().st_mtime_ns)
+    side = "left" if wheel.y_m > 1e-9 else "right" if wheel.y_m < -1e-9 else None
+    row[:N_PACKED] = pack(tir, side)
+    sigma_x, sigma_y = mf_relaxation_lengths(float(static_load_N), 0.0, row[:N_PACKED])
+    # a file without relaxation data (zero or NaN lengths) falls back to the [tyre] section's lengths
+    if not (np.isfinite(sigma_x) and sigma_x > 1e-3):
+        sigma_x = params.tyre.relaxation_length_x_m
+    if not (np.isfinite(sigma_y) and sigma_y > 1e-3):
+        sigma_y = params.tyre.relaxation_length_y_m
+    kz, cz = row[VERTICAL_STIFFNESS], row[VERTICAL_DAMPING]
+    if not kz > 0:
+        kz = params.tyre.vertical_stiffness_N_per_m
+    return TyreSetup(MAGIC_FORMULA, row, float(kz), float(cz), float(sigma_x), float(sigma_y), str(path))
+
+
+def linear_stiffnesses(setup_model: int, coefficients: np.ndarray, fz: float) -> tuple[float, float]:
+    """Slip stiffness [N] and cornering stiffness ``dFy/d(-alpha_ISO)`` > 0 [N/rad] at a load, zero camber.
+
+    In trikedyn's sign (``Fy = C_alpha alpha`` with ``tan(alpha) = -vy / |vx|``) both are positive for a
+    normal tyre, for either model.
+    """
+    if setup_model == MAGIC_FORMULA:
+        kx, kya = mf_stiffness(float(fz), 0.0, coefficients[:N_PACKED])
+        return float(kx), float(-kya)
+    return float(slip_stiffness(float(fz), coefficients)), float(cornering_stiffness(float(fz), coefficients))
+
+
+@jit(inline="always")
+def vertical_force(deflection, rate, w):
+    """``Fz = max(0, kz d + cz d')`` in contact (``d > 0``), else 0 [N]; ``w`` a wheel record."""
+    if deflection <= 0.0:
+        return 0.0
+    fz = w.vertical_stiffness * deflection + w.vertical_damping * rate
+    return max(fz, 0.0)
+
+
+@jit(inline="always")
+def tyre_forces(model, c, kappa, alpha, camber, fz, v_ref, spin, r_eff, w_low):
+    """Horizontal forces and moments of a tyre model, tyre axes.
+
+    Parameters
+    ----------
+    model : int
+        ``SIMILARITY`` or ``MAGIC_FORMULA``.
+    c : ndarray
+        The wheel's coefficient row.
+    kappa : float
+        Longitudinal slip [1].
+    alpha : float
+        Slip angle, trikedyn's sign (``tan(alpha) = -vy / |vx|``) [rad].
+    camber : float
+        Inclination, ISO [rad].
+    fz : float
+        Vertical load [N], > 0.
+    v_ref : float
+        Regularised forward speed [m/s].
+    spin : float
+        Wheel spin rate [rad/s].
+    r_eff : float
+        Effective rolling radius [m].
+    w_low : float
+        Spin rate smoothing the rolling resistance's sign [rad/s].
+
+    Returns
+    -------
+    fx, fy, mz, mx, my : float
+        [N], [N], [N m], [N m], [N m] (``my`` about the spin axis, against the spin).
+    clamped : float
+        Clamp bits of the inputs outside the tyre data's validity ranges (0 for the similarity model).
+    """
+    if model == MAGIC_FORMULA:
+        fx, fy, mz, mx, my, mask = mf_forces(fz, kappa, -alpha, camber, v_ref, c)
+        return fx, fy, mz, mx, my * math.tanh(spin / w_low), float(mask)
+    fx, fy = combined_forces(kappa, alpha, fz, c)
+    my = rolling_resistance_moment(fz, spin, r_eff, c, w_low)
+    return fx, fy, 0.0, 0.0, my, 0.0
+
+
+@jit(inline="always")
+def wheel_wrench(w, c, veh, road, e, cx, cy, cz, vb, kappa, tan_alpha, out):
+    """Everything the tyre does to one wheel, the compiled entry point of the loop.
+
+    Parameters
+    ----------
+    w : record
+        The wheel (:data:`~trikedyn.model.packing.WHEEL`).
+    c : ndarray
+        Its tyre coefficient row.
+    veh : record
+        The vehicle (:data:`~trikedyn.model.packing.VEHICLE`: ``v_low``, ``w_low``, ``slip_forces``).
+    road : record
+        The road.
+    e : ndarray (3, 3)
+        World -> wheel rotation.
+    cx, cy, cz : float
+        Wheel centre in the world [m].
+    vb : ndarray (6,)
+        Wheel spatial velocity in its own axes.
+    kappa, tan_alpha : float
+        The wheel's transient slip states.
+    out : record
+        Filled with the wheel's outputs (:data:`~trikedyn.model.packing.WHEEL_OUT`), ``travel`` excepted.
+
+    Returns
+    -------
+    fwx, fwy, fwz : float
+        Force on the wheel, world axes [N].
+    mwx, mwy, mwz : float
+        Moment on the wheel about its centre, world axes [N m].
+    dkappa, dtan_alpha : float
+        Rates of the transient slips [1/s].
+    """
+    (rx, ry, rz, nx, ny, nz, exx, exy, exz, eyx, eyy, eyz, ax, ay, az, deflection, rate, vx, vy, spin,
+     camber) = contact_geometry(w.radius, road, e, cx, cy, cz, vb)
+    r_eff = w.radius - deflection / 3.0
+    dkappa, dtan_alpha, v_ref = slip_rates(kappa, tan_alpha, vx, vy, spin, r_eff, veh.v_low, w.relaxation_x,
+                                           w.relaxation_y)
+    alpha = math.atan(tan_alpha)
+    fz = vertical_force(deflection, rate, w)
+    fx, fy, mz, mx, my, clamped = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    if fz > 0.0 and veh.slip_forces > 0.0:
+        fx, fy, mz, mx, my, clamped = tyre_forces(w.tyre_model, c, kappa, alpha, camber, fz, v_ref, spin, r_eff,
+                                                  veh.w_low)
+    fwx = fx * exx + fy * eyx + fz * nx
+    fwy = fx * exy + fy * eyy + fz * ny
+    fwz = fx * exz + fy * eyz + fz * nz
+    mwx = ry * fwz - rz * fwy + my * ax
+    mwy = rz * fwx - rx * fwz + my * ay
+    mwz = rx * fwy - ry * fwx + my * az
+    if mz != 0.0 or mx != 0.0:
+        mwx += mz * nx + mx * exx
+        mwy += mz * ny + mx * exy
+        mwz += mz * nz + mx * exz
+    out.fx = fx
+    out.fy = fy
+    out.fz = fz
+    out.kappa = kappa
+    out.alpha = alpha
+    out.deflection = deflection
+    out.spin = spin
+    out.vx = vx
+    out.mz = mz
+    out.camber = camber
+    out.clamped = clamped
+    return fwx, fwy, fwz, mwx, mwy, mwz, dkappa, dtan_alpha
