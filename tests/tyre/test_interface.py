@@ -64,7 +64,7 @@ def test_transient_slips_settle_on_the_steady_slips(vx, vy, omega):
 def test_similarity_forces_are_the_magic_formula_modules(similarity_row):
     c = similarity_row
     for kappa, alpha, fz in [(0.02, 0.0, 1500.0), (-0.05, 0.04, 900.0), (0.0, -0.1, 2000.0)]:
-        fx, fy, mz, mx, my, clamped = tyre_forces(SIMILARITY, c, kappa, alpha, 0.02, fz, 10.0, 30.0, 0.29, 1.0)
+        fx, fy, mz, mx, my, clamped = tyre_forces(SIMILARITY, c, kappa, alpha, 0.02, fz, 10.0, 10.0, 30.0, 0.29, 1.0, 1.0)
         assert (fx, fy) == mf.combined_forces(kappa, alpha, fz, c)
         assert my == mf.rolling_resistance_moment(fz, 30.0, 0.29, c, 1.0)
         assert mz == mx == clamped == 0.0
@@ -74,14 +74,14 @@ def test_full_magic_formula_takes_the_iso_slip_angle(real_tir):
     c = np.zeros(COEFFS_WIDTH)
     c[: pac2002.N_PACKED] = pac2002.pack(real_tir)
     for kappa, alpha, gamma in [(0.0, 0.05, 0.0), (0.03, -0.04, 0.02), (-0.1, 0.1, -0.03)]:
-        ours = tyre_forces(MAGIC_FORMULA, c, kappa, alpha, gamma, 3000.0, 15.0, 50.0, 0.3, 1.0)
+        ours = tyre_forces(MAGIC_FORMULA, c, kappa, alpha, gamma, 3000.0, 15.0, 15.0, 50.0, 0.3, 1.0, 1.0)
         iso = pac2002.mf_forces(3000.0, kappa, -alpha, gamma, 15.0, c[: pac2002.N_PACKED])
         assert ours[:4] == pytest.approx(iso[:4], rel=1e-14, abs=1e-9)
         assert ours[4] == pytest.approx(iso[4] * math.tanh(50.0), rel=1e-14)  # rolling resistance, smoothed
         assert ours[4] < 0  # against the forward spin
     # trikedyn's sign: a wheel sliding left (alpha < 0) is pushed right, and the moment turns it left, toward
     # its velocity (the lateral force acts behind the contact centre, at the pneumatic trail)
-    fx, fy, mz, *_ = tyre_forces(MAGIC_FORMULA, c, 0.0, -0.05, 0.0, 3000.0, 15.0, 50.0, 0.3, 1.0)
+    fx, fy, mz, *_ = tyre_forces(MAGIC_FORMULA, c, 0.0, -0.05, 0.0, 3000.0, 15.0, 15.0, 50.0, 0.3, 1.0, 1.0)
     assert fy < 0 and mz > 0
     # the cornering stiffness in trikedyn's sign is positive, and is the file's
     kx, ca = linear_stiffnesses(MAGIC_FORMULA, c, 3000.0)
@@ -127,3 +127,17 @@ def test_aligning_moment_reaches_the_wheel(real_tir):
     moment = np.array([mwx, mwy, mwz]) - np.cross(r, [fwx, fwy, fwz])
     assert out[0]["mz"] != 0.0 and moment[2] == pytest.approx(out[0]["mz"], rel=1e-12)
     assert out[0]["mz"] > 0  # turns the wheel left, toward its velocity: self-aligning
+
+
+def test_full_magic_formula_carries_no_zero_slip_force_at_rest(real_tir):
+    """Its offsets (ply steer, conicity, residual torque) and camber thrust fade out below v_low: at rest a
+    tyre carries only what slip causes, so that a vehicle can stand; from v_low on they are whole."""
+    c = np.zeros(COEFFS_WIDTH)
+    c[: pac2002.N_PACKED] = pac2002.pack(real_tir)
+    at_rest = tyre_forces(MAGIC_FORMULA, c, 0.0, 0.0, 0.03, 3000.0, 0.0, 1.0, 0.0, 0.3, 1.0, 1.0)
+    assert at_rest[:5] == (0.0, 0.0, 0.0, 0.0, 0.0)
+    rolling = tyre_forces(MAGIC_FORMULA, c, 0.0, 0.0, 0.03, 3000.0, 1.0, 1.0, 3.3, 0.3, 1.0, 1.0)
+    iso = pac2002.mf_forces(3000.0, 0.0, 0.0, 0.03, 1.0, c[: pac2002.N_PACKED])
+    assert rolling[:4] == pytest.approx(iso[:4], rel=1e-14) and abs(rolling[1]) > 10.0
+    halfway = tyre_forces(MAGIC_FORMULA, c, 0.0, 0.0, 0.03, 3000.0, 0.5, 1.0, 1.7, 0.3, 1.0, 1.0)
+    assert halfway[1] == pytest.approx(0.5 * iso[1], rel=1e-12)

@@ -74,20 +74,22 @@ def interpolate_inputs(t, inputs):
 def linkage_angle(command, steer_y, veh):
     """The steer angle of one steered wheel [rad, about its steering axis] for a steer command [rad].
 
-    The command is the angle of a single wheel on the centre line. A wheel ``steer_y`` [m] off the centre
-    line, on a linkage with Ackermann fraction ``f``, turns by ``delta + f (delta_A - delta)`` in road
-    angles, where ``tan(delta_A) = L tan(delta) / (L - y tan(delta))`` points it at the turn centre on the
-    rear axle line (``L`` the wheelbase): the inner wheel steers more. A wheel on the centre line, or
-    ``f = 0`` (parallel steer), takes the command unchanged.
+    The command is the angle of a single wheel on the centre line. A head turned by ``theta`` about a
+    steering axis raked by ``epsilon`` points its wheel at the road angle ``delta`` with ``tan(delta) =
+    cos(epsilon) tan(theta)``. A wheel ``steer_y`` [m] off the centre line, on a linkage with Ackermann
+    fraction ``f``, takes the road angle ``delta + f (delta_A - delta)``, where ``tan(delta_A) = L
+    tan(delta) / (L - y tan(delta))`` points it at the turn centre on the rear axle line (``L`` the
+    wheelbase): the inner wheel steers more. A wheel on the centre line, or ``f = 0`` (parallel steer),
+    takes the command unchanged.
     """
     if steer_y == 0.0 or veh.ackermann == 0.0:
         return command
-    road = command * veh.cos_rake
-    tan_road = math.tan(road)
+    tan_road = veh.cos_rake * math.tan(command)
+    road = math.atan(tan_road)
     wheelbase = veh.wheelbase
     den = max(wheelbase - steer_y * tan_road, 0.05 * wheelbase)
     ackermann = math.atan(wheelbase * tan_road / den)
-    return (road + veh.ackermann * (ackermann - road)) / veh.cos_rake
+    return math.atan(math.tan(road + veh.ackermann * (ackermann - road)) / veh.cos_rake)
 
 
 @jit

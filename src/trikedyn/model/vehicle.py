@@ -235,6 +235,6 @@ def build_model(vehicle: ParameterSet | VehicleParameters, *, road: Road | None 
     v["penetration_limit"] = 0.5
     v["wheelbase"] = params.wheelbase_m
     v["cos_rake"] = np.cos(params.steering_axis_angle_rad)
-    v["ackermann"] = getattr(params.steering, "ackermann_fraction", 1.0)
+    v["ackermann"] = params.steering.ackermann_fraction
     plant = Plant(*tree.arrays(), wheels, tyres, veh, (road or flat_road()).record())
     return VehicleModel(params, tree, plant, tuple(setups), inertias[0] if inertias else 1.0)

@@ -2,6 +2,7 @@
 
 from .audit import Finding, audit, static_wheel_loads, tip_over_thresholds
 from .io import ParameterSet, list_presets, load_vehicle, parse_vehicle, save_vehicle
+from .layouts import mirror_layout
 from .ops import freight, mass_properties, override, scale_suspension, with_freight, with_payload
 from .schema import VehicleParameters
 
@@ -14,6 +15,7 @@ __all__ = [
     "list_presets",
     "load_vehicle",
     "mass_properties",
+    "mirror_layout",
     "override",
     "parse_vehicle",
     "save_vehicle",

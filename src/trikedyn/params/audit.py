@@ -7,7 +7,8 @@ What a careful engineer checks before trusting a parameter set, each as a :class
   (static axle loads less the unsprung masses), and the CG position that Eq. 3 would imply;
 * mass bookkeeping (curb mass, body mass, wheels, unsprung parts);
 * the CG inside the support triangle, with the rigid-vehicle static tip-over threshold for each edge
-  (``a_y / g = d / h``, ``d`` the CG's lateral distance to the edge: ``a T / (2 L)`` for a centred CG);
+  (``a_y / g = d / h``, ``d`` the CG's lateral distance to the edge: ``a T / (2 L)`` for a centred CG, ``a``
+  its distance along x from the single wheel's axle, in front for a delta, at the rear for a tadpole);
 * static spring and tyre deflections against the travel, and the Magic Formula's nominal load against the
   static wheel loads.
 
@@ -53,6 +54,10 @@ def tip_over_thresholds(params: VehicleParameters) -> list[dict]:
     lateral distance along y [m], and the lateral acceleration that tips the vehicle about it,
     ``a_y / g = d_y / h`` (edges with no y component are tipped by longitudinal acceleration instead,
     ``a_x / g = d_x / h``).
+
+    It holds for either layout: for a CG on the centre line at height ``h``, ``d`` from the single wheel's
+    axle along x, with wheelbase ``L`` and track ``T``, each side edge gives ``a_y / g = d T / (2 h L)``
+    (``d`` behind the front wheel of a delta, ahead of the rear wheel of a tadpole).
     """
     pts = np.array([(w.x_m, w.y_m) for w in params.wheels])
     names = [w.name for w in params.wheels]
@@ -118,6 +123,8 @@ def audit(pset: ParameterSet | VehicleParameters) -> list[Finding]:
             f"{w.name}: sprung mass {from_cg:.1f} kg from masses and CG"
             + ("" if positive else " (not positive: the CG is outside the support or the unsprung parts are too heavy)")
             + (f", {row['sprung_mass_eq3_kg']:.1f} kg from K and f_n (Eq. 3)" if "sprung_mass_eq3_kg" in row else "")
+            + (f"; with K: f_n = {row['natural_frequency_from_cg_hz']:.2f} Hz"
+               if row.get("natural_frequency_from_cg_hz") is not None else "")
             + (f", ratio {ratio:.2f}" if ratio is not None else "")
         )
         findings.append(Finding(level, "sprung mass", msg, row))
@@ -151,11 +158,12 @@ def audit(pset: ParameterSet | VehicleParameters) -> list[Finding]:
             )
         )
 
-    # 2. the CG that Eq. 3 implies (front share of the axle loads)
+    # 2. the CG that Eq. 3 implies (front share of the axle loads; the front wheels are the steered ones, the
+    # rear axle at x = 0 in either layout, so the CG is that share of the wheelbase ahead of the rear axle)
     front = [w for w in params.wheels if w.steered]
-    if implied and len(implied) == len(params.wheels) and len(front) == 1:
+    if implied and len(implied) == len(params.wheels) and front:
         total = sum(implied.values())
-        share = implied[front[0].name] / total
+        share = sum(implied[w.name] for w in front) / total
         x_eq3 = share * params.wheelbase_m
         level = OK if abs(x_eq3 - cg_x) <= 0.02 * params.wheelbase_m else INCONSISTENT
         findings.append(
@@ -188,7 +196,8 @@ def audit(pset: ParameterSet | VehicleParameters) -> list[Finding]:
                 {"curb_kg": params.mass.curb_kg, "wheels_kg": wheels, "body_kg": params.mass.body_kg, "difference_kg": diff},
             )
         )
-    parts = wheels + params.steering.head_mass_kg + sum(
+    heads = len(front)  # the model builds one steering head per steered wheel
+    parts = wheels + heads * params.steering.head_mass_kg + sum(
         params.suspension[w.suspension].moving_mass_kg for w in params.wheels
     )
     chassis = total_kg - parts
@@ -197,7 +206,7 @@ def audit(pset: ParameterSet | VehicleParameters) -> list[Finding]:
             OK if chassis > 0.5 * total_kg else WARNING,
             "mass bookkeeping",
             f"chassis (sprung body with driver and payload) {chassis:.1f} kg of {total_kg:.1f} kg; "
-            f"wheels, fork, arms and steering head {parts:.1f} kg",
+            f"wheels, fork{'s' if heads > 1 else ''}, arms and steering head{'s' if heads > 1 else ''} {parts:.1f} kg",
             {"chassis_kg": chassis, "parts_kg": parts, "total_kg": total_kg},
         )
     )

@@ -7,10 +7,17 @@ A value may be written plainly (``wheelbase_m = 1.95``) or with its provenance n
 
 The notes (``assumed``, ``source``, ``note``) are kept by dotted path (``mass.driver_kg``,
 ``wheels.front.radius_m``) in :attr:`ParameterSet.notes` and written back by :func:`save_vehicle`.
+
+A wheel's ``tyre_file`` (an Adams/MF-Tyre ``.tir`` file) is relative to the folder of the file that names
+it (for a preset, the presets' folder; an absolute path is taken as it is). Loading stores it as an absolute
+path, so ``pathlib.Path(wheel.tyre_file)`` finds it wherever the program runs, and reads it with
+:func:`trikedyn.tyre.tir.read_tir`: a missing or invalid tyre file fails the load, naming the wheel and the
+vehicle file. :func:`save_vehicle` writes it relative to the new file's folder again where it can.
 """
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field, replace
 from difflib import get_close_matches
 from importlib import resources
@@ -82,7 +89,8 @@ def load_vehicle(name_or_path: str | Path) -> ParameterSet:
     ------
     ParameterError
         Unknown preset (with a close match), unreadable TOML, unknown key, missing or out-of-range value,
-        an ``extends`` that is refused (see :func:`parse_vehicle`).
+        an ``extends`` that is refused (see :func:`parse_vehicle`), a wheel's ``tyre_file`` that is missing
+        or not a valid ``.tir`` file (``where="wheels[NAME].tyre_file"``, naming the vehicle file).
     """
     text = str(name_or_path)
     path = Path(text)
@@ -111,19 +119,65 @@ def parse_vehicle(toml_text: str, origin: str = "<string>") -> ParameterSet:
     extend presets only) and must lie in that folder or below it once symbolic links are resolved: no
     absolute path, no ``..``. It is read like the first file (UTF-8, at most 1 MiB). A chain of
     ``extends`` may be at most :data:`MAX_EXTENDS` long and must not come back to a file already in it.
-    A refused ``extends`` names what was written and why, never the target's content.
+    A refused ``extends`` names what was written and why, never the target's content. A wheel's
+    ``tyre_file`` is likewise relative to the folder of the file that names it (see the module docstring).
     """
     return _parse(toml_text, origin, _real(Path(origin)).parent, (("text", origin),))
 
 
 def _parse(toml_text: str, origin: str, folder: Path | None, chain: tuple) -> ParameterSet:
-    raw = _read_raw(toml_text, origin, folder, chain)
+    named_in: dict[str, str] = {}
+    raw = _read_raw(toml_text, origin, folder, chain, named_in)
     plain, notes = _split_notes(raw, ())
     try:
         params = VehicleParameters.model_validate(plain)
     except ValidationError as exc:
         raise ParameterError(_describe(exc, plain), where=_shown(origin)) from None
+    _check_tyre_files(params, named_in, origin)
     return ParameterSet(params, notes, origin)
+
+
+def _resolve_tyre_files(raw: dict, origin: str, folder: Path | None, named_in: dict) -> None:
+    """Make each ``wheels[*].tyre_file`` of one file's raw table absolute, relative to that file's folder
+    (the presets' folder for a preset); ``named_in`` records which file named each."""
+    wheels = raw.get("wheels")
+    if not isinstance(wheels, list):
+        return
+    base = Path(str(_preset_dir())) if folder is None else folder
+    for wheel in wheels:
+        if not isinstance(wheel, dict) or "tyre_file" not in wheel:
+            continue
+        node = wheel["tyre_file"]
+        value = node.get("value") if _is_annotated_value(node) else node
+        if not isinstance(value, str) or not value.strip() or "\0" in value:
+            continue  # the schema says what is wrong with it
+        resolved = str(_real(base / value))
+        if _is_annotated_value(node):
+            wheel["tyre_file"] = {**node, "value": resolved}
+        else:
+            wheel["tyre_file"] = resolved
+        named_in.setdefault(resolved, _shown(origin, 120))
+
+
+def _check_tyre_files(params: VehicleParameters, named_in: dict, origin: str) -> None:
+    """Read every wheel's ``.tir`` file once; a missing or invalid one is a ParameterError naming the wheel
+    and the vehicle file that names it."""
+    files = {w.tyre_file for w in params.wheels if w.tyre_file is not None}
+    if not files:
+        return
+    from ..errors import InputError
+    from ..tyre.tir import read_tir
+
+    for wheel in params.wheels:
+        if wheel.tyre_file not in files:
+            continue
+        files.discard(wheel.tyre_file)
+        try:
+            read_tir(Path(wheel.tyre_file))
+        except InputError as exc:
+            naming = named_in.get(wheel.tyre_file, _shown(origin, 120))
+            raise ParameterError(f"{exc} (tyre file named in {naming})",
+                                 where=f"wheels[{wheel.name}].tyre_file") from None
 
 
 def save_vehicle(pset: ParameterSet | VehicleParameters, path: str | Path) -> Path:
@@ -132,11 +186,24 @@ def save_vehicle(pset: ParameterSet | VehicleParameters, path: str | Path) -> Pa
     if isinstance(pset, VehicleParameters):
         pset = ParameterSet(pset)
     data = pset.params.model_dump(mode="json", exclude_none=True)
+    folder = _real(Path(path)).parent
+    for wheel in data.get("wheels", []):
+        if "tyre_file" in wheel:
+            wheel["tyre_file"] = _relative_to(wheel["tyre_file"], folder)
     _merge_notes(data, pset.notes)
     from .._files import atomic_write
 
     text = _to_toml(data)
     return atomic_write(Path(path), lambda fh: fh.write(text), binary=False)
+
+
+def _relative_to(file: str, folder: Path) -> str:
+    """``file`` as a path relative to ``folder`` (POSIX separators), or absolute where there is none (another
+    drive)."""
+    try:
+        return Path(os.path.relpath(_real(Path(file)), folder)).as_posix()
+    except ValueError:
+        return str(Path(file))
 
 
 def _toml_value(value) -> str:
@@ -185,16 +252,18 @@ def _shown(text: str, limit: int = 300) -> str:
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
-def _read_raw(toml_text: str, origin: str, folder: Path | None, chain: tuple) -> dict:
+def _read_raw(toml_text: str, origin: str, folder: Path | None, chain: tuple, named_in: dict) -> dict:
     """The merged raw table of ``toml_text`` and the chain of files it extends.
 
     ``folder``: the real folder of the file read (None for a preset: it may extend presets only);
-    ``chain``: the files and presets read so far, to stop a cycle.
+    ``chain``: the files and presets read so far, to stop a cycle; ``named_in``: tyre file -> the file that
+    names it (filled in).
     """
     where = _shown(origin)
     if len(toml_text) > MAX_FILE_BYTES:
         raise ParameterError(f"longer than {MAX_FILE_BYTES // 1024} KiB; expected a parameter file", where=where)
     raw = parse_toml(toml_text, where, error=ParameterError)
+    _resolve_tyre_files(raw, origin, folder, named_in)
     base_name = raw.pop("extends", None)
     if base_name is None:
         return raw
@@ -205,7 +274,7 @@ def _read_raw(toml_text: str, origin: str, folder: Path | None, chain: tuple) ->
         raise ParameterError(f"extends: a cycle ({loop})", where=where)
     if len(chain) > MAX_EXTENDS:
         raise ParameterError(f"extends: more than {MAX_EXTENDS} in a chain", where=where)
-    return _deep_merge(_read_raw(base_text, base_origin, base_folder, (*chain, key)), raw)
+    return _deep_merge(_read_raw(base_text, base_origin, base_folder, (*chain, key), named_in), raw)
 
 
 def _extended(name, where: str, folder: Path | None) -> tuple[str, str, Path | None, tuple]:

@@ -1,7 +1,8 @@
 """The vehicle parameter schema: validated, with units in the names, bounds and no unknown keys.
 
 A parameter set describes one vehicle in trikedyn's axes (ISO 8855: x forward, y left, z up; origin on
-the ground below the centre of the rear axle). The wheel layout is data: a list of wheels, each with
+the ground below the centre of the rear axle: the two-wheel axle of a delta trike, the single rear wheel's
+axle of a tadpole, so that x is measured forward from the rear wheel(s) in both). The wheel layout is data: a list of wheels, each with
 its position, its suspension (by name) and whether it is steered, driven and braked, so that a tadpole
 trike is a different parameter set, not different code.
 
@@ -147,6 +148,13 @@ class SteeringSpec(_Spec):
         gt=0, le=50, description="steering servo natural frequency on the steered inertia [Hz]"
     )
     servo_damping_ratio: _positive(0.05, "") = Field(gt=0, le=3, description="steering servo damping ratio")
+    ackermann_fraction: float = Field(
+        default=1.0, ge=0, le=1.5,
+        description="of a steered pair: 0 parallel steer, 1 full Ackermann (inner wheel steers more) [1]",
+    )
+    handlebar_ratio: _positive(0.1, "") = Field(
+        default=1.0, gt=0, le=30, description="handlebar angle per road-wheel steer angle [deg/deg]"
+    )
 
 
 class SuspensionSpec(_Spec):
@@ -183,7 +191,7 @@ class SuspensionSpec(_Spec):
 class WheelSpec(_Spec):
     """One wheel station: the wheel centre's position at static ride height and its suspension."""
 
-    name: str = Field(pattern=r"^[a-z][a-z0-9_]*$", max_length=40, description="front, rear_left, rear_right, ...")
+    name: str = Field(pattern=r"^[a-z][a-z0-9_]*$", max_length=40, description="front, rear_left, rear_right (delta); front_left, front_right, rear (tadpole)")
     x_m: float = Field(ge=-5, le=10, description="contact point ahead of the rear axle [m]")
     y_m: float = Field(ge=-2, le=2, description="contact point left of the centre line [m]")
     suspension: str = Field(max_length=40, description="name of an entry of [suspension]")
@@ -193,6 +201,22 @@ class WheelSpec(_Spec):
     steered: bool = False
     driven: bool = False
     braked: bool = True
+    tyre_file: str | None = Field(
+        default=None, min_length=1, max_length=1000,
+        description="Adams/MF-Tyre .tir property file for this wheel, relative to the vehicle file; "
+        "None: the [tyre] section's similarity model",
+    )
+
+    @field_validator("tyre_file")
+    @classmethod
+    def _tir_name(cls, value):
+        if value is None:
+            return value
+        if any(ord(c) < 32 for c in value):
+            raise ValueError("a file name with a control character")
+        if not value.lower().endswith(".tir"):
+            raise ValueError(f"expected a .tir tyre property file, got '{value[-60:]}'")
+        return value
 
 
 class TyreSpec(_Spec):
@@ -317,15 +341,25 @@ class VehicleParameters(_Spec):
             raise ValueError(f"a {self.layout} layout has {expected} steered wheel(s), found {len(steered)}")
         if not any(w.driven for w in self.wheels):
             raise ValueError("at least one wheel must be driven")
+        fixed = [w for w in self.wheels if not w.steered]
         if self.layout == "delta":
-            front = steered[0]
-            rear = [w for w in self.wheels if not w.steered]
+            front, rear = steered[0], fixed
             if any(abs(w.x_m) > 1e-9 for w in rear):
                 raise ValueError("the rear axle is the x origin: both rear wheels need x_m = 0")
             if front.x_m <= 0:
                 raise ValueError("the front wheel must be ahead of the rear axle (x_m > 0)")
             if not rear[0].y_m * rear[1].y_m < 0:
                 raise ValueError("the two rear wheels must be on opposite sides (y_m of opposite signs)")
+        else:  # tadpole: the origin is on the ground below the single rear wheel's axle
+            rear, front = fixed[0], steered
+            if abs(rear.x_m) > 1e-9:
+                raise ValueError(
+                    f"the rear wheel's axle is the x origin of a tadpole: wheel '{rear.name}' needs x_m = 0"
+                )
+            if any(w.x_m <= 0 for w in front):
+                raise ValueError("both front (steered) wheels must be ahead of the rear wheel (x_m > 0)")
+            if not front[0].y_m * front[1].y_m < 0:
+                raise ValueError("the two front wheels must be on opposite sides (y_m of opposite signs)")
         return self
 
     @field_validator("wheels")
@@ -378,7 +412,8 @@ class VehicleParameters(_Spec):
 
     @property
     def wheelbase_m(self) -> float:
-        """Front contact to rear axle [m] (delta: x of the steered wheel)."""
+        """Front axle to rear axle [m]: the steered wheels' mean x less the fixed wheels' mean x (delta: the
+        front wheel's x; tadpole: the front pair's mean x, the rear wheel being at x = 0)."""
         front = [w.x_m for w in self.wheels if w.steered]
         rear = [w.x_m for w in self.wheels if not w.steered]
         return abs(sum(front) / len(front) - sum(rear) / len(rear))

@@ -20,7 +20,7 @@ from .channels import compute_channels, imu_readings
 from .integrator import OPEN_LOOP_DRIVER, OPEN_LOOP_PATH, OPEN_LOOP_SPEED, STATUS_OK, STATUS_TEXT, rk4_loop
 from .result import Result
 
-__all__ = ["simulate", "input_table", "max_stable_step", "run_model"]
+__all__ = ["TyreRangeWarning", "simulate", "input_table", "max_stable_step", "run_model"]
 
 InputSpec = float | Callable[[np.ndarray], np.ndarray] | tuple
 
@@ -116,6 +116,7 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
     )
     times, states, derivs, wheels, commands, status, n_rec, t_stop = out
     times, states, derivs, wheels, commands = (a[:n_rec] for a in (times, states, derivs, wheels, commands))
+    _warn_if_tyre_data_left(model, wheels)
     steer = [w.steer_body for w in model.tree.wheels if w.steer_body >= 0]
     cg = model.tree.chassis_cg  # the sprung body's CG, fixed in the chassis
     base = compute_channels(states, derivs, cg, steer[0] if steer else -1, model.n_dof)
@@ -133,6 +134,28 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
         err.result = result
         raise err
     return result
+
+
+def _warn_if_tyre_data_left(model: VehicleModel, wheels: np.ndarray) -> None:
+    """One warning per run when a wheel's tyre inputs left its ``.tir`` file's validity ranges (clamped)."""
+    clamped = wheels["clamped"].astype(np.int64)
+    if not clamped.any():
+        return
+    import warnings
+
+    from ..tyre.pac2002 import clamped_names
+
+    parts = []
+    for k, name in enumerate(model.wheel_names):
+        bits = int(np.bitwise_or.reduce(clamped[:, k]))
+        if bits:
+            parts.append(f"{name} ({', '.join(clamped_names(bits))})")
+    warnings.warn("tyre inputs left the tyre file's validity ranges and were clamped: " + "; ".join(parts),
+                  TyreRangeWarning, stacklevel=3)
+
+
+class TyreRangeWarning(UserWarning):
+    """A run took a tyre outside its ``.tir`` file's validity ranges (load, slip, slip angle, camber)."""
 
 
 def simulate(vehicle: ParameterSet | VehicleModel, *, duration_s: float, speed_kmh: float = 0.0,

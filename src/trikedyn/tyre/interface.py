@@ -25,7 +25,11 @@ Signs: the loop keeps trikedyn's slip angle (``tan(alpha) = -vy / |vx|``,
 :mod:`~trikedyn.tyre.magic_formula`); the full Magic Formula is evaluated at the ISO slip angle
 ``-alpha``, and its outputs are in the same axes. The rolling resistance moment of the full Magic
 Formula is evaluated at the regularised forward speed ``v_ref`` and smoothed like the similarity model's
-(``tanh(omega / w_low)``), so that it has no jump at standstill.
+(``tanh(omega / w_low)``), so that it has no jump at standstill. Below the slip regularisation speed
+``v_low`` the full Magic Formula's zero-slip forces and moments (its offsets ``SHx``, ``SVx``, ``SHy``,
+``SVy``, the residual torque, camber thrust and overturning couple at zero slip) fade out smoothly
+(:func:`standstill_weight`), as MF-Tyre does below ``VXLOW``: a tyre at rest carries no force that slip
+does not cause, so that a vehicle on such tyres can stand still (static equilibrium exists).
 
 A new tyre model is a new number here and a branch in :func:`tyre_forces` and :func:`tyre_setup`.
 """
@@ -60,7 +64,7 @@ from .pac2002 import (
 )
 
 __all__ = ["COEFFS_WIDTH", "MAGIC_FORMULA", "SIMILARITY", "TYRE_MODELS", "TyreSetup", "linear_stiffnesses",
-           "tyre_forces", "tyre_setup", "vertical_force", "wheel_wrench"]
+           "standstill_weight", "tyre_forces", "tyre_setup", "vertical_force", "wheel_wrench"]
 
 SIMILARITY, MAGIC_FORMULA = 0, 1
 TYRE_MODELS = {"similarity": SIMILARITY, "magic-formula": MAGIC_FORMULA}
@@ -112,7 +116,7 @@ def tyre_setup(params, wheel, static_load_N: float) -> TyreSetup:
     static_load_N : float
         The wheel's static load [N]: the relaxation lengths of a ``.tir`` tyre are taken there.
     """
-    tyre_file = getattr(wheel, "tyre_file", None)
+    tyre_file = wheel.tyre_file
     row = np.zeros(COEFFS_WIDTH)
     if tyre_file is None:
         spec = params.tyre
@@ -157,7 +161,17 @@ def vertical_force(deflection, rate, w):
 
 
 @jit(inline="always")
-def tyre_forces(model, c, kappa, alpha, camber, fz, v_ref, spin, r_eff, w_low):
+def standstill_weight(vx, v_low):
+    """``0.5 (1 - cos(pi |vx| / v_low))`` below ``v_low``, 1 above: how much of a tyre's zero-slip force
+    (the Magic Formula's offsets and camber thrust) it carries at the forward speed ``vx`` [m/s]."""
+    speed = abs(vx)
+    if speed >= v_low:
+        return 1.0
+    return 0.5 * (1.0 - math.cos(math.pi * speed / v_low))
+
+
+@jit(inline="always")
+def tyre_forces(model, c, kappa, alpha, camber, fz, vx, v_ref, spin, r_eff, v_low, w_low):
     """Horizontal forces and moments of a tyre model, tyre axes.
 
     Parameters
@@ -174,12 +188,17 @@ def tyre_forces(model, c, kappa, alpha, camber, fz, v_ref, spin, r_eff, w_low):
         Inclination, ISO [rad].
     fz : float
         Vertical load [N], > 0.
+    vx : float
+        Forward speed of the wheel centre [m/s].
     v_ref : float
         Regularised forward speed [m/s].
     spin : float
         Wheel spin rate [rad/s].
     r_eff : float
         Effective rolling radius [m].
+    v_low : float
+        Slip regularisation speed [m/s]: below it the full Magic Formula's zero-slip forces fade out
+        (:func:`standstill_weight`).
     w_low : float
         Spin rate smoothing the rolling resistance's sign [rad/s].
 
@@ -192,6 +211,11 @@ def tyre_forces(model, c, kappa, alpha, camber, fz, v_ref, spin, r_eff, w_low):
     """
     if model == MAGIC_FORMULA:
         fx, fy, mz, mx, my, mask = mf_forces(fz, kappa, -alpha, camber, v_ref, c)
+        weight = standstill_weight(vx, v_low)
+        if weight < 1.0:  # a tyre at rest carries no force that slip does not cause
+            fx0, fy0, mz0, mx0, _, _ = mf_forces(fz, 0.0, 0.0, camber, v_ref, c)
+            fade = 1.0 - weight
+            fx, fy, mz, mx = fx - fade * fx0, fy - fade * fy0, mz - fade * mz0, mx - fade * mx0
         return fx, fy, mz, mx, my * math.tanh(spin / w_low), float(mask)
     fx, fy = combined_forces(kappa, alpha, fz, c)
     my = rolling_resistance_moment(fz, spin, r_eff, c, w_low)
@@ -241,8 +265,8 @@ def wheel_wrench(w, c, veh, road, e, cx, cy, cz, vb, kappa, tan_alpha, out):
     fz = vertical_force(deflection, rate, w)
     fx, fy, mz, mx, my, clamped = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     if fz > 0.0 and veh.slip_forces > 0.0:
-        fx, fy, mz, mx, my, clamped = tyre_forces(w.tyre_model, c, kappa, alpha, camber, fz, v_ref, spin, r_eff,
-                                                  veh.w_low)
+        fx, fy, mz, mx, my, clamped = tyre_forces(w.tyre_model, c, kappa, alpha, camber, fz, vx, v_ref, spin, r_eff,
+                                                  veh.v_low, veh.w_low)
     fwx = fx * exx + fy * eyx + fz * nx
     fwy = fx * exy + fy * eyy + fz * ny
     fwz = fx * exz + fy * eyz + fz * nz

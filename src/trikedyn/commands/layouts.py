@@ -1,0 +1,73 @@
+"""``trikedyn compare-layouts``: a vehicle and its mirror layout (delta and tadpole) side by side."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ._common import ForceOpt, JsonOpt, VehicleArg, emit, finite, manoeuvre_options, save_figure, within
+
+DEFAULT_MANOEUVRES = ("dlc", "slc")
+
+
+def compare_layouts_cmd(
+    vehicle: VehicleArg,
+    manoeuvre: Annotated[
+        list[str], typer.Option("--manoeuvre", help="A manoeuvre for the threshold velocity (see `trikedyn "
+                                "manoeuvres`); repeatable. Default: dlc and slc.")
+    ] = [],  # noqa: B006
+    payload: Annotated[float, typer.Option("--payload", callback=within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
+    no_tilt: Annotated[bool, typer.Option("--no-tilt", help="Skip the tilt-table test.")] = False,
+    low: Annotated[float, typer.Option("--low", callback=within(0, 400, "km/h", above=True), help="Lowest speed searched [km/h].")] = 10.0,
+    high: Annotated[float, typer.Option("--high", callback=within(0, 400, "km/h", above=True), help="Highest speed searched [km/h].")] = 90.0,
+    resolution: Annotated[float, typer.Option("--resolution", callback=within(0.001, 50, "km/h"), help="Threshold resolution [km/h].")] = 0.1,
+    out: Annotated[Path | None, typer.Option("--out", help="Folder to write comparison.json, the mirror vehicle (.toml) "
+                                             "and a figure into (created; a non-empty one needs --force).")] = None,
+    force: ForceOpt = False,
+    as_json: JsonOpt = False,
+):
+    """Delta against tadpole: the vehicle and its mirror layout on the same mass, CG, wheelbase and track.
+
+    Static rigid tip-over [g], tilt-table angle [deg] and the threshold velocity [km/h] in each manoeuvre.
+    """
+    from ..analysis.layouts import compare_layouts
+    from ..errors import InputError
+    from ..params import load_vehicle, with_freight
+
+    manoeuvres = tuple(manoeuvre) or DEFAULT_MANOEUVRES
+    for m in manoeuvres:
+        manoeuvre_options(m, [])  # an unknown manoeuvre fails here, before any run
+    if not low < high:
+        raise InputError(f"must be above --low ({low:g} km/h), got {high:g}", where="--high")
+    if out is not None:
+        from .._files import check_output_folder
+
+        check_output_folder(out, force=force, option="--out")
+    pset = with_freight(load_vehicle(vehicle), payload)
+    result = compare_layouts(pset, manoeuvres, tilt=not no_tilt, low_kmh=low, high_kmh=high,
+                             resolution_kmh=resolution)
+    data = {"vehicle": pset.name, "payload_kg": payload, **result.to_dict()}
+    if out is not None:
+        data["wrote"] = _write(out, result, data)
+    text = lambda: result.table() + (f"\nwrote {', '.join(data['wrote'])}" if out is not None else "")  # noqa: E731
+    emit(data, as_json, text)
+
+
+def _write(out: Path, result, data: dict) -> list[str]:
+    import json
+
+    import matplotlib
+
+    from .._files import atomic_write
+    from ..params import save_vehicle
+
+    table = out / "comparison.json"
+    atomic_write(table, lambda fh: fh.write(json.dumps(finite(data)[0], indent=2, allow_nan=False)), binary=False)
+    mirror = out / f"{result.rows[1].layout}-mirror.toml"
+    save_vehicle(result.mirror, mirror)
+    matplotlib.use("Agg")
+    figure = out / "layouts.png"
+    save_figure(result.plot(), figure)
+    return [str(table), str(mirror), str(figure)]
