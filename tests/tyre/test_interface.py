@@ -141,3 +141,24 @@ def test_full_magic_formula_carries_no_zero_slip_force_at_rest(real_tir):
     assert rolling[:4] == pytest.approx(iso[:4], rel=1e-14) and abs(rolling[1]) > 10.0
     halfway = tyre_forces(MAGIC_FORMULA, c, 0.0, 0.0, 0.03, 3000.0, 0.5, 1.0, 1.7, 0.3, 1.0, 1.0)
     assert halfway[1] == pytest.approx(0.5 * iso[1], rel=1e-12)
+
+
+def test_a_file_without_relaxation_data_falls_back_to_the_tyre_section(real_tir, reference, tmp_path):
+    """No PTX / PTY: no relaxation lengths (NaN, no division by zero); the vehicle uses its [tyre] lengths."""
+    from trikedyn.tyre.interface import tyre_setup
+
+    text = "\n".join(line for line in open(real_tir.path).read().splitlines()
+                     if not line.startswith(("PTX", "PTY")))
+    path = tmp_path / "no_relaxation.tir"
+    path.write_text(text)
+    from trikedyn.tyre.tir import read_tir
+
+    c = pac2002.pack(read_tir(path))
+    with np.errstate(all="raise"):
+        sk, sa = pac2002.mf_relaxation_lengths(2000.0, 0.0, c)
+    assert math.isnan(sk) and math.isnan(sa)
+    wheel = reference.params.wheel("front").model_copy(update={"tyre_file": str(path)})
+    setup = tyre_setup(reference.params, wheel, 2000.0)
+    assert setup.model == MAGIC_FORMULA
+    assert setup.relaxation_x_m == reference.params.tyre.relaxation_length_x_m
+    assert setup.relaxation_y_m == reference.params.tyre.relaxation_length_y_m

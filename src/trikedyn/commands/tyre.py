@@ -108,7 +108,9 @@ def show_cmd(
             f"  peak Fy {peaks.fy_max_N:+.0f} N at alpha {math.degrees(peaks.alpha_at_fy_max_rad):+.2f} deg, "
             f"{peaks.fy_min_N:+.0f} N at alpha {math.degrees(peaks.alpha_at_fy_min_rad):+.2f} deg "
             f"(peak friction {peaks.mu_y:.3f})",
-            f"  relaxation lengths: longitudinal {sigma_k:.3f} m, lateral {sigma_a:.3f} m",
+            "  relaxation lengths: " + ", ".join(
+                f"{label} {value:.3f} m" if math.isfinite(value) else f"{label} not in the file"
+                for label, value in (("longitudinal", sigma_k), ("lateral", sigma_a))),
             f"defaulted ({len(tir.defaulted)}): {', '.join(tir.defaulted) or 'none'}",
         ]
         if tir.ignored_keys:

@@ -47,6 +47,20 @@ class Finding:
         return asdict(self)
 
 
+def _tyre_of(params: VehicleParameters, wheel) -> tuple[float, float, str]:
+    """Vertical stiffness [N/m], nominal load [N] and a label of one wheel's tyre: its ``.tir`` file, or the
+    ``[tyre]`` section's Magic Formula."""
+    if wheel.tyre_file is None:
+        return params.tyre.vertical_stiffness_N_per_m, params.tyre.nominal_load_N, "Magic Formula of [tyre]"
+    from pathlib import Path
+
+    from ..tyre.tir import read_tir
+
+    tir = read_tir(wheel.tyre_file)
+    kz = tir.coefficients.get("VERTICAL_STIFFNESS", 0.0) or params.tyre.vertical_stiffness_N_per_m
+    return kz, tir.coefficients["FNOMIN"], f"{Path(wheel.tyre_file).name} ({tir.family})"
+
+
 def tip_over_thresholds(params: VehicleParameters) -> list[dict]:
     """Rigid-vehicle static tip-over per edge of the support triangle.
 
@@ -229,11 +243,12 @@ def audit(pset: ParameterSet | VehicleParameters) -> list[Finding]:
         )
 
     # 5. static deflections and tyre load range
+    tyres = {w.name: _tyre_of(params, w) for w in params.wheels}
     for w in params.wheels:
         s = params.suspension[w.suspension]
         sprung = loads[w.name] - unsprung_mass(params, w.name) * g
         sag = sprung / s.stiffness_N_per_m
-        tyre = loads[w.name] / params.tyre.vertical_stiffness_N_per_m
+        tyre = loads[w.name] / tyres[w.name][0]
         findings.append(
             Finding(
                 OK if tyre < 0.3 * w.radius_m else WARNING,
@@ -243,16 +258,21 @@ def audit(pset: ParameterSet | VehicleParameters) -> list[Finding]:
                 {"wheel": w.name, "load_N": loads[w.name], "spring_sag_m": sag, "tyre_deflection_m": tyre},
             )
         )
-    fz = np.array(list(loads.values()))
-    fz0 = params.tyre.nominal_load_N
-    findings.append(
-        Finding(
-            OK if 0.33 <= fz0 / fz.mean() <= 3.0 else WARNING,
-            "tyre",
-            f"Magic Formula nominal load {fz0:.0f} N; static wheel loads {fz.min():.0f} to {fz.max():.0f} N",
-            {"nominal_load_N": fz0, "min_static_load_N": float(fz.min()), "max_static_load_N": float(fz.max())},
+    by_tyre: dict[tuple, list[str]] = {}
+    for name, (_, fz0, label) in tyres.items():
+        by_tyre.setdefault((fz0, label), []).append(name)
+    for (fz0, label), names in by_tyre.items():
+        fz = np.array([loads[n] for n in names])
+        findings.append(
+            Finding(
+                OK if 0.33 <= fz0 / fz.mean() <= 3.0 else WARNING,
+                "tyre",
+                f"{label} ({', '.join(names)}): nominal load {fz0:.0f} N; static wheel loads {fz.min():.0f} to "
+                f"{fz.max():.0f} N",
+                {"tyre": label, "wheels": names, "nominal_load_N": fz0, "min_static_load_N": float(fz.min()),
+                 "max_static_load_N": float(fz.max())},
+            )
         )
-    )
     if params.steering.trail_m <= 0:
         findings.append(
             Finding(WARNING, "steering", f"trail {params.steering.trail_m:g} m <= 0: no self-centring", {})

@@ -333,7 +333,8 @@ def mf_relaxation_lengths(fz, gamma, c):
     PAC2002 / MF 5.2: ``sigma_kappa = Fz (PTX1 + PTX2 dfz) exp(-PTX3 dfz) R0 / Fz0 LSGKP``,
     ``sigma_alpha = PTY1 sin(2 atan(Fz / (PTY2 F'z0))) (1 - PKY3 |gamma|) R0 LFZO LSGAL``. MF 6.1:
     ``|Kxk / Cx|``, ``|Kya / Cy|`` with the carcass stiffnesses ``Cx = LONGITUDINAL_STIFFNESS (1 + PCFX1 dfz
-    + PCFX2 dfz^2)``, ``Cy`` likewise (NaN when the file lacks them).
+    + PCFX2 dfz^2)``, ``Cy`` likewise. NaN when the file lacks the data (no ``PTX1``/``PTX2``, no ``PTY1`` or
+    ``PTY2``; no carcass stiffness).
     """
     if fz <= 0.0:
         return 0.0, 0.0
@@ -347,9 +348,13 @@ def mf_relaxation_lengths(fz, gamma, c):
         sa = abs(kya / (cy if cy > 0.0 else 1.0))
         return (sk if cx > 0.0 else math.nan), (sa if cy > 0.0 else math.nan)
     r0 = c[UNLOADED_RADIUS]
-    sk = fz * (c[PTX1] + c[PTX2] * dfz) * math.exp(-c[PTX3] * dfz) * r0 / c[FNOMIN] * c[LSGKP]
-    sa = (c[PTY1] * math.sin(2.0 * math.atan(fz / (c[PTY2] * c[FZ0P]))) * (1.0 - c[PKY3] * abs(gamma * c[LGAY]))
-          * r0 * c[LFZO] * c[LSGAL])
+    sk = math.nan  # a file without PTX / PTY data has no relaxation lengths
+    if c[PTX1] != 0.0 or c[PTX2] != 0.0:
+        sk = fz * (c[PTX1] + c[PTX2] * dfz) * math.exp(-c[PTX3] * dfz) * r0 / c[FNOMIN] * c[LSGKP]
+    sa = math.nan
+    if c[PTY1] != 0.0 and c[PTY2] != 0.0:
+        sa = (c[PTY1] * math.sin(2.0 * math.atan(fz / (c[PTY2] * c[FZ0P]))) * (1.0 - c[PKY3] * abs(gamma * c[LGAY]))
+              * r0 * c[LFZO] * c[LSGAL])
     return sk, sa
 
 
