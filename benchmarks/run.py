@@ -85,19 +85,55 @@ def bench_double_lane_change() -> dict:
 
 
 def bench_threshold() -> dict:
-    """Issue 5: one threshold search on the double lane change (reference-etrike, 0.1 km/h)."""
+    """Issues 5 and 11: one threshold search on the double lane change (reference-etrike, 0.1 km/h), by the
+    margin search and by bisection; then both on every scenario of the paper's study (runs per search, time
+    per search, agreement)."""
+    import statistics
+
     from trikedyn.analysis.threshold import threshold_velocity
+    from trikedyn.params import override, scale_suspension, with_freight
+    from trikedyn.study.spec import load_spec
 
     model = build_model(load_vehicle("reference-etrike"))
-    holder = {}
+    out = {}
+    for method in ("margin", "bisection"):
+        holder = {}
 
-    def search():
-        holder["result"] = threshold_velocity(model, "dlc")
+        def search(method=method, holder=holder):
+            holder["result"] = threshold_velocity(model, "dlc", method=method)
 
-    wall = best_of(search, 3)
-    r = holder["result"]
-    return {"threshold_search_dlc": {"wall_s": wall, "runs": len(r.runs), "threshold_speed_kmh": r.threshold_speed_kmh,
-                                     "limit": r.limit}}
+        wall = best_of(search, 3)
+        r = holder["result"]
+        out[f"threshold_search_dlc_{method}"] = {"wall_s": wall, "runs": r.n_runs, "speeds_kmh": list(r.speeds_kmh),
+                                                 "threshold_speed_kmh": r.threshold_speed_kmh, "limit": r.limit}
+    spec = load_spec("paper")
+    base = spec.load_vehicle()
+    per = {"margin": {"runs": [], "wall_s": []}, "bisection": {"runs": [], "wall_s": []}}
+    agree = 0
+    scenarios = spec.scenarios()
+    for s in scenarios:
+        pset = scale_suspension(base, stiffness=s["stiffness_scale"], damping=s["damping_scale"])
+        if s["overrides"]:
+            pset = override(pset, s["overrides"])
+        m = build_model(with_freight(pset, s["freight_kg"]))
+        found = {}
+        for method in per:
+            start = time.perf_counter()
+            r = threshold_velocity(m, s["manoeuvre"], low_kmh=s["low_kmh"], high_kmh=s["high_kmh"],
+                                   step_kmh=s["step_kmh"], resolution_kmh=s["resolution_kmh"], method=method)
+            per[method]["wall_s"].append(time.perf_counter() - start)
+            per[method]["runs"].append(r.n_runs)
+            found[method] = r.threshold_speed_kmh
+        agree += found["margin"] == found["bisection"]
+    out["threshold_search_paper_study"] = {
+        "scenarios": len(scenarios),
+        "same_threshold_as_bisection": agree,
+        **{f"{method}_{key}": value for method, v in per.items() for key, value in (
+            ("median_runs", statistics.median(v["runs"])), ("mean_runs", statistics.fmean(v["runs"])),
+            ("max_runs", max(v["runs"])), ("mean_wall_s", statistics.fmean(v["wall_s"])))},
+        "target_median_runs": 5,
+    }
+    return out
 
 
 def bench_study_and_reproduce() -> dict:
@@ -142,8 +178,14 @@ def main() -> int:
     d = results["double_lane_change_10s_30kmh"]
     print("closed-loop ISO 3888-1 double lane change, 10 s at 30 km/h:")
     print(f"  end to end  {d['wall_s'] * 1e3:7.1f} ms   real-time factor {d['real_time_factor']:6.0f}")
-    t = results["threshold_search_dlc"]
-    print(f"threshold search, DLC: {t['wall_s']:.2f} s ({t['runs']} runs) -> {t['threshold_speed_kmh']} km/h ({t['limit']})")
+    t, b = results["threshold_search_dlc_margin"], results["threshold_search_dlc_bisection"]
+    print(f"threshold search, DLC: {t['wall_s']:.2f} s ({t['runs']} runs) -> {t['threshold_speed_kmh']} km/h ({t['limit']});"
+          f" bisection {b['wall_s']:.2f} s ({b['runs']} runs) -> {b['threshold_speed_kmh']} km/h")
+    p = results["threshold_search_paper_study"]
+    print(f"threshold searches over the paper's study ({p['scenarios']} scenarios): median {p['margin_median_runs']:g} runs"
+          f" per search (mean {p['margin_mean_runs']:.2f}, max {p['margin_max_runs']}; target <= 5),"
+          f" {p['margin_mean_wall_s']:.2f} s per search; bisection median {p['bisection_median_runs']:g} runs,"
+          f" {p['bisection_mean_wall_s']:.2f} s; same threshold in {p['same_threshold_as_bisection']}/{p['scenarios']}")
     st, rp = results["study_paper_2_workers"], results["reproduce"]
     print(f"built-in study, 2 workers: {st['wall_s']:.1f} s (target 60 s)")
     print(f"trikedyn reproduce: {rp['wall_s']:.1f} s (target 120 s)")

@@ -1,0 +1,387 @@
+"""Where a threshold search looks next: a continuous margin, extrapolated to zero, certified on a grid.
+
+The pass/fail verdict of a run is a step in speed; the smallest wheel load behind it is not. Every run
+yields a **margin table** (:func:`margin_table`): the minimum vertical force [N] of each wheel in each of
+``BINS`` stretches of the judged window (by distance along the path for a closed-loop manoeuvre, by time
+otherwise; the run-in before the entry gate is one more stretch). An entry falls smoothly with speed
+while the dip it holds stays in its stretch (each entry is read as the minimum over its neighbours too,
+so that a dip moving a little with speed stays in view), even where the overall minimum jumps from one
+dip to another, as when a later, steeper dip overtakes an earlier, shallower one.
+
+**Signed extension.** A run that lifts a wheel keeps the entries before the lift; the lifting wheel's
+stretch gets the depth its load would have dipped to below zero, ``F' T / 4`` [N] (``F'`` the rate of fall
+through zero [N/s], ``T`` the time the wheel stayed up: the depth of a parabolic dip of that slope and
+width, :func:`_virtual_dip`); later entries are unknown. The margin is thus continuous through zero at
+the threshold and negative above it, so that regula-falsi steps work across it.
+
+**Estimate** (:func:`predicted_crossing`). Each entry's zero is predicted in ``v^2`` (the load an axle
+transfers grows with the lateral acceleration, ``v^2`` times the path's curvature): by the straight line
+through its two highest passing speeds, or through its static load at ``v = 0`` and the one passing speed
+known; with a failing speed above that line's zero, by the secant (regula falsi) from the highest pass
+to the failure's negative value, weighted by ``NEG_WEIGHT`` (the load falls more steeply beyond the lift
+than before it) and Illinois-corrected (the weight doubles after two failures in a row, halves after two
+passes). With failures only, by the secant from the static load. The estimate is the lowest predicted
+zero.
+
+**Search** (:func:`margin_search`). The first run is at ``SEED_FRACTION`` of the static tip-over speed in
+the manoeuvre's tightest curve (:func:`seed_speed`: the rigid vehicle's tip-over lateral acceleration of
+:func:`trikedyn.params.audit.tip_over_thresholds` over the largest curvature in the window). While no
+run has failed, the next goes to the estimate, only ``FIRST_STEP`` of the way after the first run (its
+line from ``v = 0`` reaches far); while none has passed, to the estimate but ``DOWN`` of the failing speed
+at most. Once bracketed, the next run is at the grid speed below the estimate (after a pass) or nearest to
+it (after a failure), inside the bracket; halfway across at least when two runs in a row crept up on the
+crossing from the same side (by less than ``1 / CRAWL`` of the bracket), and bisection when the bracket
+stops halving. The paper's 50 scenarios take a median of 5 runs (4 to 9), bisection 12.
+
+The estimate only chooses where to look: the answer is certified like a bisection's, by a passing run at a
+grid speed and a failing run one grid step above it (or a failing ``low_kmh``, or a passing ``high_kmh``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["BINS", "SEED_FRACTION", "Grid", "Probe", "SearchOutcome", "margin_search", "margin_table",
+           "predicted_crossing", "seed_speed"]
+
+BINS = 24
+"""Stretches of the judged window the margin is tracked over (plus the run-in)."""
+
+SEED_FRACTION = 0.7
+"""First speed tried, as a fraction of the static tip-over speed in the manoeuvre's tightest curve [-]
+(the paper's e-trike: thresholds at 0.68-0.82 of it in the lane changes)."""
+
+FIRST_STEP = 0.6
+"""Fraction of the way to the first estimate (a line from the static load, which overshoots) [-]."""
+
+FAR_KMH = 1.5
+"""The first step is shortened only when the estimate is farther than this above the first run [km/h]."""
+
+DOWN = 0.9
+"""While nothing has passed, each run is at this fraction of the lowest failing speed at most [-]."""
+
+NEG_WEIGHT = 0.5
+"""Initial weight of a failure's negative margin in the secant [-]."""
+
+CRAWL = 8
+"""Two runs in a row on the same side that moved less than 1/CRAWL of the bracket: the next goes at least
+halfway across it."""
+
+SPAN = 1
+"""Neighbouring stretches (each side) an entry of the margin table also covers."""
+
+
+@dataclass(frozen=True)
+class Grid:
+    """The speeds a search may report: ``low_kmh + k * resolution_kmh``, the last one ``high_kmh`` [km/h]."""
+
+    low_kmh: float
+    high_kmh: float
+    resolution_kmh: float
+
+    @property
+    def last(self) -> int:
+        """Index of ``high_kmh``."""
+        return max(1, math.ceil((self.high_kmh - self.low_kmh) / self.resolution_kmh - 1e-9))
+
+    def speed(self, k: int) -> float:
+        """Speed of index ``k`` [km/h], rounded to 1e-6 km/h."""
+        if k >= self.last:
+            return round(self.high_kmh, 6)
+        return round(self.low_kmh + k * self.resolution_kmh, 6)
+
+    def index_below(self, speed_kmh: float) -> int:
+        """Highest index at or below ``speed_kmh`` (may be -1 or beyond ``last``)."""
+        return math.floor((speed_kmh - self.low_kmh) / self.resolution_kmh + 1e-9)
+
+
+@dataclass(frozen=True)
+class Probe:
+    """One run as the search sees it: its verdict, its margin table [N] (wheels x stretches; NaN unknown)
+    and the wheels' static loads [N], or None when the run gave no loads."""
+
+    speed_kmh: float
+    passed: bool
+    margins: np.ndarray | None = None
+    static_N: np.ndarray | None = None
+
+    @property
+    def margin_N(self) -> float | None:
+        """The signed margin [N]: the smallest entry of the table (negative when a wheel lifted)."""
+        if self.margins is None or not np.isfinite(self.margins).any():
+            return None
+        return float(np.nanmin(self.margins))
+
+
+@dataclass(frozen=True)
+class SearchOutcome:
+    """Indices of the certified pair: ``passed`` (None when ``low_kmh`` fails) and ``failed`` (None when
+    ``high_kmh`` passes), and the estimates [km/h] made before each probe (None: none possible)."""
+
+    passed: int | None
+    failed: int | None
+    estimates: tuple[float | None, ...]
+
+
+# ------------------------------------------------------------------------------------------------------------
+# the margin of one run
+# ------------------------------------------------------------------------------------------------------------
+def margin_table(result, *, fail_time_s: float | None = None, lift_wheel: str | None = None,
+                 bins: int = BINS) -> tuple[np.ndarray, np.ndarray]:
+    """The margin table of a run and its wheels' static loads.
+
+    Parameters
+    ----------
+    result : Result
+        A run of :func:`trikedyn.simulate.closed_loop.run`.
+    fail_time_s : float, optional
+        Time of its first failure [s] (lift or lost path): later samples are not used.
+    lift_wheel : str, optional
+        The wheel that lifted at ``fail_time_s``: its stretch gets the negative extension.
+    bins : int
+        Stretches of the judged window.
+
+    Returns
+    -------
+    margins : ndarray (wheels, bins + 1)
+        Minimum vertical force [N] per wheel and stretch (column 0: the run-in), NaN where unknown.
+    static : ndarray (wheels,)
+        Vertical force of each wheel at the start of the run [N] (the margin at ``v = 0``).
+    """
+    from .metrics import judged_mask, until_exit
+
+    wheels = result.meta["wheels"]
+    fz = np.column_stack([np.asarray(result[f"{w}_fz_N"], dtype=float) for w in wheels])
+    static = fz[0].copy()
+    judged = judged_mask(result)
+    scope = until_exit(result) if judged.any() else np.ones(fz.shape[0], dtype=bool)
+    coord, start, end = _coordinate(result, judged)
+    width = (end - start) / bins
+    column = np.clip(np.floor((coord - start) / width).astype(int) + 1, 0, bins) if width > 0 \
+        else np.zeros(fz.shape[0], dtype=int)
+    time = np.asarray(result.time_s)
+    before = scope & (time < fail_time_s) if fail_time_s is not None else scope
+    out = np.full((len(wheels), bins + 1), np.nan)
+    for b in np.unique(column[before]):
+        rows = before & (column == b)
+        out[:, b] = fz[rows].min(axis=0)
+    if lift_wheel is not None and fail_time_s is not None and lift_wheel in wheels:
+        w = wheels.index(lift_wheel)
+        after = np.nonzero(scope & (time >= fail_time_s))[0]
+        if after.size:
+            i = int(after[0])
+            out[w, column[i]] = max(_virtual_dip(time, fz[:, w], i, int(after[-1])), -static[w])
+    return out, static
+
+
+def _virtual_dip(time: np.ndarray, load: np.ndarray, i: int, end: int) -> float:
+    """How deep below zero a wheel's load would have dipped [N], from the lift at sample ``i``.
+
+    Near its minimum a dip is a parabola, ``F(t) = F_min + F'' (t - t_min)^2 / 2``: it stays below zero for
+    ``T = 2 sqrt(-2 F_min / F'')`` and falls through zero at the rate ``F' = -F'' T / 2``, so
+    ``F_min = F' T / 4``. ``F'`` is the load's rate of fall before the lift [N/s], ``T`` the time the wheel
+    stayed up (to ``end`` if it did not come down). Zero at the threshold, it grows smoothly beyond it.
+    """
+    if i < 2:
+        return 0.0
+    rate = (load[i - 1] - load[i - 2]) / (time[i - 1] - time[i - 2])
+    if not rate < 0:
+        return 0.0
+    down = min(time[i - 1] + load[i - 1] / -rate, time[i])
+    landed = np.nonzero(load[i:end + 1] > 0)[0]
+    up = 0.5 * (time[i + landed[0] - 1] + time[i + landed[0]]) if landed.size else time[end]
+    return float(rate * max(up - down, 0.0) / 4)
+
+
+def _coordinate(result, judged: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """Where along the manoeuvre each sample is (distance along the path [m] or time [s]), and the gates."""
+    man = result.manoeuvre
+    time = np.asarray(result.time_s, dtype=float)
+    if man is not None:
+        w = man.window
+        if w.kind == "distance" and "path_s_m" in result.channels:
+            return np.asarray(result["path_s_m"], dtype=float), float(w.start), float(w.end)
+        if w.kind == "time":
+            return time, float(w.start), float(w.end)
+    if judged.any():
+        inside = time[judged]
+        return time, float(inside[0]), float(inside[-1])
+    return time, float(time[0]), float(time[-1])
+
+
+# ------------------------------------------------------------------------------------------------------------
+# the first guess
+# ------------------------------------------------------------------------------------------------------------
+def seed_speed(params, manoeuvre) -> float | None:
+    """The static tip-over speed in the manoeuvre's tightest curve [km/h], or None when it has none.
+
+    ``v = sqrt(a_tip / kappa_max)``: ``a_tip`` the smallest lateral acceleration that tips the rigid
+    vehicle about an edge of its support triangle [m/s^2], ``kappa_max`` the largest |curvature| of the
+    path inside the judged window [1/m] (open loop: the largest steer angle over the wheelbase).
+    """
+    from ..params.audit import tip_over_thresholds
+
+    edges = [e for e in tip_over_thresholds(params) if e["lateral"] and e["acceleration_g"] > 0]
+    if not edges:
+        return None
+    a_tip = min(e["acceleration_g"] for e in edges) * 9.80665
+    kappa = 0.0
+    if manoeuvre.steer is not None:
+        kappa = float(np.abs(manoeuvre.steer[:, 1]).max()) / max(float(params.wheelbase_m), 1e-3)
+    elif manoeuvre.path is not None:
+        path, w = manoeuvre.path, manoeuvre.window
+        inside = (path.s_m >= w.start) & (path.s_m <= w.end) if w.kind == "distance" else np.ones(path.s_m.size, bool)
+        if inside.any():
+            kappa = float(np.abs(path.curvature_per_m[inside]).max())
+    if not (kappa > 0 and math.isfinite(kappa)):
+        return None
+    return math.sqrt(a_tip / kappa) * 3.6
+
+
+# ------------------------------------------------------------------------------------------------------------
+# the estimate
+# ------------------------------------------------------------------------------------------------------------
+def predicted_crossing(probes: list[Probe], weight: float = 1.0) -> float | None:
+    """Lowest predicted zero of the margin table's entries [km/h] (see the module docstring), or None."""
+    usable = [p for p in probes if p.margins is not None]
+    if not usable:
+        return None
+    shape = usable[0].margins.shape
+    usable = [p for p in usable if p.margins.shape == shape]
+    order = sorted(usable, key=lambda p: p.speed_kmh)
+    v2 = np.array([p.speed_kmh for p in order]) ** 2
+    table = _neighbourhood(np.stack([p.margins for p in order]), SPAN)  # (runs, wheels, stretches)
+    static = next((p.static_N for p in order if p.static_N is not None), None)
+    best = math.inf
+    for w in range(shape[0]):
+        for b in range(shape[1]):
+            m = table[:, w, b]
+            z = _crossing(v2, m, None if static is None else float(static[w]), weight)
+            if z is not None:
+                best = min(best, z)
+    return math.sqrt(best) if math.isfinite(best) and best > 0 else None
+
+
+def _neighbourhood(table: np.ndarray, span: int) -> np.ndarray:
+    """Each entry replaced by the minimum over ``span`` stretches each side (same wheel): a dip that moves
+    a little along the manoeuvre from one speed to the next stays in every entry that saw it. Unknown
+    (NaN) when a neighbour is unknown, unless a known neighbour is already negative."""
+    if span <= 0:
+        return table
+    n = table.shape[-1]
+    out = np.empty_like(table)
+    for b in range(n):
+        part = table[..., max(0, b - span): b + span + 1]
+        low = np.where(np.isfinite(part), part, np.inf).min(axis=-1)
+        unknown = ~np.isfinite(part).all(axis=-1) & ~(low <= 0)
+        out[..., b] = np.where(unknown | ~np.isfinite(low), np.nan, low)
+    return out
+
+
+def _crossing(v2: np.ndarray, m: np.ndarray, static: float | None, weight: float) -> float | None:
+    """Predicted ``v^2`` [km^2/h^2] at which one entry reaches zero, from its values ``m`` [N] at ``v2``
+    (ascending; NaN unknown), its static load [N] and the weight of negative values."""
+    known = np.isfinite(m)
+    pos = np.nonzero(known & (m > 0))[0]
+    anchor = static is not None and static > 0
+    if not pos.size:  # failures only: the secant from the static load at v = 0
+        neg = np.nonzero(known)[0]
+        if not neg.size or not anchor:
+            return None
+        return v2[neg[0]] * static / (static - weight * m[neg[0]])
+    vb, mb = v2[pos[-1]], m[pos[-1]]
+    line = None
+    if pos.size >= 2:
+        va, ma = v2[pos[-2]], m[pos[-2]]
+    elif anchor and vb > 0:
+        va, ma = 0.0, static
+    else:
+        va, ma = vb, mb
+    if ma > mb and vb > va:  # falling: the line through the two highest passes
+        line = vb + mb * (vb - va) / (ma - mb)
+    neg = np.nonzero(known & (m <= 0) & (v2 > vb))[0]
+    if not neg.size:
+        return line
+    vc, mc = v2[neg[0]], weight * m[neg[0]]
+    if pos.size >= 2 and line is not None and line < vc:  # two passes foresee it before the failure
+        return line
+    return vb + mb * (vc - vb) / (mb - mc)  # regula falsi to the nearest failure
+
+
+# ------------------------------------------------------------------------------------------------------------
+# the search
+# ------------------------------------------------------------------------------------------------------------
+def margin_search(probe: Callable[[float], Probe], grid: Grid, *, seed_kmh: float | None = None,
+                  step_kmh: float = 10.0) -> SearchOutcome:
+    """Find a passing grid speed with a failing one a grid step above it, guided by the margin.
+
+    Parameters
+    ----------
+    probe : callable
+        ``probe(speed_kmh) -> Probe``: runs the manoeuvre at that speed.
+    grid : Grid
+        The speeds [km/h] that may be tried and reported.
+    seed_kmh : float, optional
+        The static tip-over speed in the manoeuvre's tightest curve [km/h] (:func:`seed_speed`); the first
+        run is at ``SEED_FRACTION`` of it. Without it the first run is at ``low_kmh + step_kmh``.
+    step_kmh : float
+        Rise [km/h] when the margin gives no estimate and nothing has failed yet.
+
+    Returns
+    -------
+    SearchOutcome
+    """
+    last = grid.last
+    step = max(1, round(step_kmh / grid.resolution_kmh))
+    probes: list[Probe] = []
+    estimates: list[float | None] = [None]
+    lo, hi = -1, last + 1  # highest index known to pass, lowest known to fail (-1, last + 1: none yet)
+    widths: list[int] = []
+    weight = NEG_WEIGHT
+    tried: list[int] = []
+    if seed_kmh is not None and math.isfinite(seed_kmh) and seed_kmh > 0:
+        k = min(max(grid.index_below(SEED_FRACTION * seed_kmh), 0), last)
+    else:
+        k = min(step, last)
+    tried.append(k)
+    while True:
+        result = probe(grid.speed(k))
+        if probes and lo >= 0 and hi <= last and result.passed == probes[-1].passed:
+            weight = weight / 2 if result.passed else weight * 2  # Illinois: the side kept twice weighs less
+        probes.append(result)
+        if result.passed:
+            lo = k
+        else:
+            hi = k
+        if hi - lo <= 1:
+            break
+        z = predicted_crossing(probes, weight)
+        estimates.append(z)
+        if lo >= 0 and hi <= last:
+            widths.append(hi - lo)
+        if lo < 0:  # nothing has passed yet: down to the estimate, by DOWN at least
+            k = grid.index_below(DOWN * grid.speed(hi))
+            if z is not None:
+                k = min(k, grid.index_below(z))
+        elif len(widths) >= 3 and widths[-1] > widths[-3] / 2:
+            k = (lo + hi) // 2  # the estimate is not closing the bracket: bisect
+        elif z is None:
+            k = min(lo + step, last) if hi > last else (lo + hi) // 2
+        else:
+            if hi > last and len(probes) == 1 and z - grid.speed(lo) > FAR_KMH:
+                z = grid.speed(lo) + FIRST_STEP * (z - grid.speed(lo))
+            # below the estimate after a pass; nearest to it after a failure (the secant to a failure's
+            # steeper negative side falls short)
+            k = grid.index_below(z if result.passed else z + 0.5 * grid.resolution_kmh)
+            if lo >= 0 and hi <= last and probes[-2].passed == result.passed \
+                    and CRAWL * abs(tried[-1] - tried[-2]) < hi - lo:
+                # creeping up on the crossing from one side in a wide bracket: at least halfway across
+                middle = (lo + hi) // 2
+                k = max(k, middle) if result.passed else min(k, middle)
+        k = min(max(k, lo + 1), hi - 1)
+        tried.append(k)
+    return SearchOutcome(lo if lo >= 0 else None, hi if hi <= last else None, tuple(estimates))
