@@ -23,6 +23,7 @@ fuzz: $(STAMP)
 	TRIKEDYN_FUZZ_EXAMPLES=$${FUZZ_EXAMPLES:-12500} $(BIN)/python -m pytest -q -p no:cacheprovider tests/fuzz
 
 bench: $(STAMP)
+	$(BIN)/python -m pip install --quiet commonroad-vehicle-models  # the peer, for the bench only
 	$(BIN)/python benchmarks/run.py
 
 docs: $(STAMP)

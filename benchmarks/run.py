@@ -156,6 +156,32 @@ def bench_study_and_reproduce() -> dict:
     return out
 
 
+def bench_peer(dlc: dict) -> dict:
+    """Issue 11: the CommonRoad multi-body model on its own 10 s lane change, in this process."""
+    from commonroad_peer import lane_change_real_time_factor
+
+    rtf = lane_change_real_time_factor()
+    if rtf is None:
+        return {"commonroad_mb_lane_change_10s": None}
+    ours = dlc["double_lane_change_10s_30kmh"]["real_time_factor"]
+    return {"commonroad_mb_lane_change_10s": {"real_time_factor": rtf, "trikedyn_dlc_over_commonroad": ours / rtf}}
+
+
+def bench_startup() -> dict:
+    """Issue 11: wall time of ``trikedyn --version`` and ``trikedyn vehicle list`` (warm cache, best of 3)."""
+    import subprocess
+
+    exe = Path(sys.executable).with_name("trikedyn")
+    out = {}
+    for name, args in (("version", ["--version"]), ("vehicle_list", ["vehicle", "list"])):
+        def call(args=args):
+            subprocess.run([str(exe), *args], check=True, capture_output=True)
+
+        call()
+        out[name] = best_of(call, 3)
+    return {"startup_s": out}
+
+
 def main() -> int:
     results = {
         "trikedyn": __version__,
@@ -166,6 +192,8 @@ def main() -> int:
     }
     results.update(bench_sine_steer())
     results.update(bench_double_lane_change())
+    results.update(bench_peer(results))
+    results.update(bench_startup())
     results.update(bench_threshold())
     results.update(bench_study_and_reproduce())
     out = Path(__file__).with_name("results.json")
@@ -178,6 +206,14 @@ def main() -> int:
     d = results["double_lane_change_10s_30kmh"]
     print("closed-loop ISO 3888-1 double lane change, 10 s at 30 km/h:")
     print(f"  end to end  {d['wall_s'] * 1e3:7.1f} ms   real-time factor {d['real_time_factor']:6.0f}")
+    peer = results["commonroad_mb_lane_change_10s"]
+    if peer is None:
+        print("CommonRoad multi-body model: not installed (pip install commonroad-vehicle-models)")
+    else:
+        print(f"CommonRoad multi-body model (scipy odeint), its 10 s lane change: real-time factor "
+              f"{peer['real_time_factor']:.1f}; trikedyn's DLC is {peer['trikedyn_dlc_over_commonroad']:.0f}x faster")
+    su = results["startup_s"]
+    print(f"trikedyn --version {su['version']:.2f} s, trikedyn vehicle list {su['vehicle_list']:.2f} s")
     t, b = results["threshold_search_dlc_margin"], results["threshold_search_dlc_bisection"]
     print(f"threshold search, DLC: {t['wall_s']:.2f} s ({t['runs']} runs) -> {t['threshold_speed_kmh']} km/h ({t['limit']});"
           f" bisection {b['wall_s']:.2f} s ({b['runs']} runs) -> {b['threshold_speed_kmh']} km/h")
