@@ -240,14 +240,10 @@ class Path:
         """
         px = np.asarray(x, dtype=np.float64).ravel()
         py = np.asarray(y, dtype=np.float64).ravel()
-        n = self.x_m.size
-        idx = np.empty(px.size, dtype=np.int64)
-        j = 0
-        for k in range(px.size):
-            lo, hi = max(j - back, 0), min(j + ahead, n)
-            d2 = (self.x_m[lo:hi] - px[k]) ** 2 + (self.y_m[lo:hi] - py[k]) ** 2
-            j = lo + int(np.argmin(d2))
-            idx[k] = j
+        from ._nearest import track_indices
+
+        idx = track_indices(np.ascontiguousarray(self.x_m, dtype=np.float64),
+                            np.ascontiguousarray(self.y_m, dtype=np.float64), px, py, int(back), int(ahead))
         return self._foot(idx, px, py)
 
     def _foot(self, i: np.ndarray, px: np.ndarray, py: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -329,10 +325,12 @@ def _lateral_profile(x, y_start: float, transitions):
     for x_from, x_to, y_to in transitions:
         span = x_to - x_from
         delta = y_to - level
-        b, db, ddb = _sine_blend((x - x_from) / span)
-        y += delta * b
-        dy += delta * db / span
-        ddy += delta * ddb / span**2
+        y[x >= x_to] += delta  # past the blend: the whole step (b = 1, b' = b'' = 0)
+        inside = (x > x_from) & (x < x_to)  # before it: nothing (b = b' = b'' = 0)
+        b, db, ddb = _sine_blend((x[inside] - x_from) / span)
+        y[inside] += delta * b
+        dy[inside] += delta * db / span
+        ddy[inside] += delta * ddb / span**2
         level = y_to
     return y, dy, ddy
 
