@@ -37,3 +37,46 @@ def test_the_command_line_starts_without_the_heavy_libraries():
             "print(sorted(m for m in ('scipy', 'pandas', 'numba', 'matplotlib') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+def test_the_flat_api_offers_what_the_readme_uses():
+    """Issue 13: drive, compare, run_study, override and the manoeuvres at ``td.``, each the module's own."""
+    from trikedyn.analysis.compare import compare
+    from trikedyn.manoeuvres.registry import build
+    from trikedyn.params import override
+    from trikedyn.simulate.closed_loop import drive
+    from trikedyn.study.runner import run_study
+
+    expected = {"drive": drive, "compare": compare, "run_study": run_study, "override": override,
+                "build_manoeuvre": build, "threshold_velocity": td.threshold_velocity, "run": td.run}
+    for name, value in expected.items():
+        assert name in td.__all__ and getattr(td, name) is value, name
+    trike = td.override(td.load_vehicle("reference-etrike"), {"mass.driver_kg": 80.0})
+    assert trike.params.mass.driver_kg == 80.0
+    assert td.build_manoeuvre("slc", trike.params, 30.0) is not None
+
+
+def test_a_vehicle_has_its_mass_and_cg_at_hand():
+    import numpy as np
+
+    trike = td.load_vehicle("reference-etrike")
+    assert trike.mass_kg == trike.params.mass.total_kg
+    assert isinstance(trike.cg_m, np.ndarray) and trike.cg_m.shape == (3,)
+    np.testing.assert_allclose(trike.cg_m, trike.params.mass.cg_m)
+    laden = td.with_freight(trike, 100.0)
+    site = trike.params.freight
+    assert laden.mass_kg == trike.mass_kg + 100.0
+    expected = (trike.mass_kg * trike.cg_m + 100.0 * np.array([site.x_m, site.y_m, site.z_m])) / laden.mass_kg
+    np.testing.assert_allclose(laden.cg_m, expected, atol=1e-12)
+    laden.cg_m[0] = 99.0  # a copy: the vehicle is not changed
+    assert laden.cg_m[0] != 99.0
+
+
+def test_import_trikedyn_loads_no_heavy_library():
+    import subprocess
+    import sys
+
+    code = ("import sys, trikedyn\n"
+            "print(sorted(m for m in ('scipy', 'pandas', 'numba', 'matplotlib') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"

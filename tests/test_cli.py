@@ -34,7 +34,7 @@ def test_vehicle_commands_json(capsys):
     topics = {f["topic"] for f in json.loads(out)["findings"]}
     assert {"damping (Eq. 4)", "sprung mass", "tip-over (rigid, static)"} <= topics
     code, out, _ = run(capsys, "vehicle", "check", "reference-etrike")
-    assert code == 0 and "INCONSISTENT" in out and "9.54x" in out
+    assert code == 1 and "INCONSISTENT" in out and "9.54x" in out  # exit 1: the paper's damping is inconsistent
 
 
 def test_vehicle_export_then_check(capsys, tmp_path):

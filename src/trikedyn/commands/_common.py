@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 from typing import Annotated
 
@@ -11,8 +12,9 @@ import typer
 
 from ..errors import InputError
 
-__all__ = ["ForceOpt", "JsonOpt", "ManoeuvreOpt", "OptionOpt", "VehicleArg", "WARNINGS", "emit", "finite",
-           "json_default", "manoeuvre_options", "save_figure", "within"]
+__all__ = ["ForceOpt", "FreightAliasOpt", "JsonOpt", "ManoeuvreOpt", "OptionOpt", "PayloadOpt", "VehicleArg", "WARNINGS",
+           "emit", "finite", "json_default", "key_values", "manoeuvre_options", "payload_kg", "readable", "round_text",
+           "save_figure", "within"]
 
 
 def within(low: float, high: float, unit: str = "", *, above: bool = False):
@@ -37,6 +39,39 @@ JsonOpt = Annotated[bool, typer.Option("--json", help="Print machine-readable JS
 ForceOpt = Annotated[bool, typer.Option("--force", help="Replace output files that exist already.")]
 VehicleArg = Annotated[str, typer.Argument(help="Preset name (see `trikedyn vehicle list`) or a .toml file.")]
 
+# One name per quantity: the paper's freight is ``--payload`` on every command. ``--freight``, its older name
+# in ``modes`` and ``cg payload``, still works but is hidden from --help. A command that takes freight has
+# both parameters, named so: ``payload: PayloadOpt = 0.0, freight: FreightAliasOpt = None``, and reads
+# ``payload_kg(payload, freight)``; giving both options is a user error.
+def _one_of(other: str):
+    """Typer callback: the option's value in range (:func:`within`), and ``other`` not given as well."""
+    check = within(0, 2000, "kg")
+
+    def callback(ctx: typer.Context, param: typer.CallbackParam, value):
+        value = check(ctx, param, value)
+        if ctx.resilient_parsing:
+            return value
+        given = [getattr(ctx.get_parameter_source(name), "name", None) in ("COMMANDLINE", "ENVIRONMENT")
+                 for name in (param.name, other)]
+        if all(given):
+            raise InputError("give --payload or its old name --freight, not both", where="--freight")
+        return value
+
+    return callback
+
+
+PayloadOpt = Annotated[
+    float, typer.Option("--payload", callback=_one_of("freight"), help="The paper's freight aboard [kg].")
+]
+FreightAliasOpt = Annotated[
+    float | None, typer.Option("--freight", hidden=True, callback=_one_of("payload"), help="Old name of --payload [kg].")
+]
+
+
+def payload_kg(payload: float, freight: float | None) -> float:
+    """The freight [kg] given as ``--payload`` or as its hidden old name ``--freight``."""
+    return payload if freight is None else freight
+
 
 WARNINGS: list[str] = []
 """Warnings raised while a command runs (printed as one line each, and listed under ``warnings`` in JSON)."""
@@ -52,9 +87,79 @@ def emit(data, as_json: bool, text=None) -> None:
             clean = {**clean, "warnings": [*clean.get("warnings", []), *notes]}
         typer.echo(json.dumps(clean, indent=2, default=json_default, allow_nan=False))
     elif text is not None:
-        typer.echo(text() if callable(text) else text)
+        typer.echo(round_text(text() if callable(text) else text))
     else:
         typer.echo(json.dumps(finite(data)[0], indent=2, default=json_default, allow_nan=False))
+
+
+SIGNIFICANT = 4
+"""Significant digits of a number in text output (an integer part is never cut; JSON keeps every digit)."""
+
+_LONG_NUMBER = re.compile(r"(?<![\w.])[-+]?(?:\d+\.\d*|\.\d+)(?:[eE][-+]?\d+)?(?![\w.])")
+
+
+def readable(value, digits: int = SIGNIFICANT) -> str:
+    """A number for reading: ``digits`` significant digits, trailing zeros dropped, the integer part kept
+    (``2.657138346546658`` -> ``2.657``, ``10.450000000000001`` -> ``10.45``, ``80289.0`` -> ``80289``);
+    scientific notation below 1e-3 and from 1e6. Anything that is not a float is ``str(value)``."""
+    if hasattr(value, "item") and not isinstance(value, str):  # numpy scalars
+        value = value.item()
+    if not isinstance(value, float):
+        return str(value)
+    if not math.isfinite(value) or value == 0.0:
+        return "0" if value == 0.0 else str(value)
+    size = abs(value)
+    if size < 1e-3 or size >= 1e6:
+        mantissa, exponent = f"{value:.{digits - 1}e}".split("e")
+        mantissa = mantissa.rstrip("0").rstrip(".") if "." in mantissa else mantissa
+        return f"{mantissa}e{int(exponent)}"
+    decimals = max(0, digits - 1 - math.floor(math.log10(size)))
+    text = f"{value:.{decimals}f}"
+    text = text.rstrip("0").rstrip(".") if "." in text else text
+    return "0" if text in ("-0", "+0") else text
+
+
+def _significant(number: str) -> int:
+    mantissa = number.lstrip("+-").split("e")[0].split("E")[0]
+    return len(mantissa.replace(".", "").lstrip("0"))
+
+
+def round_text(text: str, longest: int = 7) -> str:
+    """``text`` with every decimal number of more than ``longest`` significant digits (an unformatted float
+    such as ``10.450000000000001``) rounded by :func:`readable`; numbers a command formatted are kept."""
+
+    def shorten(match: re.Match) -> str:
+        number = match.group(0)
+        if _significant(number) <= longest:
+            return number
+        shown = readable(float(number))
+        return ("+" + shown) if number.startswith("+") and not shown.startswith("-") else shown
+
+    return _LONG_NUMBER.sub(shorten, text)
+
+
+def _shown(value) -> str:
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k}: {_shown(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, list | tuple):
+        return "[" + ", ".join(_shown(v) for v in value) + "]"
+    if hasattr(value, "tolist") and not isinstance(value, str):  # numpy arrays
+        return _shown(value.tolist())
+    return readable(value)
+
+
+def key_values(data: dict, indent: str = "") -> list[str]:
+    """A result as ``key  value`` lines for reading: numbers by :func:`readable`, a nested result (a dict)
+    as its own block, indented under its key."""
+    width = max((len(str(k)) for k in data), default=0) + 2
+    lines = []
+    for key, value in data.items():
+        if isinstance(value, dict) and value:
+            lines.append(f"{indent}{key}")
+            lines += key_values(value, indent + "  ")
+        else:
+            lines.append(f"{indent}{str(key):<{width}}{_shown(value)}")
+    return lines
 
 
 def json_default(obj):

@@ -9,10 +9,12 @@ import typer
 
 from ..errors import InputError
 from ._common import (
+    FreightAliasOpt,
     JsonOpt,
+    PayloadOpt,
     VehicleArg,
     emit,
-    within,
+    payload_kg,
 )
 
 cg_app = typer.Typer(help="Centre of gravity: from wheel weighings, and with payload.", no_args_is_help=True)
@@ -47,19 +49,21 @@ def _floats(text: str, n: int, option: str) -> list[float]:
 @cg_app.command("payload")
 def cg_payload(
     vehicle: VehicleArg,
-    freight: Annotated[float, typer.Option(callback=within(0, 2000, "kg"), help="The paper's freight [kg] at the vehicle's freight site.")] = 0.0,
+    payload: PayloadOpt = 0.0,
+    freight: FreightAliasOpt = None,
     point: Annotated[list[str], typer.Option(help="Point mass 'KG,X,Y,Z' [kg, m]; repeatable.")] = [],  # noqa: B006
     box: Annotated[list[str], typer.Option(help="Box 'KG,X,Y,Z,LX,LY,LZ' [kg, m]; repeatable.")] = [],  # noqa: B006
     remove: Annotated[bool, typer.Option(help="Take the payload off instead of adding it.")] = False,
     as_json: JsonOpt = False,
 ):
     """Mass, CG and inertia of a vehicle with a payload added (or removed)."""
+    payload = payload_kg(payload, freight)
     from ..measure.cg import Box, Payload, PointMass
     from ..params import freight as paper_freight
     from ..params import load_vehicle, mass_properties, with_payload
 
     pset = load_vehicle(vehicle)
-    items = list(paper_freight(pset.params, freight).items) if freight else []
+    items = list(paper_freight(pset.params, payload).items) if payload else []
     for i, spec in enumerate(point):
         m, x, y, z = _floats(spec, 4, f"--point #{i + 1}")
         items.append(PointMass(m, (x, y, z), name=f"--point #{i + 1}"))

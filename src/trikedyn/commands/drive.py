@@ -12,14 +12,18 @@ import typer
 from ..errors import InputError
 from ._common import (
     ForceOpt,
+    FreightAliasOpt,
     JsonOpt,
     ManoeuvreOpt,
     OptionOpt,
+    PayloadOpt,
     VehicleArg,
     emit,
     finite,
     json_default,
+    key_values,
     manoeuvre_options,
+    payload_kg,
     save_figure,
     within,
 )
@@ -27,29 +31,40 @@ from ._common import (
 
 def modes_cmd(
     vehicle: VehicleArg,
-    freight: Annotated[float, typer.Option(callback=within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
+    payload: PayloadOpt = 0.0,
+    freight: FreightAliasOpt = None,
+    speed: Annotated[float, typer.Option("--speed", callback=within(0, 400, "km/h"),
+                                         help="Rolling straight ahead at this speed [km/h] (0: at rest).")] = 0.0,
     as_json: JsonOpt = False,
 ):
-    """Static equilibrium, and the vibration modes of the linearised model about it."""
+    """Static equilibrium, and the vibration modes of the linearised model about it, at rest or rolling
+    straight ahead (--speed), named by what carries their kinetic energy."""
     from ..model.linear import modes
     from ..model.statics import static_equilibrium
     from ..model.vehicle import build_model
     from ..params import load_vehicle, with_freight
+    from ..units import kmh_to_mps
 
+    freight = payload_kg(payload, freight)
     model = build_model(with_freight(load_vehicle(vehicle), freight))
     eq = static_equilibrium(model)
-    found = modes(model, eq)
+    found = modes(model, eq, speed_mps=kmh_to_mps(speed))
     data = {
         "vehicle": model.params.name,
         "freight_kg": freight,
+        "payload_kg": freight,
+        "speed_kmh": speed,
         "static_wheel_loads_N": eq.wheel_loads_N,
         "modes": [m.to_dict() for m in found],
     }
     lines = [f"{model.params.name}: static wheel loads " + ", ".join(f"{k} {v:.0f} N" for k, v in eq.wheel_loads_N.items())]
-    lines += [f"{'mode':<24}{'f [Hz]':>9}{'zeta':>8}   participation"]
+    where = "at rest" if speed == 0 else f"rolling straight ahead at {speed:g} km/h"
+    lines.append(f"modes {where}; participation: share of each mode's kinetic energy")
+    width = max([24, *(len(m.name) + 2 for m in found)])
+    lines += [f"{'mode':<{width}}{'f [Hz]':>9}{'zeta':>8}   participation"]
     for m in found:
         share = ", ".join(f"{k} {v:.0%}" for k, v in list(m.participation.items())[:3])
-        lines.append(f"{m.name:<24}{m.frequency_hz:>9.3f}{m.damping_ratio:>8.3f}   {share}")
+        lines.append(f"{m.name:<{width}}{m.frequency_hz:>9.3f}{m.damping_ratio:>8.3f}   {share}")
     emit(data, as_json, "\n".join(lines))
 
 
@@ -98,7 +113,8 @@ def simulate_cmd(
     vehicle: VehicleArg,
     manoeuvre: ManoeuvreOpt = "dlc",
     speed: Annotated[float, typer.Option("--speed", callback=within(0, 400, "km/h", above=True), help="Target speed [km/h].")] = 30.0,
-    payload: Annotated[float, typer.Option("--payload", callback=within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
+    payload: PayloadOpt = 0.0,
+    freight: FreightAliasOpt = None,
     option: OptionOpt = [],  # noqa: B006
     radius: Annotated[float | None, typer.Option("--radius", callback=within(1, 10_000, "m"), help="Circle radius [m] (same as -o radius_m=...).")] = None,
     steer_deg: Annotated[float | None, typer.Option("--steer-deg", callback=within(-90, 90, "deg"), help="Step steer angle about the steering axis [deg] "
@@ -109,6 +125,7 @@ def simulate_cmd(
     as_json: JsonOpt = False,
 ):
     """Drive a manoeuvre and report how it went over its judged window (cone strikes, RI, wheel loads, ...)."""
+    payload = payload_kg(payload, freight)
     import numpy as np
 
     from ..analysis.metrics import summary
@@ -140,7 +157,7 @@ def simulate_cmd(
     if out is not None:
         _write_run(result, out, data)
         data["out"] = str(out)
-    emit(data, as_json, lambda: "\n".join(f"{k:<32} {v}" for k, v in data.items()))
+    emit(data, as_json, lambda: "\n".join(key_values(data)))
 
 
 def plot_cmd(

@@ -7,7 +7,19 @@ from typing import Annotated
 
 import typer
 
-from ._common import ForceOpt, JsonOpt, VehicleArg, emit, finite, manoeuvre_options, save_figure, within
+from ._common import (
+    ForceOpt,
+    FreightAliasOpt,
+    JsonOpt,
+    PayloadOpt,
+    VehicleArg,
+    emit,
+    finite,
+    manoeuvre_options,
+    payload_kg,
+    save_figure,
+    within,
+)
 
 DEFAULT_MANOEUVRES = ("dlc", "slc")
 
@@ -18,7 +30,8 @@ def compare_layouts_cmd(
         list[str], typer.Option("--manoeuvre", help="A manoeuvre for the threshold velocity (see `trikedyn "
                                 "manoeuvres`); repeatable. Default: dlc and slc.")
     ] = [],  # noqa: B006
-    payload: Annotated[float, typer.Option("--payload", callback=within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
+    payload: PayloadOpt = 0.0,
+    freight: FreightAliasOpt = None,
     no_tilt: Annotated[bool, typer.Option("--no-tilt", help="Skip the tilt-table test.")] = False,
     low: Annotated[float, typer.Option("--low", callback=within(0, 400, "km/h", above=True), help="Lowest speed searched [km/h].")] = 10.0,
     high: Annotated[float, typer.Option("--high", callback=within(0, 400, "km/h", above=True), help="Highest speed searched [km/h].")] = 90.0,
@@ -32,6 +45,7 @@ def compare_layouts_cmd(
 
     Static rigid tip-over [g], tilt-table angle [deg] and the threshold velocity [km/h] in each manoeuvre.
     """
+    payload = payload_kg(payload, freight)
     from ..analysis.layouts import compare_layouts
     from ..errors import InputError
     from ..params import load_vehicle, with_freight

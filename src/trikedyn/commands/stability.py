@@ -11,12 +11,15 @@ import typer
 from ..errors import InputError
 from ._common import (
     ForceOpt,
+    FreightAliasOpt,
     JsonOpt,
     ManoeuvreOpt,
     OptionOpt,
+    PayloadOpt,
     VehicleArg,
     emit,
     manoeuvre_options,
+    payload_kg,
     save_figure,
     within,
 )
@@ -25,7 +28,8 @@ from ._common import (
 def threshold_cmd(
     vehicle: VehicleArg,
     manoeuvre: ManoeuvreOpt = "dlc",
-    payload: Annotated[float, typer.Option("--payload", callback=within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
+    payload: PayloadOpt = 0.0,
+    freight: FreightAliasOpt = None,
     option: OptionOpt = [],  # noqa: B006
     stiffness: Annotated[float, typer.Option("--stiffness-scale", callback=within(0, 100, above=True), help="Suspension stiffness factor (Table 2).")] = 1.0,
     damping: Annotated[float, typer.Option("--damping-scale", callback=within(0, 100, above=True), help="Suspension damping factor (Table 2).")] = 1.0,
@@ -35,6 +39,7 @@ def threshold_cmd(
     as_json: JsonOpt = False,
 ):
     """Threshold velocity: the highest speed with every wheel on the ground through the manoeuvre."""
+    payload = payload_kg(payload, freight)
     from ..analysis.threshold import threshold_velocity
     from ..params import load_vehicle, scale_suspension, with_freight
 
@@ -57,13 +62,15 @@ def threshold_cmd(
 def handling_cmd(
     vehicle: VehicleArg,
     radius: Annotated[float, typer.Option("--radius", callback=within(1, 1000, "m"), help="Circle radius [m].")] = 20.0,
-    payload: Annotated[float, typer.Option("--payload", callback=within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
+    payload: PayloadOpt = 0.0,
+    freight: FreightAliasOpt = None,
     start_speed: Annotated[float, typer.Option("--start-speed", callback=within(0, 200, "km/h", above=True), help="Speed at the start [km/h].")] = 15.0,
     plot: Annotated[Path | None, typer.Option("--plot", help="Write the handling diagram (PNG).")] = None,
     force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
     """ISO 4138 steady-state circular driving: handling diagram, understeer, roll and sideslip gradients [deg/g]."""
+    payload = payload_kg(payload, freight)
     import numpy as np
 
     from ..analysis.handling_tests import steady_state_test
@@ -97,7 +104,8 @@ def handling_cmd(
 
 def tilt_cmd(
     vehicle: VehicleArg,
-    payload: Annotated[float, typer.Option("--payload", callback=within(0, 2000, "kg"), help="The paper's freight aboard [kg].")] = 0.0,
+    payload: PayloadOpt = 0.0,
+    freight: FreightAliasOpt = None,
     side: Annotated[str, typer.Option("--side", help="The side that goes down: left, right or both.")] = "both",
     require_deg: Annotated[
         float | None, typer.Option("--require-deg", help="Required tilt angle [deg] (e.g. 35): pass or fail.")
@@ -107,6 +115,7 @@ def tilt_cmd(
     as_json: JsonOpt = False,
 ):
     """Tilt-table test: the table angle at which the first wheel lifts, on the compliant model."""
+    payload = payload_kg(payload, freight)
     from ..analysis.tilt import tilt_table
     from ..params import load_vehicle, with_freight
 

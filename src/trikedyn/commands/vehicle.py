@@ -44,7 +44,7 @@ def vehicle_show(vehicle: VehicleArg, as_json: JsonOpt = False):
     assumed = pset.assumed()
     lines += ["", f"* assumed ({len(assumed)} values):"]
     lines += [f"  {k}: {v}" for k, v in assumed.items()]
-    typer.echo("\n".join(lines))
+    emit(None, False, "\n".join(lines))
 
 
 def _flatten(node, prefix=""):
@@ -63,20 +63,24 @@ def _flatten(node, prefix=""):
 def vehicle_check(vehicle: VehicleArg, as_json: JsonOpt = False):
     """Audit a parameter set for consistency (Eqs. 3-4, CG against loads, support triangle, ...).
 
-    Exits 0 even when it finds inconsistencies: they are findings to read, not errors.
+    Exit code 0 when no finding is INCONSISTENT, 1 when one is (the findings are printed either way, as
+    JSON with --json); 2 for a file that cannot be read or is invalid.
     """
     from ..params import audit, load_vehicle
 
     pset = load_vehicle(vehicle)
     findings = audit(pset)
+    bad = sum(f.level == "inconsistent" for f in findings)
     if as_json:
         emit({"vehicle": pset.name, "findings": [f.to_dict() for f in findings]}, True)
-        return
-    width = max(len(f.level) for f in findings)
-    lines = [f"{pset.name} ({pset.origin})"] + [f"{f.level.upper():<{width}}  {f.topic}: {f.message}" for f in findings]
-    bad = sum(f.level == "inconsistent" for f in findings)
-    lines.append(f"{len(findings)} findings, {bad} inconsistent")
-    typer.echo("\n".join(lines))
+    else:
+        width = max((len(f.level) for f in findings), default=0)
+        lines = [f"{pset.name} ({pset.origin})"]
+        lines += [f"{f.level.upper():<{width}}  {f.topic}: {f.message}" for f in findings]
+        lines.append(f"{len(findings)} findings, {bad} inconsistent")
+        emit(None, False, "\n".join(lines))
+    if bad:
+        raise typer.Exit(1)
 
 
 @vehicle_app.command("export")

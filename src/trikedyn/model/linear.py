@@ -1,11 +1,12 @@
-"""Linearisation about an equilibrium, and the vibration modes (``trikedyn modes``).
+"""Linearisation about an equilibrium or steady rolling, and the vibration modes (``trikedyn modes``).
 
 The state is reduced to the coordinates that matter for small motions: the chassis' horizontal position,
-heading and the wheels' spin angles are cyclic (nothing depends on them) and are left out. The Jacobian
-is taken by central differences of the compiled right-hand side; each complex pair of eigenvalues is a
-mode with undamped natural frequency ``|lambda| / 2 pi`` and damping ratio ``-Re(lambda) / |lambda|``,
-named after the coordinate that dominates its eigenvector (displacements scaled to metres at the wheel
-or at the chassis' extremities).
+heading and the wheels' spin angles are cyclic (nothing depends on them) and are left out; every velocity
+(the wheels' spin rates included) and the tyres' transient slips are kept. The Jacobian is taken by
+central differences of the compiled right-hand side; each complex pair of eigenvalues is a mode with
+undamped natural frequency ``|lambda| / 2 pi`` and damping ratio ``-Re(lambda) / |lambda|``, named after
+what carries its kinetic energy (body bounce, pitch, roll, yaw, each wheel's hop, steer, ...; see
+:mod:`trikedyn.model.modal_names`).
 """
 
 from __future__ import annotations
@@ -14,7 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .statics import Equilibrium, state_derivative
+from .modal_names import assign_names, energy_shares, modal_coordinates
+from .statics import Equilibrium, rolling_state, state_derivative
 from .vehicle import VehicleModel
 
 __all__ = ["Mode", "SingleTrack", "linearise", "modes", "single_track"]
@@ -22,7 +24,21 @@ __all__ = ["Mode", "SingleTrack", "linearise", "modes", "single_track"]
 
 @dataclass(frozen=True)
 class Mode:
-    """One vibration mode."""
+    """One vibration mode.
+
+    Attributes
+    ----------
+    name : str
+        What moves (see :mod:`trikedyn.model.modal_names`).
+    frequency_hz : float
+        Undamped natural frequency ``|lambda| / 2 pi`` [Hz].
+    damping_ratio : float
+        ``-Re(lambda) / |lambda|`` [1].
+    eigenvalue : complex
+        ``lambda`` [1/s].
+    participation : dict
+        Share of the mode's kinetic energy [1] per motion, largest first.
+    """
 
     name: str
     frequency_hz: float
@@ -40,29 +56,11 @@ class Mode:
         }
 
 
-def _coordinates(model: VehicleModel):
-    """Indices of the non-cyclic coordinates and their names and length scales [m per unit]."""
-    tree = model.tree
-    wheels = {w.wheel_body for w in tree.wheels}
-    half_length = max(abs(w.x_m) for w in model.params.wheels) / 2 or 1.0
-    half_track = model.params.track_m / 2
-    idx = [2, 3, 4]
-    names = ["bounce", "roll", "pitch"]
-    scale = [1.0, half_track, half_length]
-    for w in tree.wheels:
-        idx.append(5 + w.spring_body)
-        names.append(f"{w.name} wheel hop")
-        scale.append(w.motion_ratio)
-        if w.steer_body >= 0:
-            idx.append(5 + w.steer_body)
-            names.append("steer")
-            scale.append(w.radius)
-    for i in range(1, tree.n_bodies):
-        if 5 + i not in idx and i not in wheels:
-            idx.append(5 + i)
-            names.append(tree.body_names[i])
-            scale.append(1.0)
-    return idx, names, np.array(scale)
+def _positions(model: VehicleModel) -> list[int]:
+    """State indices of the non-cyclic coordinates: chassis height, roll, pitch, and every joint that is
+    not a wheel's spin."""
+    wheels = {w.wheel_body for w in model.tree.wheels}
+    return [2, 3, 4] + [5 + i for i in range(1, model.tree.n_bodies) if i not in wheels]
 
 
 def linearise(model: VehicleModel, state: np.ndarray, *, eps: float = 1e-6):
@@ -75,7 +73,7 @@ def linearise(model: VehicleModel, state: np.ndarray, *, eps: float = 1e-6):
         State indices of the reduced positions (the reduced state is these, then all velocities and slips).
     """
     n = model.n_dof
-    pos, _, _ = _coordinates(model)
+    pos = _positions(model)
     keep = pos + list(range(n, model.n_states))
     m = len(keep)
     a = np.empty((m, m))
@@ -89,26 +87,54 @@ def linearise(model: VehicleModel, state: np.ndarray, *, eps: float = 1e-6):
     return a, pos
 
 
-def modes(model: VehicleModel, equilibrium: Equilibrium | np.ndarray, *, min_hz: float = 0.05) -> list[Mode]:
-    """Oscillatory modes about an equilibrium, sorted by frequency; each named by its dominant coordinate."""
-    state = equilibrium.state if isinstance(equilibrium, Equilibrium) else equilibrium
+def modes(model: VehicleModel, equilibrium: Equilibrium | np.ndarray, *, speed_mps: float = 0.0,
+          min_hz: float = 0.05) -> list[Mode]:
+    """Oscillatory modes about an equilibrium (or a state), sorted by frequency, named by what moves.
+
+    Parameters
+    ----------
+    model : VehicleModel
+    equilibrium : Equilibrium or ndarray
+        The static equilibrium, or the full state to linearise about.
+    speed_mps : float
+        With an :class:`Equilibrium`: linearise about steady straight rolling at this speed [m/s]
+        (:func:`~trikedyn.model.statics.rolling_state`); 0 is standstill.
+    min_hz : float
+        Modes below this undamped natural frequency [Hz] are left out.
+
+    Returns
+    -------
+    list of Mode
+        ``participation``: each motion's share of the mode's kinetic energy [1] (those of 5 % or more,
+        largest first); ``name``: see :func:`~trikedyn.model.modal_names.assign_names`.
+    """
+    if isinstance(equilibrium, Equilibrium):
+        state = rolling_state(model, equilibrium, speed_mps) if speed_mps else equilibrium.state
+    else:
+        state = np.asarray(equilibrium, dtype=float)
     a, pos = linearise(model, state)
-    _, names, scale = _coordinates(model)
+    coords = modal_coordinates(model, state)
     values, vectors = np.linalg.eig(a)
-    out = []
+    n = model.n_dof
+    found, rows = [], []
     for k, lam in enumerate(values):
-        if lam.imag <= 0:
-            continue
         w = abs(lam)
-        if w / (2 * np.pi) < min_hz:
+        if lam.imag <= 0 or w / (2 * np.pi) < min_hz:
             continue
-        disp = np.abs(vectors[: len(pos), k]) * scale
-        if disp.max() <= 0:
+        share = energy_shares(coords, vectors[len(pos) : len(pos) + n, k])
+        if share.sum() <= 0:
             continue
-        share = disp / disp.sum()
-        order = np.argsort(share)[::-1]
-        participation = {names[i]: float(share[i]) for i in order if share[i] >= 0.05}
-        out.append(Mode(names[order[0]], w / (2 * np.pi), float(-lam.real / w), complex(lam), participation))
+        found.append(lam)
+        rows.append(share)
+    if not found:
+        return []
+    names = assign_names(np.array(rows), coords.groups, coords.unique)
+    out = []
+    for lam, share, name in zip(found, rows, names, strict=True):
+        w = abs(lam)
+        order = np.argsort(-share, kind="stable")
+        participation = {coords.groups[i]: float(share[i]) for i in order if share[i] >= 0.05}
+        out.append(Mode(name, w / (2 * np.pi), float(-lam.real / w), complex(lam), participation))
     return sorted(out, key=lambda md: md.frequency_hz)
 
 

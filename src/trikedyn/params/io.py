@@ -61,6 +61,21 @@ class ParameterSet:
     def name(self) -> str:
         return self.params.name
 
+    @property
+    def mass_kg(self) -> float:
+        """Total mass [kg]: the vehicle (driver included) with its payload
+        (:func:`~trikedyn.params.ops.mass_properties`)."""
+        from .ops import mass_properties
+
+        return float(mass_properties(self.params).mass_kg)
+
+    @property
+    def cg_m(self):
+        """Centre of gravity ``[x, y, z]`` [m] in vehicle axes, payload included (a new numpy array)."""
+        from .ops import mass_properties
+
+        return mass_properties(self.params).cg_m.copy()
+
     def assumed(self) -> dict[str, str]:
         """Every assumed value's path and reason."""
         return {k: v["assumed"] for k, v in self.notes.items() if "assumed" in v}
