@@ -43,7 +43,7 @@ def _root(
 # ------------------------------------------------------------------------------------------------
 # the command map: each group lives in trikedyn.commands
 # ------------------------------------------------------------------------------------------------
-from .commands import cg, drive, layouts, logs, stability, studies, tyre, vehicle  # noqa: E402
+from .commands import animate, cg, drive, layouts, logs, stability, studies, tyre, vehicle  # noqa: E402
 from .commands._common import WARNINGS, emit  # noqa: E402
 
 app.add_typer(vehicle.vehicle_app, name="vehicle")
@@ -55,6 +55,7 @@ app.command("modes")(drive.modes_cmd)
 app.command("manoeuvres")(drive.manoeuvres_cmd)
 app.command("simulate")(drive.simulate_cmd)
 app.command("plot")(drive.plot_cmd)
+app.command("animate")(animate.animate_cmd)
 app.command("compare")(drive.compare_cmd)
 app.command("threshold")(stability.threshold_cmd)
 app.command("handling")(stability.handling_cmd)
