@@ -24,9 +24,11 @@ def _numba_cache_dir() -> None:
         return
     here = Path(__file__).parent
     digest = hashlib.sha1(__version__.encode())
-    for sub in (".", "model", "tyre", "simulate", "driver"):
-        for path in sorted((here / sub).glob("*.py")):
-            digest.update(path.read_bytes())
+    # the compiled code lives in these folders; of the top level it uses only the numba options (_jit.py):
+    # editing the command line or this file costs no recompilation
+    for path in [here / "_jit.py", *(p for sub in ("model", "tyre", "simulate", "driver")
+                                      for p in sorted((here / sub).glob("*.py")))]:
+        digest.update(path.read_bytes())
     base = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache"))
     os.environ["NUMBA_CACHE_DIR"] = str(base / "trikedyn" / f"numba-{digest.hexdigest()[:16]}")
     import sys
