@@ -104,9 +104,28 @@ def scale_suspension(
 
 
 def override(pset: ParameterSet, values: dict) -> ParameterSet:
-    """Set values by dotted path, e.g. ``{"mass.driver_kg": 80, "wheels.front.radius_m": 0.3}``."""
+    """Set values by dotted path or by design knob.
+
+    ``{"mass.driver_kg": 80, "wheels.front.radius_m": 0.3, "track_m": 1.2}``: a dotted path sets that one
+    value as written (wheels and components by name); a design knob (:mod:`trikedyn.params.knobs`:
+    ``wheelbase_m``, ``track_m``, ``cg_x_fraction``, ``cg_height_m``, ``component.NAME.x_m|y_m|z_m|mass_kg``,
+    ``freight.x_m|y_m|z_m``) changes the vehicle consistently. The paths are set first, then the knobs are
+    applied (in the order of :data:`~trikedyn.params.knobs.KNOBS`). A path of one wheel of the pair is set
+    as written here (an asymmetric vehicle is allowed); a study spec refuses it and points to ``track_m``.
+
+    Raises
+    ------
+    ParameterError
+        An unknown path or knob (with a close match), a value out of range, a vehicle the schema refuses.
+    """
+    from .knobs import _unknown, apply_knobs, is_knob
+
+    knobs = {k: v for k, v in values.items() if is_knob(k)}
+    paths = {k: v for k, v in values.items() if k not in knobs}
     data = pset.params.model_dump()
-    for dotted, value in values.items():
+    for dotted, value in paths.items():
+        if "." not in dotted and dotted not in data:
+            raise ParameterError(_unknown(pset.params, dotted), where="override")
         node = data
         keys = dotted.split(".")
         for key in keys[:-1]:
@@ -123,7 +142,8 @@ def override(pset: ParameterSet, values: dict) -> ParameterSet:
             tip = f"; did you mean '{hint[0]}'?" if hint else ""
             raise ParameterError(f"no parameter '{dotted}'{tip}", where="override")
         node[keys[-1]] = value
-    return _revalidate(pset, data, "override")
+    new = _revalidate(pset, data, "override") if paths or not knobs else pset
+    return apply_knobs(new, knobs) if knobs else new
 
 
 def unsprung_mass(params: VehicleParameters, wheel_name: str) -> float:

@@ -11,6 +11,9 @@ total mass M = 508 kg), ``driver_kg`` the driver aboard, and the centre of gravi
 tensor are those of vehicle plus driver, ready to drive, without freight. The model splits that whole
 into its bodies (chassis, steering head, fork slider, swing arms, wheels), so the chassis' own mass
 and CG are derived, never entered twice.
+The optional ``[[components]]`` (battery, motor controller, motor ...) say where parts of that
+mass are; they are inside ``[mass]``, not added to it, and the design knobs
+(:mod:`trikedyn.params.knobs`) move or re-weigh them with the vehicle's CG and inertia following.
 
 Every number is finite and has a physical range, not just a sign: a quantity that must be positive says
 so first (``gt=0``) and then has a least physical value (spring stiffness 100 N/m .. 1e7 N/m, curb mass
@@ -30,6 +33,7 @@ from pydantic import AfterValidator, BaseModel, ConfigDict, Field, field_validat
 __all__ = [
     "AeroSpec",
     "BodySpec",
+    "ComponentSpec",
     "DriveSpec",
     "MassSpec",
     "PayloadItemSpec",
@@ -288,6 +292,28 @@ class PayloadItemSpec(_Spec):
     removed: bool = Field(default=False, description="true: this mass is taken off the vehicle")
 
 
+class ComponentSpec(_Spec):
+    """A movable mass inside the vehicle (battery, motor controller, motor ...): a point or a uniform box.
+
+    Components are *part of* ``[mass]``, not added to it: the vehicle's mass, CG and inertia stay those of
+    ``[mass]``, and the rest of the body is whatever ``[mass]`` holds besides the components. A component
+    says where that part of the mass is, so that a design knob (:mod:`trikedyn.params.knobs`) can move or
+    re-weigh it and change the vehicle's mass, CG and inertia by parallel-axis composition. The driver is
+    ``mass.driver_kg``, not a component.
+    """
+
+    name: str = Field(pattern=r"^[a-z][a-z0-9_]*$", max_length=40,
+                      description="how knobs name it (component.NAME.x_m ...): lower case, digits, underscores")
+    description: str | None = Field(default=None, min_length=1, max_length=500, description="what it is")
+    mass_kg: float = Field(ge=0, le=2000, description="its mass, part of the vehicle's mass [kg]")
+    x_m: float = Field(ge=-5, le=10, description="its centre, ahead of the rear axle [m]")
+    y_m: float = Field(ge=-2, le=2, description="its centre, left of the centre line [m]")
+    z_m: float = Field(ge=-1, le=5, description="its centre, above the ground [m]")
+    length_m: float = Field(default=0.0, ge=0, le=15, description="box edge along x; 0 for a point [m]")
+    width_m: float = Field(default=0.0, ge=0, le=5, description="box edge along y [m]")
+    height_m: float = Field(default=0.0, ge=0, le=5, description="box edge along z [m]")
+
+
 class BodySpec(_Spec):
     """Overall body dimensions (for lane widths and plots)."""
 
@@ -313,6 +339,10 @@ class VehicleParameters(_Spec):
     sensor: PointSpec
     freight: PointSpec = Field(description="where freight goes (the paper's back trunk)")
     payload: tuple[PayloadItemSpec, ...] = Field(default=(), max_length=1000)
+    components: tuple[ComponentSpec, ...] = Field(
+        default=(), max_length=100,
+        description="movable masses inside the body mass (part of [mass], not added to it)",
+    )
 
     @field_validator("wheels")
     @classmethod
@@ -401,6 +431,25 @@ class VehicleParameters(_Spec):
                 f"puts the CG {moment / mass:.3f} m above the ground; it must stay at least {MIN_CG_HEIGHT_M:g} m"
             )
         return payload
+
+    @field_validator("components")
+    @classmethod
+    def _components_inside_the_body(cls, components, info):
+        """Names unique; the components weigh less than the body (``body_kg``, else curb less wheels)."""
+        names = [c.name for c in components]
+        dup = sorted({n for n in names if names.count(n) > 1})
+        if dup:
+            raise ValueError(f"component names must be unique; repeated: {', '.join(dup)}")
+        mass, wheels = info.data.get("mass"), info.data.get("wheels")
+        if not components or mass is None or (mass.body_kg is None and wheels is None):
+            return components  # those sections have their own error
+        body = mass.body_kg if mass.body_kg is not None else mass.curb_kg - sum(w.mass_kg for w in wheels)
+        total = sum(c.mass_kg for c in components)
+        if total >= body:
+            raise ValueError(
+                f"the components weigh {total:g} kg, not less than the body mass {body:g} kg they are part of"
+            )
+        return components
 
     # ---- derived geometry -------------------------------------------------------------------------
     def wheel(self, name: str) -> WheelSpec:

@@ -16,6 +16,19 @@ A study file::
     damping_scale = [1.0]
     overrides = { "mass.driver_kg" = [75, 90] }   # optional; each listed value is a grid axis
 
+    [[groups]]
+    name = "layout"
+    overrides = { "track_m" = [1.0, 1.2], "component.battery.z_m" = [0.25, 0.45] }   # design knobs
+
+An override is a dotted parameter path (set as written) or a design knob (:mod:`trikedyn.params.knobs`:
+``wheelbase_m``, ``track_m``, ``cg_x_fraction``, ``cg_height_m``, ``component.NAME.x_m|y_m|z_m|mass_kg``,
+``freight.x_m|y_m|z_m``), which keeps the vehicle consistent. Knob values must be numbers within the knob's
+bounds. A path that would vary one wheel of the pair (``wheels.rear_left.y_m = [0.5, 0.6]``: a lopsided trike) or
+a component's declared place or mass without moving the CG is refused at load, pointing to the knob that
+does it (``track_m``, ``wheelbase_m``, ``component.NAME.FIELD``). Both wheels of the pair set in one group
+with one value each are one deliberate layout and stay allowed; :func:`trikedyn.params.override` itself
+sets any path as written.
+
 The scenarios are the union of the groups' grids (manoeuvre x stiffness x damping x overrides x freight);
 a scenario that two groups share is run once and carries both group names. Every scenario has a
 ``scenario_id``: a short SHA-256 of its canonical JSON (vehicle, vehicle content digest, manoeuvre, freight,
@@ -90,7 +103,11 @@ class _Group(_Model):
     name: str = Field(min_length=1)
     stiffness_scale: list[float] = Field(default=[1.0], min_length=1)
     damping_scale: list[float] = Field(default=[1.0], min_length=1)
-    overrides: dict[str, list[Scalar]] = Field(default_factory=dict)
+    overrides: dict[str, list[Scalar]] = Field(
+        default_factory=dict,
+        description="dotted parameter path or design knob (track_m, component.NAME.x_m ...) = list of values, "
+        "each list one more grid axis",
+    )
 
     @field_validator("stiffness_scale", "damping_scale")
     @classmethod
@@ -155,7 +172,7 @@ def _describe(exc: ValidationError, raw: dict) -> str:
 # ------------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class GroupSpec:
-    """One grid of a study: suspension scale factors [-] and parameter overrides (dotted path -> values)."""
+    """One grid of a study: suspension scale factors [-] and overrides (dotted path or design knob -> values)."""
 
     name: str
     stiffness_scale: tuple[float, ...]
@@ -291,8 +308,8 @@ def parse_spec(source: str | dict, origin: str = "<string>", base_dir: str | Pat
         raise InputError(f"vehicle: {exc}", where=origin) from None
     plain = pset.params.model_dump(mode="json")
     for group in model.groups:
-        for dotted in group.overrides:
-            problem = _check_path(plain, dotted)
+        for dotted, values in group.overrides.items():
+            problem = _override_problem(pset.params, plain, dotted, values, group.overrides)
             if problem:
                 raise InputError(f"groups[{group.name}].overrides: {problem}", where=origin)
     digest = hashlib.sha256(pset.params.model_dump_json().encode()).hexdigest()[:12]
@@ -335,6 +352,20 @@ def _resolve_vehicle(vehicle: str, base_dir: str | Path | None) -> str:
             path = Path(base_dir) / path
         return str(path)
     return vehicle  # an unknown name: load_vehicle explains, with a close match
+
+
+def _override_problem(params, plain: dict, dotted: str, values, group: dict) -> str | None:
+    """Why an override axis of a group cannot be varied (None if it can): an unknown knob or path (with a
+    close match), a knob value that is not a number within the knob's bounds, or a path that moves one wheel
+    of the pair or one component's declared place without the rest (a pointer to the knob that does it
+    consistently; both wheels of the pair set in the group, one value each, are one deliberate layout)."""
+    from ..params.knobs import _unknown, inconsistent_override, is_knob, knob_problem
+
+    if is_knob(dotted):
+        return knob_problem(params, dotted, values)
+    if "." not in dotted and dotted not in plain:
+        return _unknown(params, dotted)
+    return _check_path(plain, dotted) or inconsistent_override(params, dotted, group)
 
 
 def _check_path(plain: dict, dotted: str) -> str | None:
