@@ -1,0 +1,153 @@
+"""``trikedyn sensitivity``: which assumed values the threshold velocity depends on (Morris or Sobol)."""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..errors import InputError
+from ._common import ForceOpt, JsonOpt, ManoeuvreOpt, OptionOpt, VehicleArg, emit, manoeuvre_options, readable, within
+
+JSON_FILE, SAMPLES_FILE, FIGURE_FILE, PLAN_FILE = ("sensitivity.json", "sensitivity-samples.csv", "sensitivity.png",
+                                                   "sensitivity-plan.json")
+PROGRESS_EVERY_S = 5.0
+"""Seconds between two progress lines on stderr (a line, not a bar: it also works without a terminal)."""
+
+
+class _Progress:
+    """``sensitivity: 120/410 runs`` on stderr at the start, every few seconds, and at the end."""
+
+    def __init__(self, every_s: float = PROGRESS_EVERY_S):
+        self.every_s = every_s
+        self.last = None
+        self.shown = None
+
+    def __call__(self, done: int, total: int) -> None:
+        now = time.monotonic()
+        if (done, total) == self.shown:
+            return
+        if self.last is None or done == total or now - self.last >= self.every_s:
+            print(f"sensitivity: {done}/{total} runs", file=sys.stderr, flush=True)
+            self.last, self.shown = now, (done, total)
+
+
+def _plan(pset, search, factors, method, samples, seed, fraction) -> dict:
+    """What makes the samples of a run: a resumed run must have the same."""
+    return {"vehicle": pset.name, "manoeuvre": search.manoeuvre, "options": search.options,
+            "resolution_kmh": search.resolution_kmh, "high_kmh": search.high_kmh, "method": method, "samples": samples, "seed": seed,
+            "fraction": fraction, "factors": [[f.name, f.low, f.high] for f in factors]}
+
+
+def _table(result) -> str:
+    data = result.to_dict()
+    ref = data["reference_threshold_speed_kmh"]
+    group = "trajectories" if result.method == "morris" else "base samples"
+    lines = [
+        f"{result.vehicle} on {result.manoeuvre}: threshold {'none' if ref is None else f'{ref:.1f} km/h'} as given",
+        f"{result.method}: {len(result.factors)} factors, each over +/-{result.fraction:.0%} of its value unless a "
+        f"range is declared; {result.samples} {group}, {result.n_runs} runs, {result.failed} failed"
+        + (f" ({result.dropped} {group} left out)" if result.dropped else ""),
+    ]
+    if result.at_search_limit:
+        lines.append(f"  {result.at_search_limit} runs reached the top of the search ({result.search.high_kmh:g} km/h; "
+                     "raise it with --high)")
+    width = max(len(r["parameter"]) for r in result.indices) + 2
+    by_name = {f.name: f for f in result.factors}
+    if result.method == "morris":
+        lines.append(f"{'rank':<5}{'parameter':<{width}}{'mu* [km/h]':>11}{'+/-':>7}{'sigma':>8}   range")
+        keys = ("mu_star", "mu_star_conf", "sigma")
+    else:
+        lines.append(f"{'rank':<5}{'parameter':<{width}}{'ST':>8}{'+/-':>7}{'S1':>8}{'+/-':>7}   range")
+        keys = ("ST", "ST_conf", "S1", "S1_conf")
+    for rank, row in enumerate(result.indices, 1):
+        f = by_name[row["parameter"]]
+        cells = "".join(f"{_num(row[k]):>{11 if (k == 'mu_star') else 8 if k in ('ST', 'S1', 'sigma') else 7}}"
+                        for k in keys)
+        lines.append(f"{rank:<5}{row['parameter']:<{width}}{cells}   {readable(f.low)} .. {readable(f.high)}")
+    if result.excluded:
+        lines.append(f"left out: {len(result.excluded)} assumed values (see --json 'excluded')")
+    return "\n".join(lines)
+
+
+def _num(value: float) -> str:
+    return "-" if value != value else f"{value:.3f}"
+
+
+def sensitivity_cmd(
+    vehicle: VehicleArg,
+    manoeuvre: ManoeuvreOpt = "dlc",
+    option: OptionOpt = [],  # noqa: B006
+    method: Annotated[str, typer.Option("--method", help="morris (screening: mu*, sigma) or sobol (S1, ST).")] = "morris",
+    samples: Annotated[int | None, typer.Option("--samples", callback=within(2, 100_000), help="Morris trajectories (default 10) or Sobol base samples, a power of 2 (default 64); runs: N x (k+1) or N x (k+2) for k factors.")] = None,
+    parameter: Annotated[list[str], typer.Option("--parameter", "-p", help="Vary only these: dotted paths as in `trikedyn vehicle show` (measured ones too) or design knobs (track_m, wheelbase_m, cg_height_m, component.battery.z_m ...); repeatable or comma-separated. Default: every assumed value that can vary.")] = [],  # noqa: B006
+    fraction: Annotated[float, typer.Option("--fraction", callback=within(0, 0.9, above=True), help="Each factor varies over value x (1 -/+ fraction) unless the vehicle file declares its range [-].")] = 0.2,
+    resolution: Annotated[float, typer.Option("--resolution", callback=within(0.01, 10, "km/h"), help="Resolution of each threshold search [km/h].")] = 0.1,
+    high: Annotated[float, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h]; a sample that passes it counts as this speed (raise it for slc).")] = 90.0,
+    seed: Annotated[int, typer.Option("--seed", callback=within(0, 2**32 - 1), help="Seed of the sampling and of the confidence intervals.")] = 1,
+    workers: Annotated[int, typer.Option("--workers", callback=within(0, 256), help="Processes (0: in this process).")] = 2,
+    out: Annotated[Path | None, typer.Option("--out", help="Folder for sensitivity.json, the samples (CSV, written as they finish) and the figure (PNG).")] = None,
+    resume: Annotated[bool, typer.Option("--resume", help="Continue an interrupted run in --out: samples in its CSV are not run again.")] = False,
+    force: ForceOpt = False,
+    as_json: JsonOpt = False,
+):
+    """Sensitivity of the threshold velocity to the vehicle's assumed values (SALib: Morris or Sobol)."""
+    from .._files import atomic_write, check_output_folder, ensure_folder, refuse_symlink
+    from ..params import load_vehicle
+    from ..study import sensitivity as sa
+
+    sa.check_method(method)
+    if resume and out is None:
+        raise InputError("needs --out (the folder of the run to continue)", where="--resume")
+    if resume and force:
+        raise InputError("give --resume (continue) or --force (start again), not both", where="--resume")
+    options = manoeuvre_options(manoeuvre, option)
+    pset = load_vehicle(vehicle)
+    if parameter:
+        factors, excluded = sa.select_factors(pset, parameter, fraction), {}
+    else:
+        factors, excluded = sa.candidate_factors(pset, fraction)
+    n = sa.DEFAULT_SAMPLES[method] if samples is None else int(samples)
+    search = sa.Search(manoeuvre, options, resolution, high_kmh=high)
+    sa.sample(sa.problem(factors), method, n, seed)  # a bad --samples fails before anything is written
+    plan = json.loads(json.dumps(_plan(pset, search, factors, method, n, seed, fraction)))
+    log = None
+    if out is not None:
+        plan_path = out / PLAN_FILE
+        if resume and refuse_symlink(plan_path).exists():
+            try:
+                earlier = json.loads(plan_path.read_text(encoding="utf-8"))
+            except (ValueError, UnicodeDecodeError):
+                raise InputError("cannot be read; not resuming (pass --force to start again)", where=str(plan_path)) from None
+            if earlier != plan:
+                changed = sorted(k for k in plan if earlier.get(k) != plan[k])
+                raise InputError(f"was another run (its {', '.join(changed)} differ); not resuming (pass --force "
+                                 "to start again)", where=str(plan_path))
+        elif resume:
+            ensure_folder(out)
+        else:
+            if not force and refuse_symlink(plan_path).exists():
+                raise InputError("holds a sensitivity run; pass --resume to continue it or --force to start again",
+                                 where=str(out))
+            check_output_folder(out, force=force)
+        atomic_write(plan_path, lambda fh: fh.write(json.dumps(plan, indent=2)), binary=False)
+        log = sa.SampleLog(out / SAMPLES_FILE, factors, sa.group_size(method, len(factors)))
+    result = sa.run_sensitivity(pset, search, factors, method=method, samples=n, seed=seed, fraction=fraction,
+                                excluded=excluded, workers=workers, log=log, resume=resume, progress=_Progress())
+    data = result.to_dict()
+    if out is not None:
+        import matplotlib
+
+        from ._common import finite, json_default, save_figure
+
+        matplotlib.use("Agg")
+        files = {"json": str(out / JSON_FILE), "samples": str(out / SAMPLES_FILE), "figure": str(out / FIGURE_FILE)}
+        save_figure(result.plot(), out / FIGURE_FILE, dpi=110)
+        data["files"] = files
+        text = json.dumps(finite(data)[0], indent=2, default=json_default, allow_nan=False)
+        atomic_write(out / JSON_FILE, lambda fh: fh.write(text), binary=False)
+    emit(data, as_json, lambda: _table(result) + (f"\nwrote {', '.join(data['files'].values())}" if out else ""))

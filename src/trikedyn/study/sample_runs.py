@@ -1,0 +1,253 @@
+"""Evaluating a sensitivity study's samples: one threshold search per sample, on a process pool, logged as
+they finish so that an interrupted run resumes (see :mod:`trikedyn.study.sensitivity`, steps 3 and the log).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+from collections import deque
+from collections.abc import Callable, Iterable
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError, ParameterError, SimulationError
+from ..params.io import ParameterSet
+from .factors import Factor, apply_factors
+
+__all__ = ["MAX_RESTARTS", "SampleLog", "Search", "evaluate_sample", "run_samples"]
+
+MAX_RESTARTS = 3
+"""New process pools after a worker died, before a run gives up."""
+
+
+@dataclass(frozen=True)
+class Search:
+    """The threshold search each sample runs (:func:`~trikedyn.analysis.threshold.threshold_velocity`)."""
+
+    manoeuvre: str = "dlc"
+    options: dict = field(default_factory=dict)
+    resolution_kmh: float = 0.1
+    low_kmh: float = 10.0
+    high_kmh: float = 90.0
+    dt_s: float = 5e-3
+
+    def run(self, pset: ParameterSet, dt_s: float | None = None):
+        """The threshold search on ``pset``, with the time step ``dt_s`` [s] (default: :attr:`dt_s`)."""
+        from ..analysis.threshold import threshold_velocity
+
+        return threshold_velocity(pset, self.manoeuvre, options=dict(self.options), low_kmh=self.low_kmh,
+                                  high_kmh=self.high_kmh, resolution_kmh=self.resolution_kmh,
+                                  dt=self.dt_s if dt_s is None else dt_s)
+
+
+def evaluate_sample(pset: ParameterSet, factors: tuple[Factor, ...], x, search: Search) -> tuple[float | None, str | None]:
+    """The threshold velocity [km/h] of the vehicle with the factors at ``x``, or None and why it failed.
+
+    A failed sample (an invalid vehicle, a search with no threshold, a simulation error) is not an error:
+    the sensitivity run goes on and reports it. A variant whose fastest mode needs a finer time step than
+    ``search.dt_s`` (a stiffer or lighter part) is searched again with half the step.
+    """
+    from .executors import one_line
+
+    try:
+        varied = apply_factors(pset, factors, x)
+    except ParameterError as exc:
+        return None, f"invalid vehicle: {' '.join(str(exc).split())}"
+    try:
+        try:
+            result = search.run(varied)
+        except SimulationError as exc:
+            if "time step too large" not in str(exc):
+                raise
+            result = search.run(varied, dt_s=search.dt_s / 2)  # a stiffer variant: the same search, finer steps
+    except Exception as exc:  # noqa: BLE001 - a sample that cannot be searched is reported, the run goes on
+        return None, one_line(exc)
+    if result.threshold_speed_kmh is None:
+        return None, f"no threshold: {' '.join(str(result.detail).split())}"
+    return float(result.threshold_speed_kmh), None
+
+
+def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, search: Search, *, workers: int = 2,
+                known: dict | None = None, on_result: Callable | None = None,
+                progress: Callable | None = None) -> tuple[np.ndarray, list[str | None]]:
+    """Evaluate every row of ``X`` (:func:`evaluate_sample`) on a process pool.
+
+    Parameters
+    ----------
+    workers : int
+        Processes (0: one row after the other in this process).
+    known : dict, optional
+        Row index -> ``(threshold [km/h] or None, error or None)`` already evaluated (a resumed run): not
+        evaluated again.
+    on_result : callable, optional
+        ``on_result(index, threshold, error)``, called in this process as each row finishes.
+    progress : callable, optional
+        ``progress(done, total)``, called at least once a second and when the last row finishes.
+
+    Returns
+    -------
+    Y : ndarray
+        Threshold velocity [km/h] per row, NaN where the row failed.
+    errors : list
+        Per row: None, or why it failed.
+
+    Raises
+    ------
+    SimulationError
+        Worker processes died more than :data:`MAX_RESTARTS` times (after each death the rows in flight go to a
+        new pool; a row on which a worker dies twice fails); the rows reported are kept.
+    """
+    from .executors import make_executor
+
+    factors = tuple(factors)
+    n = X.shape[0]
+    Y = np.full(n, np.nan)
+    errors: list[str | None] = [None] * n
+    for i, (y, err) in (known or {}).items():
+        Y[i] = np.nan if y is None else y
+        errors[i] = err
+    todo = deque(i for i in range(n) if i not in (known or {}))
+    done = n - len(todo)
+    deaths: dict[int, int] = {}
+
+    def record(i, y, err):
+        nonlocal done
+        Y[i] = np.nan if y is None else y
+        errors[i] = err
+        done += 1
+        if on_result is not None:
+            on_result(i, y, err)
+
+    if progress is not None:
+        progress(done, n)
+    restarts = 0
+    while todo:
+        executor = make_executor(workers, None, None, len(todo))
+        pending: dict = {}
+        try:
+            while todo or pending:
+                while todo and len(pending) < executor.window:
+                    i = todo.popleft()
+                    pending[executor.submit(evaluate_sample, pset, factors, X[i], search)] = i
+                for fut in executor.wait(list(pending), 1.0):
+                    y, err = executor.result(fut)  # a dead worker raises here, its sample still pending
+                    record(pending.pop(fut), y, err)
+                if progress is not None:
+                    progress(done, n)
+        except BrokenProcessPool:
+            # a worker died (a crash: e.g. two fresh processes racing to write numba's cache; or out of memory):
+            # its samples go back in the queue on a new pool; a sample on which workers die twice fails
+            executor.abandon()
+            restarts += 1
+            for i in sorted(pending.values(), reverse=True):
+                deaths[i] = deaths.get(i, 0) + 1
+                if deaths[i] >= 2:
+                    record(i, None, "a worker process died on this sample (twice)")
+                else:
+                    todo.appendleft(i)
+            if restarts > MAX_RESTARTS:
+                kept = "; the samples done are logged: run again with --resume" if on_result is not None else ""
+                raise SimulationError(f"worker processes died {restarts} times (a crash, or out of memory); "
+                                      f"{done} of {n} samples done{kept}") from None
+        except BaseException:
+            executor.abandon()
+            raise
+        finally:
+            executor.close()
+    return Y, errors
+
+
+# ------------------------------------------------------------------------------------------------
+# the log of samples (CSV, appended as rows finish) and the run
+# ------------------------------------------------------------------------------------------------
+class SampleLog:
+    """The samples of a run as a CSV file: one row per evaluated sample, appended (and flushed) as it finishes.
+
+    Columns: ``sample`` (row index), ``group`` (Morris trajectory or Sobol block), ``status`` (``ok`` or
+    ``failed``), ``threshold_speed_kmh`` [km/h], ``error``, then each factor's value [its unit].
+    """
+
+    def __init__(self, path: str | os.PathLike, factors: Iterable[Factor], group: int):
+        self.path = Path(path)
+        self.names = [f.name for f in factors]
+        self.group = group
+        self.columns = ["sample", "group", "status", "threshold_speed_kmh", "error", *self.names]
+        self._fh = None
+
+    def read(self, X: np.ndarray) -> dict[int, tuple[float | None, str | None]]:
+        """The samples logged already: index -> ``(threshold or None, error or None)``.
+
+        A row cut short by a kill (the last, without its line end) is skipped: evaluated again. A row whose inputs are not those of ``X``
+        means the file belongs to another run.
+
+        Raises
+        ------
+        InputError
+            The file's columns or rows are not those of this run.
+        """
+        from .._files import refuse_symlink
+
+        if not refuse_symlink(self.path).exists():
+            return {}
+        text = self.path.read_text(encoding="utf-8", errors="replace")
+        if text and not text.endswith("\n"):
+            text = text[: text.rfind("\n") + 1]  # the last row, cut short by a kill: evaluated again
+        rows = list(csv.reader(io.StringIO(text)))
+        if not rows:
+            return {}
+        if rows[0] != self.columns:
+            raise InputError("its columns are not those of this run (other parameters?); use another --out or --force",
+                             where=str(self.path))
+        known = {}
+        for row in rows[1:]:
+            if len(row) != len(self.columns) or row[2] not in ("ok", "failed"):
+                continue  # a line cut short
+            try:
+                i = int(row[0])
+                inputs = np.array([float(v) for v in row[5:]])
+                y = float(row[3]) if row[2] == "ok" else None
+            except ValueError:
+                continue
+            if not (0 <= i < X.shape[0]) or not np.allclose(inputs, X[i], rtol=1e-12, atol=0.0):
+                raise InputError(f"sample {i} is not this run's (another seed, method or range?); use another --out "
+                                 "or --force", where=str(self.path))
+            known[i] = (y, row[4] or None)
+        return known
+
+    def open(self, fresh: bool) -> None:
+        """Open for appending (``fresh``: empty it first), writing the header into an empty file."""
+        from .._files import open_nofollow
+
+        fd = open_nofollow(self.path)
+        if fresh:
+            os.ftruncate(fd, 0)
+        size = os.lseek(fd, 0, os.SEEK_END)
+        ends_cleanly = True
+        if size:
+            os.lseek(fd, size - 1, os.SEEK_SET)
+            ends_cleanly = os.read(fd, 1) == b"\n"
+            os.lseek(fd, 0, os.SEEK_END)
+        self._fh = os.fdopen(fd, "a", encoding="utf-8", newline="")
+        if not ends_cleanly:
+            self._fh.write("\n")  # a line cut short by a kill stays a line of its own
+        if not size:
+            csv.writer(self._fh).writerow(self.columns)
+        self._fh.flush()
+
+    def append(self, index: int, x, threshold: float | None, error: str | None) -> None:
+        """Log one finished sample (flushed at once)."""
+        status = "ok" if threshold is not None else "failed"
+        row = [index, index // self.group, status, "" if threshold is None else repr(float(threshold)),
+               " ".join((error or "").split()), *(repr(float(v)) for v in x)]
+        csv.writer(self._fh).writerow(row)
+        self._fh.flush()
+
+    def close(self) -> None:
+        if self._fh is not None:
+            self._fh.close()
+            self._fh = None

@@ -1,0 +1,358 @@
+"""Global sensitivity of the threshold velocity to the vehicle's assumed values (Morris screening, Sobol indices).
+
+The reference vehicle carries some sixty values that were not measured (their ``assumed`` notes in the
+vehicle file, :attr:`~trikedyn.params.io.ParameterSet.notes`). This module asks which of them the threshold
+velocity on a manoeuvre depends on:
+
+1. :func:`candidate_factors` lists the **factors**: every assumed number, each varied over
+   ``value * (1 - fraction) .. value * (1 + fraction)`` (or over a ``range`` declared next to it in the
+   vehicle file), less the values that cannot vary on their own or do not act on the vehicle (see
+   :data:`EXCLUDED_GROUPS` and the function's notes). A mirrored pair of wheels (the delta trike's rear
+   wheels) is varied as a pair: the design knob ``track_m`` (:mod:`trikedyn.params.knobs`) moves both
+   wheels' ``y_m`` symmetrically about their centre line, and a value both wheels share (radius, spin
+   inertia) is one factor ``wheels.LEFT+RIGHT.ATTR``. :func:`select_factors` picks named factors instead:
+   any numeric parameter, measured ones too (``mass.cg_z_m``), or a design knob (``wheelbase_m``,
+   ``cg_height_m``, ``component.battery.z_m``, ...).
+2. :func:`sample` draws the input matrix with SALib, seeded: Morris trajectories (``method="morris"``,
+   ``samples`` trajectories of ``k + 1`` points) or a Saltelli/Sobol' design (``method="sobol"``,
+   ``samples * (k + 2)`` points, first-order and total indices).
+3. :func:`evaluate_sample` applies one row (:func:`~trikedyn.params.ops.override`) and searches the threshold
+   velocity (:func:`~trikedyn.analysis.threshold.threshold_velocity`); a row that gives an invalid vehicle or
+   no threshold is a failed sample, not an error of the run. :func:`run_samples` evaluates the rows on a
+   process pool (:mod:`trikedyn.study.executors`), reporting each as it finishes.
+4. :func:`analyse` computes the indices with SALib. A failed sample removes its Morris trajectory (or its
+   Sobol block of ``k + 2`` rows) from the analysis; the number left out is reported.
+
+The factors are :mod:`trikedyn.study.factors`; the evaluation of the samples is
+:mod:`trikedyn.study.sample_runs`; both are re-exported here.
+
+:class:`SampleLog` keeps the samples in a CSV file, a row appended as each finishes, so an interrupted run
+loses nothing and can resume. :func:`run_sensitivity` ties the steps together and returns a
+:class:`SensitivityResult` (``to_dict``, ``plot``).
+
+Units: the threshold velocity and the Morris indices ``mu_star``, ``sigma``, ``mu_star_conf`` are in
+km/h. SALib computes the elementary effects on the unit scale of each factor's range, so ``mu_star`` is the
+mean absolute change of the threshold [km/h] for a move of the whole range (``2 * fraction`` of the value),
+comparable across factors whatever their units. Sobol indices ``S1``, ``ST`` are fractions of the variance.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from difflib import get_close_matches
+
+import numpy as np
+
+from ..errors import InputError
+from ..params.io import ParameterSet
+from .factors import (  # noqa: F401  (re-exported: the module is the study's entry point)
+    DEFAULT_FRACTION,
+    EXCLUDED_GROUPS,
+    Factor,
+    apply_factors,
+    candidate_factors,
+    numeric_parameters,
+    problem,
+    select_factors,
+)
+from .sample_runs import MAX_RESTARTS, SampleLog, Search, evaluate_sample, run_samples  # noqa: F401
+
+__all__ = ["DEFAULT_FRACTION", "DEFAULT_SAMPLES", "METHODS", "Factor", "SampleLog", "Search", "SensitivityResult",
+           "analyse", "apply_factors", "candidate_factors", "check_method", "evaluate_sample", "group_size",
+           "numeric_parameters", "problem", "run_samples", "run_sensitivity", "sample", "select_factors"]
+
+METHODS = ("morris", "sobol")
+DEFAULT_SAMPLES = {"morris": 10, "sobol": 64}
+"""Morris trajectories; Sobol base samples (a power of 2)."""
+NUM_LEVELS = 4
+"""Levels of the Morris grid (SALib's default)."""
+
+
+def check_method(method: str) -> str:
+    if method not in METHODS:
+        hint = get_close_matches(str(method), METHODS, n=1)
+        tip = f"; did you mean '{hint[0]}'?" if hint else ""
+        raise InputError(f"unknown method '{method}'{tip} (expected morris or sobol)", where="--method")
+    return method
+
+
+def group_size(method: str, k: int) -> int:
+    """Rows of one Morris trajectory (``k + 1``) or of one Sobol block (``k + 2``, first-order and total)."""
+    return k + 1 if check_method(method) == "morris" else k + 2
+
+
+def sample(prob: dict, method: str, samples: int, seed: int = 1) -> np.ndarray:
+    """The input matrix [factor units], one row per evaluation.
+
+    Parameters
+    ----------
+    prob : dict
+        SALib problem (:func:`problem`).
+    method : {"morris", "sobol"}
+        ``"morris"``: ``samples`` trajectories of ``k + 1`` rows on a 4-level grid. ``"sobol"``: a scrambled
+        Sobol' sequence of ``samples`` base points (a power of 2), ``samples * (k + 2)`` rows (Saltelli's
+        scheme without second-order indices).
+    samples : int
+        Trajectories or base samples.
+    seed : int
+        Seed of the sampling (the same seed, the same rows).
+    """
+    check_method(method)
+    if isinstance(samples, bool) or int(samples) != samples or samples < 2:
+        raise InputError(f"expected a whole number >= 2, got {samples!r}", where="--samples")
+    samples = int(samples)
+    if method == "morris":
+        from SALib.sample import morris
+
+        return morris.sample(prob, samples, num_levels=NUM_LEVELS, seed=seed)
+    if samples & (samples - 1):
+        below = 1 << (samples.bit_length() - 1)
+        raise InputError(f"Sobol' sampling needs a power of 2, got {samples} (try {below} or {below * 2})",
+                         where="--samples")
+    from SALib.sample import sobol
+
+    return sobol.sample(prob, samples, calc_second_order=False, scramble=True, seed=seed)
+
+
+def analyse(prob: dict, method: str, X: np.ndarray, Y: np.ndarray, seed: int = 1) -> tuple[list[dict], int, int]:
+    """Sensitivity indices from the rows and their outputs, failed rows (NaN in ``Y``) left out by group.
+
+    Parameters
+    ----------
+    prob : dict
+        SALib problem (:func:`problem`).
+    method : {"morris", "sobol"}
+    X : ndarray, shape (n, k)
+        Inputs as :func:`sample` drew them.
+    Y : ndarray, shape (n,)
+        Outputs (the threshold velocity [km/h]); NaN for a failed row.
+    seed : int
+        Seed of the bootstrap confidence intervals.
+
+    Returns
+    -------
+    indices : list of dict
+        Most important first: ``{parameter, mu_star, sigma, mu_star_conf}`` [output units] (Morris), or
+        ``{parameter, S1, ST, S1_conf, ST_conf}`` [-] (Sobol; ``_conf``: half-width of the 95 % interval).
+    used, dropped : int
+        Trajectories (Morris) or blocks (Sobol) analysed, and those left out for a failed row.
+    """
+    k = prob["num_vars"]
+    size = group_size(method, k)
+    X, Y = np.asarray(X, dtype=float), np.asarray(Y, dtype=float)
+    if Y.shape != (X.shape[0],) or X.shape[1] != k or X.shape[0] % size:
+        raise ValueError(f"expected {size} rows a group and one output a row, got X {X.shape} and Y {Y.shape}")
+    groups = X.shape[0] // size
+    ok = np.isfinite(Y).reshape(groups, size).all(axis=1)
+    keep = np.repeat(ok, size)
+    used, dropped = int(ok.sum()), int(groups - ok.sum())
+    names = prob["names"]
+    nan = float("nan")
+    if method == "morris":
+        keys = ("mu_star", "sigma", "mu_star_conf")
+        if used >= 2:
+            from SALib.analyze import morris
+
+            res = morris.analyze(prob, X[keep], Y[keep], num_levels=NUM_LEVELS, seed=seed)
+            table = {key: np.asarray(res[key], dtype=float) for key in keys}
+        else:
+            table = {key: np.full(k, nan) for key in keys}
+        order_key = "mu_star"
+    else:
+        keys = ("S1", "ST", "S1_conf", "ST_conf")
+        if used >= 2:
+            from SALib.analyze import sobol
+
+            res = sobol.analyze(prob, Y[keep], calc_second_order=False, seed=seed)
+            table = {key: np.asarray(res[key], dtype=float) for key in keys}
+        else:
+            table = {key: np.full(k, nan) for key in keys}
+        order_key = "ST"
+    rows = [{"parameter": name, **{key: float(table[key][i]) for key in keys}} for i, name in enumerate(names)]
+    rows.sort(key=lambda r: (not math.isfinite(r[order_key]), -r[order_key] if math.isfinite(r[order_key]) else 0.0))
+    return rows, used, dropped
+
+
+# ------------------------------------------------------------------------------------------------
+# evaluation
+# ------------------------------------------------------------------------------------------------
+
+
+@dataclass
+class SensitivityResult:
+    """A sensitivity run: the factors, every sample and its threshold, the indices.
+
+    Attributes
+    ----------
+    vehicle, manoeuvre, method : str
+    fraction : float
+        The default relative half-range of a factor [-] (0.2: +/-20 %).
+    samples, seed : int
+        Morris trajectories or Sobol base samples; the seed of the sampling and of the bootstrap.
+    factors : list of Factor
+    excluded : dict
+        Assumed values left out -> why (empty when the factors were named).
+    X : ndarray, shape (n, k)
+        The samples [factor units].
+    Y : ndarray, shape (n,)
+        Their threshold velocity [km/h], NaN where a sample failed.
+    errors : list
+        Per sample: None, or why it failed.
+    indices : list of dict
+        Most important first (:func:`analyse`).
+    used, dropped : int
+        Trajectories or blocks analysed, and those left out for a failed sample.
+    reference_threshold_speed_kmh : float or None
+        The threshold [km/h] of the vehicle as given.
+    search : Search
+    wall_time_s : float
+    """
+
+    vehicle: str
+    manoeuvre: str
+    method: str
+    fraction: float
+    samples: int
+    seed: int
+    factors: list
+    excluded: dict
+    X: np.ndarray
+    Y: np.ndarray
+    errors: list
+    indices: list
+    used: int
+    dropped: int
+    reference_threshold_speed_kmh: float | None
+    search: Search = field(default_factory=Search)
+    wall_time_s: float = 0.0
+
+    @property
+    def n_runs(self) -> int:
+        """Samples evaluated (threshold searches), the reference not counted."""
+        return int(self.X.shape[0])
+
+    @property
+    def failed(self) -> int:
+        return int(sum(e is not None for e in self.errors))
+
+    @property
+    def at_search_limit(self) -> int:
+        """Samples whose threshold is the top of the search range [km/h] (nothing failed below it)."""
+        return int(np.sum(self.Y >= self.search.high_kmh - 1e-9))
+
+    def to_dict(self) -> dict:
+        """The result as plain data (the ``--json`` output)."""
+        failures: dict[str, int] = {}
+        for err in self.errors:
+            if err is not None:
+                failures[err] = failures.get(err, 0) + 1
+        return {
+            "vehicle": self.vehicle, "manoeuvre": self.manoeuvre, "options": dict(self.search.options),
+            "method": self.method, "fraction": self.fraction, "samples": self.samples, "seed": self.seed,
+            "resolution_kmh": self.search.resolution_kmh, "high_kmh": self.search.high_kmh,
+            "reference_threshold_speed_kmh": self.reference_threshold_speed_kmh,
+            "n_runs": self.n_runs, "failed": self.failed, "at_search_limit": self.at_search_limit,
+            "groups_used": self.used, "groups_dropped": self.dropped,
+            "indices": self.indices,
+            "factors": [f.to_dict() for f in self.factors],
+            "excluded": [{"parameter": k, "reason": v} for k, v in self.excluded.items()],
+            "failures": [{"error": k, "samples": v} for k, v in failures.items()],
+            "wall_time_s": self.wall_time_s,
+        }
+
+    def plot(self, top: int | None = None):
+        """Bars of ``mu_star`` with its confidence interval and ``sigma`` [km/h] (Morris), or ``ST`` and ``S1``
+        with theirs [-] (Sobol), most important at the top; returns a :class:`matplotlib.figure.Figure`."""
+        from matplotlib.figure import Figure
+
+        rows = [r for r in self.indices if all(isinstance(v, str) or math.isfinite(v) for v in r.values())]
+        rows = rows[:top] if top else rows
+        rows = rows[::-1]
+        names = [r["parameter"] for r in rows]
+        y = np.arange(len(rows))
+        fig = Figure(figsize=(8.0, 1.6 + 0.28 * max(len(rows), 1)))
+        ax = fig.subplots()
+        if self.method == "morris":
+            ax.barh(y, [r["mu_star"] for r in rows], xerr=[r["mu_star_conf"] for r in rows], height=0.6,
+                    color="tab:blue", ecolor="0.3", capsize=2, label="mu* (95 % interval)")
+            ax.plot([r["sigma"] for r in rows], y, "kd", ms=4, label="sigma")
+            ax.set_xlabel("Morris mu* and sigma: change of the threshold over the range [km/h]")
+        else:
+            h = 0.38
+            ax.barh(y + h / 2, [r["ST"] for r in rows], xerr=[r["ST_conf"] for r in rows], height=h,
+                    color="tab:blue", ecolor="0.3", capsize=2, label="ST (total)")
+            ax.barh(y - h / 2, [r["S1"] for r in rows], xerr=[r["S1_conf"] for r in rows], height=h,
+                    color="tab:orange", ecolor="0.3", capsize=2, label="S1 (first order)")
+            ax.set_xlabel("Sobol index of the threshold velocity [-]")
+        ax.set_yticks(y, names, fontsize=8)
+        ax.axvline(0.0, color="k", lw=0.8)
+        ref = self.reference_threshold_speed_kmh
+        ax.set_title(f"{self.vehicle}, {self.manoeuvre}: threshold {'-' if ref is None else f'{ref:.1f}'} km/h; "
+                     f"factors +/-{self.fraction:.0%} ({self.method}, {self.n_runs} runs)", fontsize=9)
+        ax.legend(loc="lower right", fontsize=8)
+        ax.grid(axis="x", alpha=0.3)
+        fig.tight_layout()
+        return fig
+
+
+def run_sensitivity(pset: ParameterSet, search: Search, factors: list[Factor], *, method: str = "morris",
+                    samples: int | None = None, seed: int = 1, fraction: float = DEFAULT_FRACTION,
+                    excluded: dict | None = None, workers: int = 2, log: SampleLog | None = None,
+                    resume: bool = False, progress: Callable | None = None) -> SensitivityResult:
+    """Sample, evaluate (in parallel) and analyse: the sensitivity of the threshold velocity to ``factors``.
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    search : Search
+        The manoeuvre and the threshold search of every sample.
+    factors : list of Factor
+        From :func:`candidate_factors` or :func:`select_factors`.
+    method : {"morris", "sobol"}
+    samples : int, optional
+        Morris trajectories or Sobol base samples (:data:`DEFAULT_SAMPLES`).
+    seed : int
+        Seed of the sampling and of the bootstrap intervals.
+    fraction : float
+        The fraction the factors were made with (reported).
+    excluded : dict, optional
+        Assumed values left out -> why (reported).
+    workers : int
+        Processes (0: this process).
+    log : SampleLog, optional
+        Where each sample is appended as it finishes; with ``resume``, the samples logged already are not
+        evaluated again.
+    progress : callable, optional
+        ``progress(done, total)`` (see :func:`run_samples`).
+    """
+    start = time.perf_counter()
+    check_method(method)
+    samples = DEFAULT_SAMPLES[method] if samples is None else samples
+    if not factors:
+        raise InputError("no factor to vary", where="--parameter")
+    prob = problem(factors)
+    X = sample(prob, method, samples, seed)
+    reference = search.run(pset).threshold_speed_kmh  # also checks the manoeuvre before any process starts
+    known = {}
+    if log is not None:
+        known = log.read(X) if resume else {}
+        log.open(fresh=not resume)
+
+    def logged(i, y, err):
+        log.append(i, X[i], y, err)
+
+    try:
+        Y, errors = run_samples(pset, factors, X, search, workers=workers, known=known,
+                                on_result=logged if log is not None else None, progress=progress)
+    finally:
+        if log is not None:
+            log.close()
+    indices, used, dropped = analyse(prob, method, X, Y, seed)
+    return SensitivityResult(pset.name, search.manoeuvre, method, float(fraction), int(samples), int(seed),
+                             list(factors), dict(excluded or {}), X, Y, errors, indices, used, dropped,
+                             None if reference is None else float(reference), search,
+                             time.perf_counter() - start)
