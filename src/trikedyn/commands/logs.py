@@ -20,7 +20,7 @@ log_app = typer.Typer(help="IMU logs: what a file holds, and conversion to CSV."
 
 FormatOpt = Annotated[
     str, typer.Option("--format", help="Log format (auto-detected by default): " + ", ".join(
-        ["auto", "witmotion-sdk", "witmotion-pc", "witmotion-2025", "wt901sd-binary", "bwt901cl-csv", "csv"]))
+        ["auto", "witmotion-sdk", "witmotion-pc", "witmotion-2025", "wt901sd-binary", "bwt901cl-csv", "csv"]) + ", or any layout registered in trikedyn.measure.formats")
 ]
 RateOpt = Annotated[
     float | None, typer.Option("--sample-rate", help="Sample rate [Hz] for files that store no time.")

@@ -39,6 +39,10 @@ Detection (``format="auto"``): a first byte 0x55 with valid frame checksums is `
 header line decides (``Chiptime``, ``DeviceName``, ``Chip Time()``, ``AccX1``), and any other separated
 header is ``csv``.
 
+Each layout is one module of :mod:`trikedyn.measure.formats` that registers itself there; :data:`FORMATS`,
+detection, :func:`read_log` and :func:`write_log` go through that registry, so a new layout is one new
+module (or a ``formats.register`` call) and nothing here changes.
+
 Common rules: fields are not quoted; lines are counted by ``\\n``; clock times become seconds from the
 first row and a clock without a date that jumps back by more than 12 h has passed midnight; rows that
 repeat the previous time are dropped (kept the first); time must then increase strictly.
@@ -55,6 +59,7 @@ import csv
 import difflib
 import io
 import re
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -63,19 +68,8 @@ import pandas as pd
 
 from ..errors import LogFormatError
 from ..units import STANDARD_GRAVITY
-from .clocktime import clock_fields, clock_seconds, clock_text, seconds
+from .clocktime import clock_seconds
 from .limits import LOG_RATE_HZ, MAX_LOG_BYTES
-
-__all__ = ["CHANNELS", "FORMATS", "ImuLog", "detect_format", "read_log", "write_log"]
-
-FORMATS: dict[str, str] = {
-    "witmotion-sdk": "WitMotion Python SDK text export (tab-separated, GBK, one row per packet)",
-    "witmotion-pc": "older WitMotion PC software export (tab-separated: time DeviceName ChipTime AccX(g)..)",
-    "witmotion-2025": "WitMotion PC software 2025 CSV (Time, Device name, Chip Time(), Acceleration X(g)..)",
-    "wt901sd-binary": "raw 11-byte 0x55 WIT frames as the WT901SD logger writes them to its card",
-    "bwt901cl-csv": "get_bwt901cl_data logger CSV (Time HH:MM:SS.fff, AccX1 .. AngZ2 in m/s2, deg/s, deg)",
-    "csv": "generic CSV; columns= maps SI names to headers, units= gives the file's units",
-}
 
 TIME = "time_s"
 CHANNELS = ("ax_mps2", "ay_mps2", "az_mps2", "wx_radps", "wy_radps", "wz_radps",
@@ -88,21 +82,34 @@ _KIND_UNITS = {"mps2": ("m/s2", "g"), "radps": ("rad/s", "deg/s"), "rad": ("rad"
 _FACTOR = dict.fromkeys(CHANNELS[:3], _G) | dict.fromkeys(CHANNELS[3:], _DEG)  # WitMotion units -> SI
 
 # Headers of each WitMotion text format: time, the 9 channels, temperature.
-_WIT_HEADERS = {
-    "witmotion-sdk": ["Chiptime", *(f"a{c}(g)" for c in "xyz"), *(f"w{c}(deg/s)" for c in "xyz"),
-                      *(f"Angle{c}(deg)" for c in "XYZ"), "T(°)"],
-    "witmotion-pc": ["ChipTime", *(f"Acc{c}(g)" for c in "XYZ"), *(f"As{c}(°/s)" for c in "XYZ"),
-                     *(f"Angle{c}(°)" for c in "XYZ"), "T(°C)"],
-    "witmotion-2025": ["Chip Time()", *(f"Acceleration {c}(g)" for c in "XYZ"),
-                       *(f"Angular velocity {c}(°/s)" for c in "XYZ"), *(f"Angle {c}(°)" for c in "XYZ"),
-                       "Temperature(℃)"],
-}
-_WIT_PC_COLUMNS = {"witmotion-pc": ("time", "DeviceName"), "witmotion-2025": ("Time", "Device name")}
-_WIT_SEP = {"witmotion-sdk": "\t", "witmotion-pc": "\t", "witmotion-2025": ","}
-_BWT = {"Acc": CHANNELS[0:3], "AngVel": CHANNELS[3:6], "Ang": CHANNELS[6:9]}
-_BIN_SCALE = {0x51: 16.0 / 32768 * _G, 0x52: 2000.0 / 32768 * _DEG, 0x53: 180.0 / 32768 * _DEG}
-_BIN_CHANNELS = {0x51: CHANNELS[0:3], 0x52: CHANNELS[3:6], 0x53: CHANNELS[6:9],
-                 0x54: ("magx", "magy", "magz")}
+
+
+class _Formats(Mapping):
+    """Format key -> one-line description, read live from :mod:`trikedyn.measure.formats`."""
+
+    def __getitem__(self, name: str) -> str:
+        return _registry().get(name).description
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(_registry().available())
+
+    def __len__(self) -> int:
+        return len(_registry().available())
+
+    def __repr__(self) -> str:
+        return repr(dict(self))
+
+
+FORMATS: Mapping[str, str] = _Formats()
+"""The registered layouts: key -> description (a live view of :mod:`trikedyn.measure.formats`)."""
+
+
+def _registry():
+    from . import formats  # imported on use: the layouts import this module's helpers
+
+    return formats
+
+
 
 
 def _norm(header: str) -> str:
@@ -115,8 +122,6 @@ def _hint(name: str, choices) -> str:
     close = difflib.get_close_matches(name, list(choices), n=1)
     return f"; did you mean {close[0]!r}?" if close else ""
 
-
-_WIT_LOOKUP = {_norm(h): si for hs in _WIT_HEADERS.values() for h, si in zip(hs, (TIME, *CHANNELS, TEMP), strict=False)}
 
 
 @dataclass(frozen=True, eq=False)
@@ -307,218 +312,9 @@ def _one_sensor(sensor: int, fmt: str, path: Path) -> None:
         raise LogFormatError(f"sensor={sensor} but format {fmt!r} holds one sensor; expected sensor=1",
                              where=str(path))
 
-
-# ------------------------------------------------------------------------------------------ readers
-def _read_witmotion(raw: bytes, path: Path, fmt: str, sensor: int, notes: list[str]) -> ImuLog:
-    text = _decode(raw, path, ("utf-8-sig", "gb18030"))
-    header, cells, lines, at_header = _split_table(text, _WIT_SEP[fmt], path)
-    norm = [_norm(h) for h in header]
-    spec: dict[str, tuple[int, float]] = {}
-    for j, key in enumerate(norm):
-        if key in _WIT_LOOKUP:
-            spec.setdefault(_WIT_LOOKUP[key], (j, _FACTOR.get(_WIT_LOOKUP[key], 1.0)))
-    pc = {k: norm.index(k) for k in ("time", "devicename") if k in norm}
-    if TIME not in spec or (cells[spec[TIME][0]] == "").all():
-        if "time" not in pc:
-            raise LogFormatError(f"no time column; columns present: {', '.join(header)}; expected "
-                                 f"{_WIT_HEADERS[fmt][0]!r}", where=at_header)
-        if TIME in spec:
-            notes.append(f"{header[spec[TIME][0]]!r} is empty; time from the PC clock {header[pc['time']]!r}")
-        spec[TIME] = (pc["time"], 1.0)
-    if "devicename" in pc:
-        dev = cells[pc["devicename"]]
-        names = [str(d) for d in pd.unique(dev)]
-        if not 1 <= sensor <= len(names):
-            raise LogFormatError(f"sensor={sensor} but the file holds {len(names)} device(s): "
-                                 f"{', '.join(names)}", where=str(path))
-        if len(names) > 1:
-            notes.append(f"the file holds {len(names)} devices ({', '.join(names)}); read sensor={sensor}: "
-                         f"{names[sensor - 1]!r}")
-            rows = (dev.astype(str) == names[sensor - 1]).to_numpy()
-            cells, lines = cells[rows].reset_index(drop=True), lines[rows]
-    else:
-        _one_sensor(sensor, fmt, path)
-    j = spec[TIME][0]
-    t = _times(cells[j], header[j], lines, path, notes, ms_field=True)
-    return _table_log(path, fmt, t, header, cells, lines, spec, set(pc.values()), notes)
-
-
-def _read_bwt(raw: bytes, path: Path, sensor: int, notes: list[str]) -> ImuLog:
-    header, cells, lines, at_header = _split_table(_decode(raw, path, ("utf-8-sig",)), ",", path)
-    sensors = sorted({int(m[1]) for h in header if (m := re.fullmatch(r"AccX(\d+)", h))})
-    if sensor not in sensors:
-        raise LogFormatError(f"sensor={sensor} but the file has columns for sensor(s) "
-                             f"{', '.join(map(str, sensors)) or 'none'}; expected AccX{sensor}",
-                             where=at_header)
-    want = {"Time": TIME} | {f"{p}{c}{sensor}": si for p, sis in _BWT.items() for c, si in zip("XYZ", sis, strict=False)}
-    missing = [h for h in want if h not in header]
-    if missing:
-        raise LogFormatError(f"no column {', '.join(missing)}; columns present: {', '.join(header)}",
-                             where=at_header)
-    spec = {si: (header.index(h), 1.0 if si in CHANNELS[:3] else _DEG) for h, si in want.items()}
-    zero = [np.all([pd.to_numeric(cells[spec[c][0]], errors="coerce") == 0 for c in g], axis=0)
-            for g in (CHANNELS[0:3], CHANNELS[6:9])]
-    n = int(np.cumprod(zero[0] | zero[1]).sum())
-    if n == len(lines):
-        raise LogFormatError(f"sensor {sensor} never reported: its acceleration or angle fields are 0 in "
-                             "every row", where=str(path))
-    t = _times(cells[spec[TIME][0]], "Time", lines, path, notes)
-    if n:
-        notes.append(f"dropped the first {n} row(s): sensor {sensor} had not reported yet (the logger writes "
-                     f"0 until then); time_s starts {t[n]:.3f} s after the file's first row")
-    notes.append("accelerations kept in m/s2 as the logger wrote them: g x 9.8, 0.07 % below g x 9.80665")
-    others = {j for j, h in enumerate(header) if re.fullmatch(r"(Acc|AngVel|Ang)[XYZ]\d+", h)}
-    cells = cells.iloc[n:].reset_index(drop=True)
-    return _table_log(path, "bwt901cl-csv", t[n:], header, cells, lines[n:], spec, others, notes)
-
-
-def _read_csv(raw: bytes, path: Path, columns: dict | None, units: dict | None, rate: float | None,
-              notes: list[str]) -> ImuLog:
-    text = _decode(raw, path, ("utf-8-sig",))
-    head = next((line for line in text.split("\n") if line.strip()), "")
-    header, cells, lines, at_header = _split_table(text, next((s for s in ",\t;" if s in head), ","), path)
-    known = (TIME, *CHANNELS, TEMP)
-    mapping = {h: h for h in header if h in known}
-    for si, h in (columns or {}).items():
-        if si not in known:
-            raise LogFormatError(f"columns= maps unknown name {si!r}; expected one of {', '.join(known)}"
-                                 f"{_hint(si, known)}", where=str(path))
-        if h not in header:
-            raise LogFormatError(f"columns= names column {h!r} (for {si}) which is not in the file; columns "
-                                 f"present: {', '.join(header)}{_hint(h, header)}", where=at_header)
-        mapping[si] = h
-    spec = {si: (header.index(h), 1.0) for si, h in mapping.items()}
-    for si, unit in (units or {}).items():
-        u = unit.strip().lower().replace("^2", "2").replace("²", "2").replace("°", "deg")
-        allowed = _KIND_UNITS.get(si.rsplit("_", 1)[-1], ())
-        if si not in spec or u not in allowed:
-            raise LogFormatError(f"units= gives {unit!r} for {si!r}; expected a column mapped to {si!r} "
-                                 f"(mapped: {', '.join(spec)}) and one of {', '.join(allowed) or 'no unit'}",
-                                 where=str(path))
-        spec[si] = (spec[si][0], _UNITS[u])
-    if TIME in spec:
-        t = _times(cells[spec[TIME][0]], mapping[TIME], lines, path, notes, factor=spec[TIME][1])
-    elif rate is not None:
-        t = np.arange(len(lines)) / rate
-        notes.append(f"the file has no time column: time built from sample_rate_hz={rate:g}")
-    else:
-        raise LogFormatError(f"no time column; columns present: {', '.join(header)}; expected a column "
-                             "'time_s', or columns={'time_s': <header>}, or sample_rate_hz=", where=at_header)
-    return _table_log(path, "csv", t, header, cells, lines, spec, set(), notes)
-
-
-def _valid_starts(b: np.ndarray) -> np.ndarray:
-    """For every offset, whether a frame with a WIT type (0x50-0x5F) and a good checksum starts there."""
-    m = b.size - 10
-    if m <= 0:
-        return np.zeros(0, bool)
-    c = np.concatenate([[0], np.cumsum(b, dtype=np.int64)])
-    return (b[:m] == 0x55) & ((b[1:m + 1] & 0xF0) == 0x50) & (((c[10:10 + m] - c[:m]) & 0xFF) == b[10:10 + m])
-
-
-def _scan_frames(b: np.ndarray, path: Path, notes: list[str]) -> np.ndarray:
-    """Offsets of the good frames; after a bad one, skip to the next valid 0x55 and count the frames lost."""
-    ok = _valid_starts(b)
-    valid = np.flatnonzero(ok)
-    starts, pos, bad, first_bad = [], 0, 0, None
-    while pos <= b.size - 11:
-        run = ok[pos::11][:4096]  # a run of good frames, taken in blocks
-        good = run.size if run.all() else int(np.argmin(run))
-        if good:
-            starts.append(np.arange(pos, pos + 11 * good, 11))
-            pos += 11 * good
-            continue
-        k = np.searchsorted(valid, pos)
-        nxt = int(valid[k]) if k < valid.size else b.size
-        first_bad = pos if first_bad is None else first_bad
-        bad += max(1, round((nxt - pos) / 11))
-        pos = nxt
-    starts = np.concatenate(starts) if starts else np.zeros(0, np.int64)
-    if bad > 0.1 * (starts.size + bad):
-        raise LogFormatError(f"{bad} of about {starts.size + bad} frames are bad (more than 10 %); expected "
-                             "11-byte frames: 0x55, type, 8 data bytes, checksum = low byte of the sum "
-                             "of the first 10", where=f"{path}: byte {first_bad}")
-    if bad:
-        notes.append(f"skipped {bad} bad frame(s) (checksum or sync), the first at byte {first_bad}")
-    if pos < b.size:
-        notes.append(f"ignored {b.size - pos} byte(s) at the end of the file (a partial frame)")
-    return starts
-
-
-def _read_binary(raw: bytes, path: Path, rate: float | None, notes: list[str]) -> ImuLog:
-    b = np.frombuffer(raw, np.uint8)
-    starts = _scan_frames(b, path, notes)
-    frames = b[starts[:, None] + np.arange(11)] if starts.size else np.zeros((0, 11), np.uint8)
-    types = frames[:, 1]
-    sid = np.cumsum(types == 0x51) - 1
-    sid[:-1] += (types[:-1] == 0x50) & (types[1:] == 0x51)  # a chip time right before 0x51 is that sample's
-    n = int((types == 0x51).sum())
-    if n == 0:
-        raise LogFormatError("no complete sample: no 0x51 acceleration frame; expected WT901SD frames",
-                             where=f"{path}: byte 0")
-    words = np.ascontiguousarray(frames[:, 2:10]).view("<i2").astype(float)
-    cols, original, have = {}, {}, np.ones(n, bool)
-    key, counts = np.unique(sid[sid >= 0] * 256 + types[sid >= 0], return_counts=True)
-    have[key[counts > 1] // 256] = False  # a type twice in one sample: its 0x51 was lost; do not mix samples
-    for typ, names in _BIN_CHANNELS.items():
-        sel = (types == typ) & (sid >= 0)
-        if sel.any():
-            arr = np.full((n, 4), np.nan)
-            arr[sid[sel]] = words[sel]
-            have &= ~np.isnan(arr[:, 0]) | (typ == 0x54)  # the magnetometer is an extra a sample may lack
-            cols |= {name: arr[:, k] * _BIN_SCALE.get(typ, 1.0) for k, name in enumerate(names)}
-            original |= {name: f"0x{typ:02X} word {k}" for k, name in enumerate(names)}
-            if typ == 0x51:
-                cols[TEMP], original[TEMP] = arr[:, 3] / 100.0, "0x51 word 3"
-    sel = (types == 0x50) & (sid >= 0)
-    fields = np.full((n, 7), np.nan)
-    if sel.any():
-        fields[sid[sel]] = np.column_stack([frames[sel, 2:8], frames[sel, 8] + 256.0 * frames[sel, 9]])
-        have &= ~np.isnan(fields[:, 0])
-    if not have.all():
-        notes.append(f"dropped {int((~have).sum())} incomplete sample(s) (a frame missing or repeated)")
-    if not have.any():
-        raise LogFormatError("no complete sample: every sample misses a frame", where=f"{path}: byte 0")
-    locs, cols = starts[types == 0x51][have], {k: v[have] for k, v in cols.items()}
-    if sel.any():
-        f = fields[have]
-        t, _ = seconds(f[:, :3] + [2000, 0, 0], f[:, 3:6], f[:, 6] / 1000.0)
-        if np.isnan(t).any():  # a chip whose date was never set: use the clock alone
-            t, wraps = seconds(None, f[:, 3:6], f[:, 6] / 1000.0)
-            notes.append(f"0x50 chip-time dates are not valid; used the clock alone ({wraps} midnight(s))")
-        bad = np.flatnonzero(np.isnan(t))
-        if bad.size:
-            raise LogFormatError("0x50 chip time is not a valid clock; expected hh < 24, mm < 60, ss < 60",
-                                 where=f"{path}: byte {locs[bad[0]]}")
-        original[TIME] = "0x50 chip time"
-    else:
-        t = np.arange(have.sum()) / (rate or 10.0)
-        notes.append(f"the file stores no time (no 0x50 frames): time built from sample_rate_hz="
-                     f"{rate or 10.0:g}" + ("" if rate else " (assumed: pass sample_rate_hz= to set it)"))
-    return _assemble(path, "wt901sd-binary", t, locs, cols, original, notes, binary=True)
-
-
 # --------------------------------------------------------------------------------------- public API
 def _detect(raw: bytes, path: Path) -> str:
-    ok = _valid_starts(np.frombuffer(raw[:4096], np.uint8))
-    if raw[0] == 0x55 and ok.size and all(ok[i] for i in range(0, min(ok.size, 34), 11)):
-        return "wt901sd-binary"
-    known = f"known formats: {', '.join(FORMATS)}"
-    if b"\x00" in raw[:4096]:
-        raise LogFormatError(f"binary data that are not 0x55 WIT frames; cannot detect the format ({known})",
-                             where=str(path))
-    text = raw[:4096].decode("utf-8", errors="replace").lstrip("\ufeff")
-    first = next((line for line in text.replace("\r", "\n").split("\n") if line.strip()), "")
-    sep = next((s for s in "\t,;" if s in first), None)
-    keys = {_norm(h) for h in first.split(sep)} if sep else set()
-    for fmt, need in (("witmotion-pc", {"devicename", "chiptime"}), ("witmotion-sdk", {"chiptime"}),
-                      ("witmotion-2025", {"devicename", "chiptime()"}), ("bwt901cl-csv", {"time", "accx1"})):
-        if need <= keys:
-            return fmt
-    if sep:
-        return "csv"
-    raise LogFormatError(f"cannot detect the format from the first line {first[:60]!r}; {known}",
-                         where=str(path))
+    return _registry().detect(raw, str(path))
 
 
 def detect_format(path) -> str:
@@ -531,7 +327,6 @@ def detect_format(path) -> str:
     """
     path = Path(path)
     return _detect(_read_bytes(path), path)
-
 
 def read_log(path, format: str = "auto", *, columns: dict[str, str] | None = None, sensor: int = 1,
              sample_rate_hz: float | None = None, units: dict[str, str] | None = None) -> ImuLog:
@@ -569,22 +364,18 @@ def read_log(path, format: str = "auto", *, columns: dict[str, str] | None = Non
                              f"{_hint(format, FORMATS)}", where=str(path))
     raw = _read_bytes(path)
     fmt = _detect(raw, path) if format == "auto" else format
-    if fmt != "csv" and (columns or units):
-        raise LogFormatError(f"columns= and units= apply to format 'csv' only, not {fmt!r}", where=str(path))
+    layout = _registry().get(fmt)
+    if not layout.takes_columns and (columns or units):
+        takers = " or ".join(repr(k) for k in FORMATS if _registry().get(k).takes_columns)
+        raise LogFormatError(f"columns= and units= apply to format {takers} only, not {fmt!r}", where=str(path))
     low, high = LOG_RATE_HZ
     if sample_rate_hz is not None and not (np.isfinite(sample_rate_hz) and low <= sample_rate_hz <= high):
         raise LogFormatError(f"sample_rate_hz={sample_rate_hz:g} must lie within {low:g} .. {high:g} Hz",
                              where=str(path))
     if not isinstance(sensor, (int, np.integer)) or sensor < 1:
         raise LogFormatError(f"sensor={sensor!r} must be an integer >= 1", where=str(path))
-    if fmt in _WIT_HEADERS:
-        log = _read_witmotion(raw, path, fmt, sensor, [])
-    elif fmt == "bwt901cl-csv":
-        log = _read_bwt(raw, path, sensor, [])
-    else:
-        _one_sensor(sensor, fmt, path)
-        log = (_read_csv(raw, path, columns, units, sample_rate_hz, []) if fmt == "csv"
-               else _read_binary(raw, path, sample_rate_hz, []))
+    options = _registry().ReadOptions(columns=columns, units=units, sensor=sensor, sample_rate_hz=sample_rate_hz)
+    log = layout.read(raw, path, options)
     if sample_rate_hz is not None and TIME in log.original_columns:
         note = f"sample_rate_hz={sample_rate_hz:g} ignored: the file stores time"
         log = replace(log, notes=(*log.notes, note))
@@ -594,62 +385,6 @@ def read_log(path, format: str = "auto", *, columns: dict[str, str] | None = Non
 # ------------------------------------------------------------------------------------------ writers
 def _extras(data: pd.DataFrame, used) -> dict:
     return {c: data[c].to_numpy() for c in data.columns if c not in used and c != TIME}
-
-
-def _write_witmotion(data: pd.DataFrame, path: Path, fmt: str) -> None:
-    f = clock_fields(data[TIME].to_numpy(float), path, fmt)
-    out = {}
-    if fmt in _WIT_PC_COLUMNS:
-        pc_time, device = _WIT_PC_COLUMNS[fmt]
-        out[pc_time] = clock_text(f, "clock" if fmt == "witmotion-pc" else "date")
-        out[device] = "trikedyn"
-    out[_WIT_HEADERS[fmt][0]] = clock_text(f, "sdk" if fmt == "witmotion-sdk" else "date")
-    for si, h in zip((*CHANNELS, TEMP), _WIT_HEADERS[fmt][1:], strict=False):
-        if si in data:
-            out[h] = data[si].to_numpy(float) / _FACTOR.get(si, 1.0)
-    sdk = fmt == "witmotion-sdk"
-    pd.DataFrame(out | _extras(data, (*CHANNELS, TEMP))).to_csv(
-        path, sep=_WIT_SEP[fmt], index=False, encoding="gbk" if sdk else "utf-8",
-        lineterminator="\r\r\n" if sdk else "\n")
-
-
-def _write_bwt(data: pd.DataFrame, path: Path) -> None:
-    out = {"Time": clock_text(clock_fields(data[TIME].to_numpy(float), path, "bwt901cl-csv"), "clock")}
-    for prefix, sis in _BWT.items():
-        for c, si in zip("XYZ", sis, strict=False):
-            if si in data:
-                out[f"{prefix}{c}1"] = data[si].to_numpy(float) / (1.0 if prefix == "Acc" else _DEG)
-    pd.DataFrame(out | _extras(data, CHANNELS)).to_csv(path, index=False)
-
-
-def _write_binary(data: pd.DataFrame, path: Path) -> None:
-    n = len(data)
-    f = clock_fields(data[TIME].to_numpy(float), path, "wt901sd-binary")
-    temp = np.round(data[TEMP].to_numpy(float) * 100) if TEMP in data else np.zeros(n)
-    ms = f["ms"].to_numpy()
-    payloads = {0x50: np.column_stack([f["year"] - 2000, f["month"], f["day"], f["hour"], f["minute"],
-                                       f["second"], ms & 0xFF, ms >> 8]).astype(np.uint8)}
-    for typ, names in _BIN_CHANNELS.items():
-        present = [c for c in names if c in data]
-        if len(present) < (3 if typ == 0x51 else 1 if present else 0) or 0 < len(present) < 3:
-            raise LogFormatError(f"format 'wt901sd-binary' stores {', '.join(names)} together (and needs the "
-                                 f"0x51 acceleration); the log has {', '.join(present) or 'none'}",
-                                 where=str(path))
-        if present:
-            scale = _BIN_SCALE.get(typ, 1.0)
-            raw = np.column_stack([np.round(data[c].to_numpy(float) / scale) for c in names])
-            raw = (raw + 32768) % 65536 - 32768 if typ == 0x53 else raw  # angles wrap at +-180 deg
-            raw = np.column_stack([raw, temp])
-            if (np.abs(raw + 0.5) > 32768).any() or np.isnan(raw).any():
-                raise LogFormatError(f"a value of {', '.join(names)} or {TEMP} is outside the int16 range of "
-                                     "format 'wt901sd-binary'", where=str(path))
-            payloads[typ] = raw.astype("<i2").view(np.uint8).reshape(n, 8)
-    frames = np.zeros((n, len(payloads), 11), np.uint8)
-    for k, (typ, payload) in enumerate(payloads.items()):
-        frames[:, k, 0], frames[:, k, 1], frames[:, k, 2:10] = 0x55, typ, payload
-        frames[:, k, 10] = frames[:, k, :10].sum(axis=1, dtype=np.int64) & 0xFF
-    path.write_bytes(frames.tobytes())
-
 
 def write_log(log: ImuLog | pd.DataFrame, path, format: str = "witmotion-sdk") -> Path:
     """Write a log (SI columns as in :class:`ImuLog`) in one of :data:`FORMATS`.
@@ -676,12 +411,5 @@ def write_log(log: ImuLog | pd.DataFrame, path, format: str = "witmotion-sdk") -
     if t.size == 0 or not np.isfinite(t).all() or (np.diff(t) <= 0).any():
         raise LogFormatError("time_s must be finite and strictly increasing, with one row or more",
                              where=str(path))
-    if format in _WIT_HEADERS:
-        _write_witmotion(data, path, format)
-    elif format == "bwt901cl-csv":
-        _write_bwt(data, path)
-    elif format == "wt901sd-binary":
-        _write_binary(data, path)
-    else:
-        data.to_csv(path, index=False)
+    _registry().get(format).write(data, path)
     return path

@@ -1,0 +1,229 @@
+"""IMU log layouts: a registry, one module per layout; importing this package registers the built-ins.
+
+A layout is a :class:`LogFormat` (its ``name``, a one-line ``description``, ``sniff`` that scores a file's
+first bytes, ``read`` and, optionally, ``write``) handed to :func:`register`.
+:func:`trikedyn.measure.logs.read_log`, :func:`~trikedyn.measure.logs.write_log`,
+:func:`~trikedyn.measure.logs.detect_format` and :data:`~trikedyn.measure.logs.FORMATS` go through this
+registry, so a new layout is one new module in this folder (every public module here is imported, in name
+order), or a :func:`register` call anywhere before the log is read. A text table with fixed headers can
+subclass :class:`TableFormat` and give its headers only.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+import pkgutil
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, ClassVar
+
+from ...errors import LogFormatError
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+    from ..logs import ImuLog
+
+__all__ = ["Head", "LogFormat", "ReadOptions", "TableFormat", "available", "detect", "get", "register",
+           "registered", "unregister"]
+
+HEAD_BYTES = 4096  # how much of a file detection looks at
+
+
+def _norm(header: str) -> str:
+    from ..logs import _norm as norm
+
+    return norm(header)
+
+
+@dataclass(frozen=True)
+class Head:
+    """The first bytes of a file, as the sniffers see them.
+
+    Attributes
+    ----------
+    raw : bytes
+        The first 4096 bytes.
+    binary : bool
+        Whether they hold a NUL byte (then ``text`` and ``first`` are empty and ``sep`` is None).
+    text : str
+        ``raw`` decoded as UTF-8 (bad bytes replaced, no BOM).
+    first : str
+        The first non-blank line.
+    sep : str or None
+        The first of tab, ``,`` or ``;`` found in ``first``.
+    keys : frozenset of str
+        The fields of ``first`` reduced for matching: lower case, no spaces, ``°`` spelled ``deg``.
+    """
+
+    raw: bytes
+    binary: bool
+    text: str
+    first: str
+    sep: str | None
+    keys: frozenset[str]
+
+    @classmethod
+    def of(cls, data: bytes | str) -> Head:
+        raw = (data.encode("utf-8") if isinstance(data, str) else bytes(data))[:HEAD_BYTES]
+        if b"\x00" in raw:
+            return cls(raw, True, "", "", None, frozenset())
+        text = raw.decode("utf-8", errors="replace").lstrip("\ufeff")
+        first = next((line for line in text.replace("\r", "\n").split("\n") if line.strip()), "")
+        sep = next((s for s in "\t,;" if s in first), None)
+        keys = frozenset(_norm(h) for h in first.split(sep)) if sep else frozenset()
+        return cls(raw, False, text, first, sep, keys)
+
+
+@dataclass(frozen=True)
+class ReadOptions:
+    """What the caller of :func:`~trikedyn.measure.logs.read_log` asked for (already checked for range)."""
+
+    columns: dict[str, str] | None = None
+    units: dict[str, str] | None = None
+    sensor: int = 1
+    sample_rate_hz: float | None = None
+
+
+class LogFormat:
+    """One log layout. Subclass, set ``name`` and ``description``, implement ``sniff`` and ``read``.
+
+    ``sniff`` scores a file's :class:`Head`: 0 or False when the layout does not fit, True counts as 1.
+    The highest score wins detection (ties: the layout listed first by :func:`available`); the built-ins
+    score 1-2 for their header lines, 0.5 for any separated header (generic ``csv``) and 100 for valid
+    binary frames. ``read`` returns an :class:`~trikedyn.measure.logs.ImuLog` whose ``format`` is ``name``;
+    ``write`` (optional) writes SI columns. ``takes_columns`` says whether ``columns=``/``units=`` apply.
+    ``order`` places the layout in :func:`available` (then registration order).
+    """
+
+    name: ClassVar[str] = ""
+    description: ClassVar[str] = ""
+    takes_columns: ClassVar[bool] = False
+    order: ClassVar[float] = 100.0
+
+    def sniff(self, head: Head) -> float | bool:
+        return 0.0
+
+    def read(self, raw: bytes, path: Path, options: ReadOptions) -> ImuLog:
+        raise NotImplementedError
+
+    def write(self, data: pd.DataFrame, path: Path) -> None:
+        raise LogFormatError(f"format {self.name!r} can be read but not written; writable formats: "
+                             f"{', '.join(n for n in available() if get(n).writable)}", where=str(path))
+
+    @property
+    def writable(self) -> bool:
+        return type(self).write is not LogFormat.write
+
+    def __repr__(self) -> str:
+        return f"<log format {self.name!r}: {self.description}>"
+
+
+class TableFormat(LogFormat):
+    """A one-sensor text table with fixed headers: ``columns`` maps header -> (SI name, factor to SI).
+
+    The SI name ``time_s`` marks the time column (numbers times the factor, or clock times); other
+    columns are kept as extras. ``sniff`` scores 5 when every header of ``columns`` is in the first line.
+    """
+
+    sep: ClassVar[str] = ","
+    encodings: ClassVar[tuple[str, ...]] = ("utf-8-sig",)
+    columns: ClassVar[dict[str, tuple[str, float]]] = {}
+
+    def sniff(self, head: Head) -> float:
+        fields = {h.strip() for h in head.first.split(self.sep)}
+        return 5.0 if head.sep and set(self.columns) <= fields else 0.0
+
+    def read(self, raw: bytes, path: Path, options: ReadOptions) -> ImuLog:
+        from .. import logs
+
+        logs._one_sensor(options.sensor, self.name, path)
+        header, cells, lines, at_header = logs._split_table(logs._decode(raw, path, self.encodings), self.sep,
+                                                            path)
+        missing = [h for h in self.columns if h not in header]
+        if missing:
+            raise LogFormatError(f"no column {', '.join(missing)}; columns present: {', '.join(header)}",
+                                 where=at_header)
+        spec = {si: (header.index(h), f) for h, (si, f) in self.columns.items()}
+        notes: list[str] = []
+        j, factor = spec.get(logs.TIME, (None, 1.0))
+        if j is None:
+            raise LogFormatError(f"format {self.name!r} declares no time column", where=str(path))
+        t = logs._times(cells[j], header[j], lines, path, notes, factor=factor)
+        return logs._table_log(path, self.name, t, header, cells, lines, spec, set(), notes)
+
+
+_REGISTRY: dict[str, LogFormat] = {}
+
+
+def register(fmt: LogFormat | type[LogFormat], *, replace: bool = False):
+    """Add a layout (an instance, or a class that is instantiated); returns what it was given.
+
+    Usable as a class decorator. A name already registered is an error unless ``replace=True``.
+    """
+    obj = fmt() if isinstance(fmt, type) else fmt
+    if not isinstance(obj, LogFormat) or not obj.name or obj.name == "auto":
+        raise ValueError(f"expected a LogFormat with a name (not 'auto'), got {fmt!r}")
+    if obj.name in _REGISTRY and not replace:
+        raise ValueError(f"log format {obj.name!r} is already registered")
+    _REGISTRY[obj.name] = obj
+    return fmt
+
+
+def unregister(name: str) -> LogFormat:
+    """Remove the layout ``name`` and return it (KeyError if it is not registered)."""
+    return _REGISTRY.pop(name)
+
+
+@contextlib.contextmanager
+def registered(fmt: LogFormat | type[LogFormat]) -> Iterator[LogFormat]:
+    """Register ``fmt`` for the ``with`` block only (for tests); yields the registered instance."""
+    obj = fmt() if isinstance(fmt, type) else fmt
+    register(obj)
+    try:
+        yield obj
+    finally:
+        if _REGISTRY.get(obj.name) is obj:
+            del _REGISTRY[obj.name]
+
+
+def available() -> tuple[str, ...]:
+    """The names of the registered layouts, built-ins first in their usual order."""
+    names = list(_REGISTRY)
+    return tuple(sorted(names, key=lambda n: (_REGISTRY[n].order, names.index(n))))
+
+
+def get(name: str) -> LogFormat:
+    """The layout registered as ``name`` (KeyError if none)."""
+    return _REGISTRY[name]
+
+
+def detect(data: bytes | str, name: str = "<data>") -> str:
+    """The name of the layout that fits ``data`` (a file's bytes or text) best.
+
+    Raises
+    ------
+    LogFormatError
+        If no layout fits; ``where`` is ``name`` and the message lists the known layouts.
+    """
+    head = Head.of(data)
+    best, best_score = None, 0.0
+    for fmt_name in available():
+        score = float(get(fmt_name).sniff(head) or 0.0)
+        if score > best_score:
+            best, best_score = fmt_name, score
+    if best is not None:
+        return best
+    known = f"known formats: {', '.join(available())}"
+    if head.binary:
+        raise LogFormatError(f"binary data that are not 0x55 WIT frames; cannot detect the format ({known})",
+                             where=name)
+    raise LogFormatError(f"cannot detect the format from the first line {head.first[:60]!r}; {known}",
+                         where=name)
+
+
+for _info in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):
+    if not _info.name.startswith("_"):
+        importlib.import_module(f"{__name__}.{_info.name}")
