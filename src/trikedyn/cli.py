@@ -43,7 +43,7 @@ def _root(
 # ------------------------------------------------------------------------------------------------
 # the command map: each group lives in trikedyn.commands
 # ------------------------------------------------------------------------------------------------
-from .commands import animate, cg, drive, layouts, logs, sensitivity, stability, studies, tyre, vehicle  # noqa: E402
+from .commands import animate, cg, drive, layouts, loading, logs, sensitivity, stability, studies, tyre, vehicle  # noqa: E402
 from .commands._common import WARNINGS, emit  # noqa: E402
 
 app.add_typer(vehicle.vehicle_app, name="vehicle")
@@ -64,6 +64,7 @@ app.command("compare-layouts")(layouts.compare_layouts_cmd)
 app.command("sensitivity")(sensitivity.sensitivity_cmd)
 app.command("study")(studies.study_cmd)
 app.command("reproduce")(studies.reproduce_cmd)
+app.command("loading-chart")(loading.loading_chart_cmd)
 
 _emit = emit  # the older name
 _flatten = vehicle._flatten

@@ -6,7 +6,6 @@ import json
 from pathlib import Path
 from typing import Annotated
 
-import numpy as np
 import typer
 
 from ..errors import InputError
@@ -162,40 +161,47 @@ def simulate_cmd(
 
 def plot_cmd(
     run: Annotated[Path, typer.Argument(help="A run file written by `trikedyn simulate --out`.")],
-    out: Annotated[Path | None, typer.Option("--out", help="PNG to write (default: beside the run).")] = None,
-    channels: Annotated[str, typer.Option(help="Comma-separated channels to plot.")] = "speed_mps,ay_mps2,yaw_rate_radps,ri,min_wheel_load_N",
+    out: Annotated[Path | None, typer.Option("--out", help="PNG to write (default: beside the run, RUN.png for "
+                                             "the time histories, RUN-KIND.png for the others).")] = None,
+    kind: Annotated[str, typer.Option("--kind", help="time: speed [km/h], lateral acceleration, yaw rate, roll "
+                                      "and RI over time; wheel-loads: each wheel's load [N], lift shaded; plan: "
+                                      "the path through the cones with the footprint; gg: g-g diagram; roll: "
+                                      "roll [deg] against lateral acceleration.")] = "time",
+    channels: Annotated[str | None, typer.Option(help="Comma-separated channels for --kind time (default: speed, "
+                                                 "lateral acceleration, yaw rate, roll, RI).")] = None,
     force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
-    """Time histories of a run (like the paper's Figs. 7-9)."""
+    """Figures of a run with titles and units: time histories (like the paper's Figs. 7-9), wheel loads, plan
+    view through the cones, g-g diagram, roll against lateral acceleration."""
     from .._files import check_output
+    from ..report.run_figures import KINDS, figure
 
-    target = out or run.with_suffix(".png")
-    check_output(target, force=force, reads=[run])
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
+    if kind not in KINDS:
+        raise InputError(f"expected one of {', '.join(KINDS)}, got '{kind}'", where="--kind")
+    names = [c.strip() for c in channels.split(",") if c.strip()] if channels else None
+    if names and kind != "time":
+        raise InputError("--channels applies to --kind time only", where="--channels")
+    target = out or (run.with_suffix(".png") if kind == "time" else run.with_name(f"{run.stem}-{kind}.png"))
+    check_output(target, force=force, reads=[run, run.with_suffix(".json")])
     from ..analysis.compare import load_table
+    from .animate import _meta
 
-    frame, kind = load_table(run)
-    names = [c.strip() for c in channels.split(",") if c.strip()]
-    missing = [c for c in names if c not in frame.columns]
-    if missing:
-        from difflib import get_close_matches
-
-        hint = get_close_matches(missing[0], list(frame.columns), n=1)
-        raise InputError(f"no channel '{missing[0]}'" + (f"; did you mean '{hint[0]}'?" if hint else ""), where=str(run))
-    fig, axes = plt.subplots(len(names), 1, sharex=True, figsize=(7, 1.8 * len(names)))
-    for ax, name in zip(np.atleast_1d(axes), names, strict=False):
-        ax.plot(frame["time_s"], frame[name])
-        ax.set_ylabel(name)
-        ax.grid(alpha=0.3)
-    np.atleast_1d(axes)[-1].set_xlabel("time [s]")
-    fig.tight_layout()
+    frame, _ = load_table(run)
+    meta = _meta(run, frame.attrs)
+    options = {"channels": names} if names else {}
+    try:
+        fig = figure(kind, frame, meta, **options)
+    except InputError as exc:
+        raise InputError(exc.reason, where=str(run)) from None
     save_figure(fig, target, dpi=110)
-    emit({"wrote": str(target), "channels": names}, as_json, f"wrote {target}")
+    time_s = frame["time_s"].to_numpy(dtype=float)
+    data = {"wrote": str(target), "kind": kind, "samples": int(time_s.size),
+            "duration_s": float(time_s[-1] - time_s[0]) if time_s.size else 0.0}
+    if kind == "time":
+        data["channels"] = names or [c for c in ("speed_mps", "ay_mps2", "yaw_rate_radps", "roll_rad", "ri")
+                                     if c in frame.columns]
+    emit(data, as_json, f"wrote {target}")
 
 
 def compare_cmd(

@@ -1,0 +1,113 @@
+"""``trikedyn loading-chart``: the safe speed for operators over freight mass and freight position."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import sys
+import time
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..errors import InputError
+from ._common import ForceOpt, JsonOpt, ManoeuvreOpt, OptionOpt, VehicleArg, emit, manoeuvre_options, within
+
+JSON_FILE, CSV_FILE, FIGURE_FILE = "loading-chart.json", "loading-chart.csv", "loading-chart.png"
+PROGRESS_EVERY_S = 3.0
+"""Seconds between two progress lines on stderr (a line, not a bar: it also works without a terminal)."""
+
+
+class _Progress:
+    """``loading-chart: 12/45 cells`` on stderr at the start, every few seconds, and at the end."""
+
+    def __init__(self, every_s: float = PROGRESS_EVERY_S):
+        self.every_s = every_s
+        self.last = None
+        self.shown = None
+
+    def __call__(self, done: int, total: int) -> None:
+        now = time.monotonic()
+        if (done, total) == self.shown:
+            return
+        if self.last is None or done == total or now - self.last >= self.every_s:
+            print(f"loading-chart: {done}/{total} cells", file=sys.stderr, flush=True)
+            self.last, self.shown = now, (done, total)
+
+
+def _numbers(text: str | None, option: str) -> list[float] | None:
+    """A comma-separated list of finite numbers (None: the default grid)."""
+    if text is None:
+        return None
+    values = []
+    for part in text.split(","):
+        try:
+            value = float(part)
+        except ValueError:
+            raise InputError(f"expected comma-separated numbers, got {part.strip()!r}", where=option) from None
+        if not math.isfinite(value):
+            raise InputError(f"expected finite numbers, got {part.strip()!r}", where=option)
+        values.append(value)
+    return values
+
+
+def loading_chart_cmd(
+    vehicle: VehicleArg,
+    manoeuvre: ManoeuvreOpt = "dlc",
+    option: OptionOpt = [],  # noqa: B006
+    masses: Annotated[str | None, typer.Option("--masses", help="Freight masses [kg], comma-separated (default 0,50,100,150,200).")] = None,
+    x: Annotated[str | None, typer.Option("--x", help="Fore-aft positions of the freight [m, vehicle axes], comma-separated (default: the vehicle's freight site and +/-0.2 m).")] = None,
+    z: Annotated[str | None, typer.Option("--z", help="Heights of the freight [m], comma-separated (default: the freight site and +0.2, +0.4 m).")] = None,
+    margin_kmh: Annotated[float | None, typer.Option("--margin-kmh", callback=within(0, 200, "km/h"), help="Safe speed = threshold - this [km/h], not below 0 (default 5).")] = None,
+    margin_fraction: Annotated[float | None, typer.Option("--margin-fraction", callback=within(0, 0.99), help="Or: safe speed = threshold x (1 - this) [-].")] = None,
+    resolution: Annotated[float, typer.Option("--resolution", callback=within(0.01, 10, "km/h"), help="Resolution of each threshold search [km/h].")] = 0.1,
+    high: Annotated[float, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h] (raise it for slc).")] = 90.0,
+    workers: Annotated[int, typer.Option("--workers", callback=within(0, 256), help="Processes (0: in this process).")] = 2,
+    out: Annotated[Path | None, typer.Option("--out", help="Folder for loading-chart.json, .csv and .png (a printable figure).")] = None,
+    force: ForceOpt = False,
+    as_json: JsonOpt = False,
+):
+    """The safe speed (threshold velocity less a stated margin) over freight mass and freight position."""
+    from ..params import load_vehicle
+    from ..study import loading as lc
+    from ..study.sample_runs import Search
+
+    if margin_kmh is not None and margin_fraction is not None:
+        raise InputError("give --margin-kmh or --margin-fraction, not both", where="--margin-fraction")
+    grid = [_numbers(masses, "--masses"), _numbers(x, "--x"), _numbers(z, "--z")]
+    if grid[0] is not None and any(m < 0 for m in grid[0]):
+        raise InputError("freight masses must be >= 0 kg", where="--masses")
+    options = manoeuvre_options(manoeuvre, option)
+    pset = load_vehicle(vehicle)
+    if out is not None:
+        from .._files import check_output_folder
+
+        check_output_folder(out, force=force, option="--out")
+    search = Search(manoeuvre, options, resolution, high_kmh=high)
+    chart = lc.run_loading_chart(pset, search, *grid,
+                                 margin_kmh=lc.DEFAULT_MARGIN_KMH if margin_kmh is None else margin_kmh,
+                                 margin_fraction=margin_fraction, workers=workers, progress=_Progress())
+    data = chart.to_dict()
+    if out is not None:
+        import matplotlib
+
+        from .._files import atomic_write
+        from ._common import finite, json_default, save_figure
+
+        matplotlib.use("Agg")
+        files = {"json": str(out / JSON_FILE), "csv": str(out / CSV_FILE), "figure": str(out / FIGURE_FILE)}
+        save_figure(chart.plot(), out / FIGURE_FILE, dpi=150)
+        atomic_write(out / CSV_FILE, lambda fh: csv.writer(fh).writerows(chart.rows()), binary=False)
+        data["files"] = files
+        text = json.dumps(finite(data)[0], indent=2, default=json_default, allow_nan=False)
+        atomic_write(out / JSON_FILE, lambda fh: fh.write(text), binary=False)
+
+    def shown() -> str:
+        lines = [chart.table()]
+        if out is not None:
+            lines.append(f"wrote {', '.join(data['files'].values())}")
+        return "\n".join(lines)
+
+    emit(data, as_json, shown)

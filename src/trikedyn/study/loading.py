@@ -1,0 +1,284 @@
+"""A loading chart for operators: the safe speed over freight mass and freight position.
+
+For each cell of a grid (freight mass [kg] x fore-aft position x [m] x height z [m] of the freight site),
+the vehicle is given the paper's freight (:func:`~trikedyn.params.ops.with_freight`) at the site moved by
+the design knobs ``freight.x_m`` and ``freight.z_m`` (:func:`~trikedyn.params.knobs.apply_knobs`), and the
+threshold velocity on a manoeuvre is searched (:func:`~trikedyn.analysis.threshold.threshold_velocity`).
+The **safe speed** is the threshold less a stated margin, never below 0:
+
+* ``margin_kmh`` (default 5 km/h): ``safe = max(threshold - margin_kmh, 0)``;
+* ``margin_fraction`` F: ``safe = max(threshold * (1 - F), 0)``.
+
+A cell whose vehicle is invalid, or whose search fails or finds no threshold, is null with the reason. The
+cells run on a process pool (:mod:`trikedyn.study.executors`). :func:`run_loading_chart` returns a
+:class:`LoadingChart` (``to_dict``, ``rows`` for a CSV, ``plot``; matplotlib is imported only to plot).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+from ..errors import InputError, ParameterError, SimulationError
+from ..params.io import ParameterSet
+from .sample_runs import MAX_RESTARTS, Search
+
+__all__ = ["DEFAULT_MARGIN_KMH", "DEFAULT_MASSES_KG", "DEFAULT_X_OFFSETS_M", "DEFAULT_Z_OFFSETS_M", "LoadingChart",
+           "default_grid", "evaluate_cell", "run_loading_chart", "safe_speed"]
+
+DEFAULT_MASSES_KG = (0.0, 50.0, 100.0, 150.0, 200.0)
+DEFAULT_X_OFFSETS_M = (-0.2, 0.0, 0.2)
+"""Fore-aft positions of the default grid, from the vehicle's freight site [m]."""
+DEFAULT_Z_OFFSETS_M = (0.0, 0.2, 0.4)
+"""Heights of the default grid, above the vehicle's freight site (a trunk) [m]."""
+DEFAULT_MARGIN_KMH = 5.0
+MAX_CELLS = 5000
+
+
+def default_grid(pset: ParameterSet) -> tuple[list[float], list[float], list[float]]:
+    """Masses [kg], x [m] and z [m] of the default grid (45 cells) around the vehicle's freight site."""
+    site = pset.params.freight
+    return (list(DEFAULT_MASSES_KG), [round(site.x_m + d, 9) for d in DEFAULT_X_OFFSETS_M],
+            [round(site.z_m + d, 9) for d in DEFAULT_Z_OFFSETS_M])
+
+
+def safe_speed(threshold_kmh: float | None, margin_kmh: float | None = DEFAULT_MARGIN_KMH,
+               margin_fraction: float | None = None) -> float | None:
+    """The threshold [km/h] less the margin (``margin_kmh`` or a fraction of it), floored at 0."""
+    if threshold_kmh is None:
+        return None
+    if margin_fraction is not None:
+        return round(max(threshold_kmh * (1.0 - margin_fraction), 0.0), 6)
+    return round(max(threshold_kmh - (margin_kmh or 0.0), 0.0), 6)
+
+
+def evaluate_cell(pset: ParameterSet, mass_kg: float, x_m: float, z_m: float,
+                  search: Search) -> tuple[float | None, str | None]:
+    """The threshold velocity [km/h] with ``mass_kg`` of freight at ``(x_m, z_m)``, or None and why not.
+
+    Runs in a worker process; an invalid vehicle or a failed search is a null cell, not an error."""
+    from ..params.knobs import apply_knobs
+    from ..params.ops import with_freight
+    from .executors import one_line
+
+    try:
+        vehicle = with_freight(apply_knobs(pset, {"freight.x_m": x_m, "freight.z_m": z_m}), mass_kg)
+    except ParameterError as exc:
+        return None, f"invalid vehicle: {' '.join(str(exc).split())}"
+    try:
+        try:
+            result = search.run(vehicle)
+        except SimulationError as exc:
+            if "time step too large" not in str(exc):
+                raise
+            result = search.run(vehicle, dt_s=search.dt_s / 2)
+    except Exception as exc:  # noqa: BLE001 - a cell that cannot be searched is reported, the chart goes on
+        return None, one_line(exc)
+    if result.threshold_speed_kmh is None:
+        return None, f"no threshold: {' '.join(str(result.detail).split())}"
+    return float(result.threshold_speed_kmh), None
+
+
+@dataclass
+class LoadingChart:
+    """The safe speed over freight mass and position.
+
+    Attributes
+    ----------
+    vehicle, manoeuvre : str
+    masses_kg, x_m, z_m : list of float
+        The grid: freight masses [kg], fore-aft positions and heights of the freight [m] (vehicle axes).
+    threshold : dict
+        ``(mass, x, z)`` -> threshold velocity [km/h] or None.
+    errors : dict
+        ``(mass, x, z)`` -> None or why the cell is null.
+    margin_kmh, margin_fraction : float or None
+        The margin: one of them is set.
+    search : Search
+    """
+
+    vehicle: str
+    manoeuvre: str
+    masses_kg: list
+    x_m: list
+    z_m: list
+    threshold: dict
+    errors: dict
+    margin_kmh: float | None = DEFAULT_MARGIN_KMH
+    margin_fraction: float | None = None
+    search: Search = field(default_factory=Search)
+    site_m: tuple = (0.0, 0.0, 0.0)
+    workers: int = 2
+    wall_time_s: float = 0.0
+
+    @property
+    def margin_text(self) -> str:
+        if self.margin_fraction is not None:
+            return f"{self.margin_fraction:.0%} below the threshold"
+        return f"{self.margin_kmh:g} km/h below the threshold"
+
+    def safe(self, key) -> float | None:
+        return safe_speed(self.threshold[key], self.margin_kmh, self.margin_fraction)
+
+    def keys(self):
+        return [(m, x, z) for z in self.z_m for m in self.masses_kg for x in self.x_m]
+
+    @property
+    def failed(self) -> int:
+        return sum(e is not None for e in self.errors.values())
+
+    def cells(self) -> list[dict]:
+        return [{"freight_kg": m, "freight_position_m": [x, z], "threshold_speed_kmh": self.threshold[(m, x, z)],
+                 "safe_speed_kmh": self.safe((m, x, z)), "error": self.errors[(m, x, z)]} for m, x, z in self.keys()]
+
+    def to_dict(self) -> dict:
+        """The chart as plain data (the ``--json`` output)."""
+        at_limit = sum(t is not None and t >= self.search.high_kmh - 1e-9 for t in self.threshold.values())
+        return {
+            "vehicle": self.vehicle, "manoeuvre": self.manoeuvre, "options": dict(self.search.options),
+            "margin_kmh": self.margin_kmh, "margin_fraction": self.margin_fraction, "margin": self.margin_text,
+            "resolution_kmh": self.search.resolution_kmh, "high_kmh": self.search.high_kmh,
+            "freight_site_m": list(self.site_m), "masses_kg": list(self.masses_kg), "x_m": list(self.x_m),
+            "z_m": list(self.z_m), "cells": self.cells(), "failed": self.failed, "at_search_limit": at_limit,
+            "workers": self.workers, "wall_time_s": self.wall_time_s,
+        }
+
+    def rows(self) -> list[list]:
+        """The cells as CSV rows, the header first."""
+        out = [["freight_kg", "x_m", "z_m", "threshold_speed_kmh", "safe_speed_kmh", "error"]]
+        for c in self.cells():
+            out.append([c["freight_kg"], *c["freight_position_m"], _blank(c["threshold_speed_kmh"]),
+                        _blank(c["safe_speed_kmh"]), c["error"] or ""])
+        return out
+
+    def table(self) -> str:
+        """A printable table per height: rows freight mass, columns x; each cell ``safe (threshold)``."""
+        lines = [f"{self.vehicle} on {self.manoeuvre}: safe speed [km/h] = threshold - margin "
+                 f"({self.margin_text}, not below 0); cells: safe (threshold)"]
+        width = 15
+        for z in self.z_m:
+            lines += ["", f"freight height z = {z:.3f} m"]
+            lines.append(f"{'freight [kg]':>12}" + "".join(f"{f'x = {x:.3f} m':>{width}}" for x in self.x_m))
+            for m in self.masses_kg:
+                cells = []
+                for x in self.x_m:
+                    t = self.threshold[(m, x, z)]
+                    cells.append("-" if t is None else f"{self.safe((m, x, z)):.1f} ({t:.1f})")
+                lines.append(f"{m:>12g}" + "".join(f"{c:>{width}}" for c in cells))
+        reasons = {}
+        for key, err in self.errors.items():
+            if err is not None:
+                reasons.setdefault(err, []).append(key)
+        if reasons:
+            lines += ["", f"{self.failed} cells null (-):"]
+            lines += [f"  {len(keys)} x {err}" for err, keys in reasons.items()]
+        if any(t is not None and t >= self.search.high_kmh - 1e-9 for t in self.threshold.values()):
+            lines.append(f"cells at {self.search.high_kmh:g} km/h passed the whole search (raise --high)")
+        return "\n".join(lines)
+
+    def plot(self):
+        """One panel per height: safe speed vs freight mass, one line per fore-aft position; a Figure."""
+        from matplotlib.figure import Figure
+
+        n = len(self.z_m)
+        fig = Figure(figsize=(3.6 * n + 1.0, 4.2))
+        axes = fig.subplots(1, n, sharey=True, squeeze=False)[0]
+        for ax, z in zip(axes, self.z_m, strict=True):
+            for x in self.x_m:
+                ys = [self.safe((m, x, z)) for m in self.masses_kg]
+                ax.plot(self.masses_kg, [math.nan if y is None else y for y in ys], "o-", label=f"x = {x:.2f} m")
+            ax.set_title(f"freight height z = {z:.2f} m", fontsize=9)
+            ax.set_xlabel("freight mass [kg]")
+            ax.grid(alpha=0.3)
+            ax.set_ylim(bottom=0)
+        axes[0].set_ylabel("safe speed [km/h]")
+        axes[-1].legend(fontsize=8, loc="best")
+        fig.suptitle(f"Loading chart: {self.vehicle}, {self.manoeuvre}; safe speed = threshold velocity less "
+                     f"{self.margin_text.replace(' below the threshold', '')}", fontsize=10)
+        fig.tight_layout()
+        return fig
+
+
+def _blank(value):
+    return "" if value is None else value
+
+
+def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[float] | None = None,
+                      x_m: Sequence[float] | None = None, z_m: Sequence[float] | None = None, *,
+                      margin_kmh: float | None = DEFAULT_MARGIN_KMH, margin_fraction: float | None = None,
+                      workers: int = 2, progress: Callable | None = None) -> LoadingChart:
+    """The loading chart of ``pset`` (default grid: :func:`default_grid`); cells on ``workers`` processes
+    (0: in this process); ``progress(done, total)`` is called about once a second and at the end."""
+    from concurrent.futures.process import BrokenProcessPool
+
+    from .executors import make_executor
+
+    start = time.perf_counter()
+    masses, xs, zs = default_grid(pset)
+    masses = list(dict.fromkeys(float(v) for v in (masses if masses_kg is None else masses_kg)))
+    xs = list(dict.fromkeys(float(v) for v in (xs if x_m is None else x_m)))
+    zs = list(dict.fromkeys(float(v) for v in (zs if z_m is None else z_m)))
+    for name, values in (("masses", masses), ("x", xs), ("z", zs)):
+        if not values or not all(math.isfinite(v) for v in values):
+            raise InputError("needs finite numbers", where=f"--{name}")
+    if any(m < 0 for m in masses):
+        raise InputError("freight masses must be >= 0 kg", where="--masses")
+    if margin_fraction is not None and not 0 <= margin_fraction < 1:
+        raise InputError("must be >= 0 and < 1", where="--margin-fraction")
+    if margin_fraction is None and (margin_kmh is None or not 0 <= margin_kmh < 1000):
+        raise InputError("must be >= 0 km/h", where="--margin-kmh")
+    from ..analysis.threshold import manoeuvre_builder
+
+    manoeuvre_builder(search.manoeuvre, dict(search.options))  # a bad manoeuvre fails before any process starts
+    keys = [(m, x, z) for z in zs for m in masses for x in xs]
+    if len(keys) > MAX_CELLS:
+        raise InputError(f"{len(keys)} cells; at most {MAX_CELLS}", where="grid")
+    threshold: dict = {}
+    errors: dict = {}
+    todo = list(keys)
+    if progress is not None:
+        progress(0, len(keys))
+    deaths: dict = {}
+    restarts = 0
+    while todo:
+        executor = make_executor(workers, None, None, len(todo))
+        pending: dict = {}
+        try:
+            while todo or pending:
+                while todo and len(pending) < executor.window:
+                    key = todo.pop(0)
+                    pending[executor.submit(evaluate_cell, pset, *key, search)] = key
+                for fut in executor.wait(list(pending), 1.0):
+                    result = executor.result(fut)  # a dead worker raises here, its cell still pending
+                    threshold[pending[fut]], errors[pending.pop(fut)] = result
+                if progress is not None:
+                    progress(len(threshold), len(keys))
+        except BrokenProcessPool:
+            # a worker died (e.g. fresh processes racing to write numba's cache): its cells go to a new pool;
+            # a cell on which workers die twice is null
+            executor.abandon()
+            restarts += 1
+            for key in reversed(list(pending.values())):
+                deaths[key] = deaths.get(key, 0) + 1
+                if deaths[key] >= 2 or restarts > MAX_RESTARTS:
+                    threshold[key], errors[key] = None, "a worker process died on this cell (a crash, or out of memory)"
+                else:
+                    todo.insert(0, key)
+            if restarts > MAX_RESTARTS:
+                for key in todo:
+                    threshold[key], errors[key] = None, "worker processes kept dying; cell not run"
+                todo = []
+        except BaseException:
+            executor.abandon()
+            raise
+        finally:
+            executor.close()
+    if progress is not None:
+        progress(len(threshold), len(keys))
+    site = pset.params.freight
+    return LoadingChart(pset.name, search.manoeuvre, masses, xs, zs, threshold, errors, margin_kmh=margin_kmh
+                        if margin_fraction is None else None, margin_fraction=margin_fraction, search=search,
+                        site_m=(site.x_m, site.y_m, site.z_m), workers=int(workers),
+                        wall_time_s=time.perf_counter() - start)
