@@ -223,11 +223,13 @@ def _pursuit(t, dt, px, py, yaw, yaw_rate, speed, path, drv, veh, state, delay_l
 
 
 @jit
-def driver_step(t, dt, px, py, yaw, yaw_rate, speed, path, speed_profile, drv, veh, state, delay_line, inputs):
+def driver_step(t, dt, px, py, yaw, yaw_rate, speed, path, speed_profile, drv, veh, memory, delay_line, inputs):
     """One step of the driver: steer command about the steering axis [rad], drive torque [N m], brake
     torque per braked wheel [N m]. ``(px, py)`` is the rear-axle centre, ``yaw`` the heading, ``speed``
-    the forward speed; ``drv`` the :data:`DRIVER` record, ``veh`` the plant's vehicle record; ``state`` (a
-    :data:`DRIVER_STATE` record) and ``delay_line`` carry the controller's memory between steps."""
+    the forward speed; ``drv`` the :data:`DRIVER` record, ``veh`` the plant's vehicle record; ``memory`` (a
+    length-1 :data:`DRIVER_STATE` array, owned by the caller for the whole run: a record taken from a temporary
+    array would outlive its memory) and ``delay_line`` carry the controller's memory between steps."""
+    state = memory[0]
     # --- steering: held still, from the input table (open loop), or pure pursuit on the path
     if drv.hold_after >= 0.0 and t >= drv.hold_after:
         steer = state.output

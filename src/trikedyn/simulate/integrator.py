@@ -68,7 +68,7 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
     d = drv[0]
     veh = p.vehicle[0]
     closed = d.on > 0.0
-    dstate = np.zeros(1, DRIVER_STATE)[0]
+    dstate = np.zeros(1, DRIVER_STATE)  # the driver's memory: an array the loop owns (not a bare record)
     delay_line = np.zeros(d.delay_steps + 2) if closed else np.zeros(1)
     wout = np.zeros(nw, WHEEL_OUT)
     x = x0.copy()
