@@ -43,7 +43,20 @@ def _root(
 # ------------------------------------------------------------------------------------------------
 # the command map: each group lives in trikedyn.commands
 # ------------------------------------------------------------------------------------------------
-from .commands import animate, cg, drive, layouts, loading, logs, sensitivity, stability, studies, tyre, vehicle  # noqa: E402
+from .commands import (  # noqa: E402
+    animate,
+    cg,
+    drive,
+    layouts,
+    loading,
+    logs,
+    sensitivity,
+    stability,
+    studies,
+    tyre,
+    uncertainty,
+    vehicle,
+)
 from .commands._common import WARNINGS, emit  # noqa: E402
 
 app.add_typer(vehicle.vehicle_app, name="vehicle")
@@ -65,6 +78,7 @@ app.command("sensitivity")(sensitivity.sensitivity_cmd)
 app.command("study")(studies.study_cmd)
 app.command("reproduce")(studies.reproduce_cmd)
 app.command("loading-chart")(loading.loading_chart_cmd)
+app.command("uncertainty")(uncertainty.uncertainty_cmd)
 
 _emit = emit  # the older name
 _flatten = vehicle._flatten

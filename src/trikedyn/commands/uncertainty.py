@@ -1,0 +1,135 @@
+"""``trikedyn uncertainty``: the threshold velocity as a distribution (median, 5-95 %) from the uncertain inputs."""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..errors import InputError
+from ._common import ForceOpt, JsonOpt, ManoeuvreOpt, OptionOpt, VehicleArg, emit, manoeuvre_options, readable, within
+from .sensitivity import _Progress
+
+JSON_FILE, SAMPLES_FILE, FIGURE_FILE, PLAN_FILE = ("uncertainty.json", "uncertainty-samples.csv", "uncertainty.png",
+                                                   "uncertainty-plan.json")
+
+
+class _UncertaintyProgress(_Progress):
+    """``uncertainty: 12/64 runs`` on stderr at the start, every few seconds, and at the end."""
+
+    def __call__(self, done: int, total: int) -> None:
+        now = time.monotonic()
+        if (done, total) == self.shown:
+            return
+        if self.last is None or done == total or now - self.last >= self.every_s:
+            print(f"uncertainty: {done}/{total} runs", file=sys.stderr, flush=True)
+            self.last, self.shown = now, (done, total)
+
+
+def _plan(pset, search, inputs, samples, seed, fraction) -> dict:
+    """What makes the samples of a run: a resumed run must have the same."""
+    return {"vehicle": pset.name, "manoeuvre": search.manoeuvre, "options": search.options,
+            "resolution_kmh": search.resolution_kmh, "high_kmh": search.high_kmh, "sampling": "latin-hypercube",
+            "samples": samples, "seed": seed, "fraction": fraction,
+            "inputs": [[i.name, i.distribution, i.factor.low, i.factor.high, i.std] for i in inputs]}
+
+
+def _fmt(value) -> str:
+    return "-" if value is None else f"{value:.1f}"
+
+
+def _text(result) -> str:
+    d = result.to_dict()
+    ref = d["reference_threshold_speed_kmh"]
+    normal = [i for i in result.inputs if i.distribution == "normal"]
+    lines = [
+        f"{result.vehicle} on {result.manoeuvre}: threshold {'none' if ref is None else f'{ref:.1f} km/h'} as given",
+        f"{len(result.inputs)} uncertain inputs ({len(result.inputs) - len(normal)} uniform over their range, "
+        f"{len(normal)} normal from --std, truncated at +/-3 sigma); Latin hypercube, {result.samples} samples, "
+        f"{d['failed']} failed",
+        f"  median {_fmt(d['median_kmh'])} km/h, 5-95 % {_fmt(d['p05_kmh'])} .. {_fmt(d['p95_kmh'])} km/h, "
+        f"mean {_fmt(d['mean_kmh'])}, std {_fmt(d['std_kmh'])} km/h (n={d['n']})",
+    ]
+    if d["at_search_limit"]:
+        lines.append(f"  {d['at_search_limit']} samples reached the top of the search ({result.search.high_kmh:g} km/h; "
+                     "raise it with --high)")
+    for i in normal:
+        lines.append(f"  {i.name}: normal, mean {readable(i.factor.value)}, std {readable(i.std)}")
+    for row in d["failures"]:
+        lines.append(f"  failed ({row['samples']}): {row['error']}")
+    return "\n".join(lines)
+
+
+def uncertainty_cmd(
+    vehicle: VehicleArg,
+    manoeuvre: ManoeuvreOpt = "dlc",
+    option: OptionOpt = [],  # noqa: B006
+    samples: Annotated[int, typer.Option("--samples", callback=within(2, 100_000), help="Latin-hypercube samples (threshold searches).")] = 64,
+    parameter: Annotated[list[str], typer.Option("--parameter", "-p", help="Assumed values varied uniformly over their range: dotted paths or design knobs, repeatable or comma-separated. Default: every assumed value that can vary.")] = [],  # noqa: B006
+    std: Annotated[list[str], typer.Option("--std", help="A measured value PATH=SIGMA [its unit] (mass.cg_z_m=0.01): normal about the vehicle's value, truncated at +/-3 sigma; repeatable.")] = [],  # noqa: B006
+    fraction: Annotated[float, typer.Option("--fraction", callback=within(0, 0.9, above=True), help="Each assumed value varies over value x (1 -/+ fraction) unless the vehicle file declares its range [-].")] = 0.2,
+    resolution: Annotated[float, typer.Option("--resolution", callback=within(0.01, 10, "km/h"), help="Resolution of each threshold search [km/h].")] = 0.1,
+    high: Annotated[float, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h]; a sample that passes it counts as this speed.")] = 90.0,
+    seed: Annotated[int, typer.Option("--seed", callback=within(0, 2**32 - 1), help="Seed of the sampling.")] = 1,
+    workers: Annotated[int, typer.Option("--workers", callback=within(0, 256), help="Processes (0: in this process).")] = 2,
+    out: Annotated[Path | None, typer.Option("--out", help="Folder for uncertainty.json, the samples (CSV, written as they finish) and the histogram (PNG).")] = None,
+    resume: Annotated[bool, typer.Option("--resume", help="Continue an interrupted run in --out: samples in its CSV are not run again.")] = False,
+    force: ForceOpt = False,
+    as_json: JsonOpt = False,
+):
+    """Uncertainty of the threshold velocity: median and 5-95 % interval over the assumed and measured values."""
+    from .._files import atomic_write, check_output_folder, ensure_folder, refuse_symlink
+    from ..params import load_vehicle
+    from ..study import uncertainty as ua
+
+    stds = ua.parse_std(std)
+    if resume and out is None:
+        raise InputError("needs --out (the folder of the run to continue)", where="--resume")
+    if resume and force:
+        raise InputError("give --resume (continue) or --force (start again), not both", where="--resume")
+    options = manoeuvre_options(manoeuvre, option)
+    pset = load_vehicle(vehicle)
+    inputs, excluded = ua.build_inputs(pset, parameter, stds, fraction)
+    search = ua.Search(manoeuvre, options, resolution, high_kmh=high)
+    plan = json.loads(json.dumps(_plan(pset, search, inputs, int(samples), seed, fraction)))
+    log = None
+    if out is not None:
+        plan_path = out / PLAN_FILE
+        if resume and refuse_symlink(plan_path).exists():
+            try:
+                earlier = json.loads(plan_path.read_text(encoding="utf-8"))
+            except (ValueError, UnicodeDecodeError):
+                raise InputError("cannot be read; not resuming (pass --force to start again)", where=str(plan_path)) from None
+            if earlier != plan:
+                changed = sorted(k for k in plan if earlier.get(k) != plan[k])
+                raise InputError(f"was another run (its {', '.join(changed)} differ); not resuming (pass --force "
+                                 "to start again)", where=str(plan_path))
+        elif resume:
+            ensure_folder(out)
+        else:
+            if not force and refuse_symlink(plan_path).exists():
+                raise InputError("holds an uncertainty run; pass --resume to continue it or --force to start again",
+                                 where=str(out))
+            check_output_folder(out, force=force)
+        atomic_write(plan_path, lambda fh: fh.write(json.dumps(plan, indent=2)), binary=False)
+        log = ua.SampleLog(out / SAMPLES_FILE, [i.factor for i in inputs], 1)
+    result = ua.run_uncertainty(pset, search, inputs, samples=int(samples), seed=seed, fraction=fraction,
+                                excluded=excluded, workers=workers, log=log, resume=resume,
+                                progress=_UncertaintyProgress())
+    data = result.to_dict()
+    if out is not None:
+        import matplotlib
+
+        from ._common import finite, json_default, save_figure
+
+        matplotlib.use("Agg")
+        files = {"json": str(out / JSON_FILE), "samples": str(out / SAMPLES_FILE), "figure": str(out / FIGURE_FILE)}
+        save_figure(result.plot(), out / FIGURE_FILE, dpi=110)
+        data["files"] = files
+        text = json.dumps(finite(data)[0], indent=2, default=json_default, allow_nan=False)
+        atomic_write(out / JSON_FILE, lambda fh: fh.write(text), binary=False)
+    emit(data, as_json, lambda: _text(result) + (f"\nwrote {', '.join(data['files'].values())}" if out else ""))
