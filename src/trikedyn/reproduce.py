@@ -128,7 +128,6 @@ def table1(out: Path, figures: bool = True) -> tuple[list[dict], list[dict]]:
 
                 matplotlib.use("Agg")
                 fig = result.plot()
-                fig.axes[0].set_xlim(0.0, min(time_s[-1], result.decay_start_s + 6.0 / max(result.damping_ratio, 0.05)))
                 fig.suptitle(f"{preset}, {susp}: emulated 10 Hz bump record (Fig. 2c-d)", fontsize=10)
                 figures_module.save(fig, out / f"fig2_identification_{preset}_{susp}.png")
     _write_csv(out / "table1_identified.csv", ident_rows)

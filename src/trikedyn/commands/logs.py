@@ -123,7 +123,7 @@ def identify(
     )
     data = result.to_dict() | {"file": str(log), "axis": axis}
     if plot is not None:
-        save_figure(result.plot(), plot, dpi=120)
+        save_figure(result.plot(axis=axis), plot, dpi=120)
         data["plot"] = str(plot)
     text = lambda: "\n".join(  # noqa: E731 - formatted only when text is asked for
         [

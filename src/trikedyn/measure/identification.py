@@ -11,7 +11,10 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-__all__ = ["SuspensionIdentification"]
+__all__ = ["AXIS_NAMES", "SuspensionIdentification"]
+
+#: Accelerometer axis -> the word in the figure labels.
+AXIS_NAMES = {"x": "longitudinal", "y": "lateral", "z": "vertical"}
 
 
 @dataclass(frozen=True)
@@ -79,28 +82,92 @@ class SuspensionIdentification:
         import pandas as pd
         return pd.Series(self.to_dict())
 
-    def plot(self, ax=None):
-        """Fig. 2c-d: record, crests used and fit; spectrum and its peak. ``ax``: None, one or two Axes."""
+    def decay_window(self, periods_before=1.0, envelope_fraction=0.03, min_periods=3.0, max_periods=10.0):
+        """Time span [s] of the bump response: ``(start, end)`` for the zoomed panel of :meth:`plot`.
+
+        Starts ``periods_before`` damped periods before the response rises above a few % of its peak (or
+        before ``decay_start_s``, whichever is earlier) and ends when the fitted envelope has fallen to
+        ``envelope_fraction`` of its start, kept between ``min_periods`` and ``max_periods`` periods after
+        the decay start and never before the last crest used. The whole record if the fit failed.
+        """
+        t = np.asarray(self.record_time_s, float)
+        full = (float(t[0]), float(t[-1])) if t.size else (0.0, 1.0)
+        fd, fn, xi, t0 = self.damped_frequency_hz, self.natural_frequency_hz, self.damping_ratio, self.decay_start_s
+        if not all(math.isfinite(v) for v in (fd, fn, xi, t0)) or fd <= 0 or fn <= 0:
+            return full
+        period = 1.0 / fd
+        y = np.abs(np.asarray(self.record_mps2, float))
+        finite = np.isfinite(y)
+        onset = t0
+        if finite.any():
+            level = max(0.05 * float(np.max(y[finite])), 4.0 * (self.noise_std_mps2 if math.isfinite(self.noise_std_mps2) else 0.0))
+            above = np.flatnonzero(finite & (y > level) & (t <= t0))
+            if above.size:
+                # the first excursion of the run of samples that ends at the decay start
+                gaps = np.flatnonzero(np.diff(t[above]) > 2.0 * period)
+                onset = float(t[above[gaps[-1] + 1]] if gaps.size else t[above[0]])
+        start = min(onset, t0) - periods_before * period
+        decay = math.log(1.0 / envelope_fraction) / (2 * math.pi * fn * max(xi, 1e-6))
+        end = t0 + min(max(decay, min_periods * period), max_periods * period)
+        crests = np.concatenate([self.compression_crest_time_s, self.extension_crest_time_s])
+        crests = crests[np.isfinite(crests)]
+        if crests.size:
+            end = max(end, float(crests.max()) + 0.5 * period)
+        start, end = max(start, full[0]), min(end, full[1])
+        return (start, end) if end > start else full
+
+    def plot(self, ax=None, axis="z"):
+        """Fig. 2c-d: bump response (zoomed, the full record inset), crests and fit; spectrum to Nyquist.
+
+        ``ax``: None, one or two Axes (the time panel, then the spectrum). ``axis``: the accelerometer axis
+        identified, ``"x"``, ``"y"`` or ``"z"``, for the labels.
+        """
         import matplotlib.pyplot as plt
+        if axis not in AXIS_NAMES:
+            raise ValueError(f"axis must be one of {sorted(AXIS_NAMES)}, got {axis!r}")
+        quantity = f"{AXIS_NAMES[axis]} acceleration"
         if ax is None:
-            fig, axes = plt.subplots(2, 1, figsize=(7.0, 6.0), constrained_layout=True)
+            fig, axes = plt.subplots(2, 1, figsize=(7.0, 6.5), constrained_layout=True,
+                                     gridspec_kw={"height_ratios": [1.4, 1.0]})
         else:
             axes = list(np.atleast_1d(ax))
             fig = axes[0].figure
+        lo, hi = self.decay_window()
         a = axes[0]
-        a.plot(self.record_time_s, self.record_mps2, ".", ms=3, color="0.6", label="record - offset")
+        a.plot(self.record_time_s, self.record_mps2, ".", ms=4, color="0.6", label="record - offset")
         a.plot(self.time_s, self.signal_mps2, "-", lw=1, label="processed")
         a.plot(self.time_s, self.model_mps2, "--", lw=1, label="free-decay fit")
         a.plot(self.compression_crest_time_s, self.compression_crest_mps2, "^", label="compression crests")
         a.plot(self.extension_crest_time_s, self.extension_crest_mps2, "v", label="extension crests")
-        a.set(xlabel="time [s]", ylabel="vertical acceleration [m/s$^2$]",
+        if math.isfinite(self.decay_start_s):
+            a.axvline(self.decay_start_s, ls=":", color="k", lw=0.8, label="decay start")
+        a.set_xlim(lo, hi)
+        inside = (self.record_time_s >= lo) & (self.record_time_s <= hi) & np.isfinite(self.record_mps2)
+        if inside.any():
+            peak = float(np.max(np.abs(self.record_mps2[inside])))
+            if peak > 0:
+                a.set_ylim(-1.15 * peak, 1.6 * peak)  # head room for the inset
+        a.set(xlabel="time [s]", ylabel=f"{quantity} [m/s$^2$]",
               title=f"$f_n$ = {self.natural_frequency_hz:.3f} Hz, $\\xi$ = {self.damping_ratio:.3f}")
-        a.legend(fontsize="small")
+        a.legend(fontsize="x-small", loc="lower right", ncol=2)
+        full = (float(self.record_time_s[0]), float(self.record_time_s[-1])) if len(self.record_time_s) else (lo, hi)
+        if hi - lo < 0.8 * (full[1] - full[0]):
+            inset = a.inset_axes([0.6, 0.68, 0.38, 0.28])
+            inset.plot(self.record_time_s, self.record_mps2, "-", lw=0.6, color="0.4")
+            inset.axvspan(lo, hi, color="C1", alpha=0.3, lw=0)
+            inset.set_xlim(*full)
+            inset.set_title("full record", fontsize="x-small", pad=2)
+            inset.tick_params(labelsize="xx-small", length=2, pad=1)
         if len(axes) > 1:
-            axes[1].plot(self.spectrum_freq_hz, self.spectrum_magnitude, "-")
-            axes[1].axvline(self.spectrum_peak_hz, ls=":", color="k",
-                            label=f"peak {self.spectrum_peak_hz:.3f} Hz")
-            axes[1].set(xlabel="frequency [Hz]", ylabel="amplitude [m/s$^2$]",
-                        xlim=(0.0, min(10.0, self.processed_rate_hz / 2)))
-            axes[1].legend(fontsize="small")
+            nyquist = self.sample_rate_hz / 2
+            keep = self.spectrum_freq_hz <= nyquist * (1 + 1e-9)
+            s = axes[1]
+            s.plot(self.spectrum_freq_hz[keep], self.spectrum_magnitude[keep], "-", label="spectrum")
+            s.axvline(self.spectrum_peak_hz, ls=":", color="k", label=f"peak {self.spectrum_peak_hz:.3f} Hz")
+            if math.isfinite(self.natural_frequency_hz) and self.natural_frequency_hz <= nyquist:
+                s.axvline(self.natural_frequency_hz, ls="--", color="C3",
+                          label=f"identified $f_n$ {self.natural_frequency_hz:.3f} Hz")
+            s.set(xlabel="frequency [Hz]", ylabel=f"{quantity} amplitude [m/s$^2$]", xlim=(0.0, nyquist),
+                  title=f"spectrum up to Nyquist ({nyquist:.3g} Hz at {self.sample_rate_hz:.3g} Hz sampling)")
+            s.legend(fontsize="small")
         return fig
