@@ -11,6 +11,8 @@ from trikedyn.simulate.run import simulate
 from trikedyn.tyre.interface import linear_stiffnesses
 from trikedyn.units import STANDARD_GRAVITY as G
 
+from .rigid import RIGID_GRIPPY
+
 
 @pytest.mark.parametrize(("speed_mps", "steer_rad"), [(5.0, 0.03), (8.0, 0.012), (12.0, 0.006)])
 def test_steady_cornering_matches_single_track_yaw_rate_gain(reference, speed_mps, steer_rad):
@@ -42,17 +44,7 @@ def rigid_trike():
     return override(
         base,
         {
-            "mass.cg_y_m": 0.0,
-            "suspension.front.stiffness_N_per_m": 5e6,
-            "suspension.rear.stiffness_N_per_m": 5e6,
-            "suspension.front.damping_Ns_per_m": 2e4,
-            "suspension.rear.damping_Ns_per_m": 2e4,
-            "tyre.vertical_stiffness_N_per_m": 2e6,
-            "tyre.vertical_damping_Ns_per_m": 2e3,
-            "tyre.mu_x": 3.0,
-            "tyre.mu_y": 3.0,
-            "drive.max_power_W": 5e4,
-            "drive.max_drive_torque_Nm": 1000.0,
+            **RIGID_GRIPPY,
             # drive the outer wheel of the left turn only: through the open differential the unloading
             # inner wheel would spin and cap the drive force before the tip-over is reached
             "wheels.rear_left.driven": False,

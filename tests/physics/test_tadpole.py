@@ -13,6 +13,8 @@ from trikedyn.params.ops import static_wheel_loads
 from trikedyn.simulate.run import simulate
 from trikedyn.units import STANDARD_GRAVITY as G
 
+from .rigid import RIGID_GRIPPY
+
 
 @pytest.fixture(scope="module")
 def tadpole():
@@ -35,22 +37,7 @@ def test_static_loads_match_rigid_statics(tadpole):
 
 def rigid_tadpole():
     """reference-tadpole on rigid suspension and stiff, very grippy tyres, CG on the centre line."""
-    return override(
-        load_vehicle("reference-tadpole"),
-        {
-            "mass.cg_y_m": 0.0,
-            "suspension.front.stiffness_N_per_m": 5e6,
-            "suspension.rear.stiffness_N_per_m": 5e6,
-            "suspension.front.damping_Ns_per_m": 2e4,
-            "suspension.rear.damping_Ns_per_m": 2e4,
-            "tyre.vertical_stiffness_N_per_m": 2e6,
-            "tyre.vertical_damping_Ns_per_m": 2e3,
-            "tyre.mu_x": 3.0,
-            "tyre.mu_y": 3.0,
-            "drive.max_power_W": 5e4,
-            "drive.max_drive_torque_Nm": 1000.0,
-        },
-    )
+    return override(load_vehicle("reference-tadpole"), RIGID_GRIPPY)
 
 
 def test_quasi_static_tip_over_matches_closed_form():

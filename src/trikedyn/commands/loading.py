@@ -5,8 +5,6 @@ from __future__ import annotations
 import csv
 import json
 import math
-import sys
-import time
 from pathlib import Path
 from typing import Annotated
 
@@ -14,29 +12,9 @@ import typer
 
 from ..errors import InputError
 from ._common import ForceOpt, JsonOpt, ManoeuvreOpt, OptionOpt, VehicleArg, emit, manoeuvre_options, within
+from ._sampled import ProgressLine
 
 JSON_FILE, CSV_FILE, FIGURE_FILE = "loading-chart.json", "loading-chart.csv", "loading-chart.png"
-PROGRESS_EVERY_S = 3.0
-"""Seconds between two progress lines on stderr (a line, not a bar: it also works without a terminal)."""
-
-
-class _Progress:
-    """``loading-chart: 12/45 cells`` on stderr at the start, every few seconds, and at the end."""
-
-    def __init__(self, every_s: float = PROGRESS_EVERY_S):
-        self.every_s = every_s
-        self.last = None
-        self.shown = None
-
-    def __call__(self, done: int, total: int) -> None:
-        now = time.monotonic()
-        if (done, total) == self.shown:
-            return
-        if self.last is None or done == total or now - self.last >= self.every_s:
-            print(f"loading-chart: {done}/{total} cells", file=sys.stderr, flush=True)
-            self.last, self.shown = now, (done, total)
-
-
 def _numbers(text: str | None, option: str) -> list[float] | None:
     """A comma-separated list of finite numbers (None: the default grid)."""
     if text is None:
@@ -88,7 +66,7 @@ def loading_chart_cmd(
     search = Search(manoeuvre, options, resolution, high_kmh=high)
     chart = lc.run_loading_chart(pset, search, *grid,
                                  margin_kmh=lc.DEFAULT_MARGIN_KMH if margin_kmh is None else margin_kmh,
-                                 margin_fraction=margin_fraction, workers=workers, progress=_Progress())
+                                 margin_fraction=margin_fraction, workers=workers, progress=ProgressLine("loading-chart", "cells", every_s=3.0))
     data = chart.to_dict()
     if out is not None:
         import matplotlib

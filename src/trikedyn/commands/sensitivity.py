@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import json
-import sys
-import time
 from pathlib import Path
 from typing import Annotated
 
@@ -12,30 +10,10 @@ import typer
 
 from ..errors import InputError
 from ._common import ForceOpt, JsonOpt, ManoeuvreOpt, OptionOpt, VehicleArg, emit, manoeuvre_options, readable, within
+from ._sampled import ProgressLine, start_output
 
 JSON_FILE, SAMPLES_FILE, FIGURE_FILE, PLAN_FILE = ("sensitivity.json", "sensitivity-samples.csv", "sensitivity.png",
                                                    "sensitivity-plan.json")
-PROGRESS_EVERY_S = 5.0
-"""Seconds between two progress lines on stderr (a line, not a bar: it also works without a terminal)."""
-
-
-class _Progress:
-    """``sensitivity: 120/410 runs`` on stderr at the start, every few seconds, and at the end."""
-
-    def __init__(self, every_s: float = PROGRESS_EVERY_S):
-        self.every_s = every_s
-        self.last = None
-        self.shown = None
-
-    def __call__(self, done: int, total: int) -> None:
-        now = time.monotonic()
-        if (done, total) == self.shown:
-            return
-        if self.last is None or done == total or now - self.last >= self.every_s:
-            print(f"sensitivity: {done}/{total} runs", file=sys.stderr, flush=True)
-            self.last, self.shown = now, (done, total)
-
-
 def _plan(pset, search, factors, method, samples, seed, fraction) -> dict:
     """What makes the samples of a run: a resumed run must have the same."""
     return {"vehicle": pset.name, "manoeuvre": search.manoeuvre, "options": search.options,
@@ -96,7 +74,7 @@ def sensitivity_cmd(
     as_json: JsonOpt = False,
 ):
     """Sensitivity of the threshold velocity to the vehicle's assumed values (SALib: Morris or Sobol)."""
-    from .._files import atomic_write, check_output_folder, ensure_folder, refuse_symlink
+    from .._files import atomic_write
     from ..params import load_vehicle
     from ..study import sensitivity as sa
 
@@ -117,27 +95,10 @@ def sensitivity_cmd(
     plan = json.loads(json.dumps(_plan(pset, search, factors, method, n, seed, fraction)))
     log = None
     if out is not None:
-        plan_path = out / PLAN_FILE
-        if resume and refuse_symlink(plan_path).exists():
-            try:
-                earlier = json.loads(plan_path.read_text(encoding="utf-8"))
-            except (ValueError, UnicodeDecodeError):
-                raise InputError("cannot be read; not resuming (pass --force to start again)", where=str(plan_path)) from None
-            if earlier != plan:
-                changed = sorted(k for k in plan if earlier.get(k) != plan[k])
-                raise InputError(f"was another run (its {', '.join(changed)} differ); not resuming (pass --force "
-                                 "to start again)", where=str(plan_path))
-        elif resume:
-            ensure_folder(out)
-        else:
-            if not force and refuse_symlink(plan_path).exists():
-                raise InputError("holds a sensitivity run; pass --resume to continue it or --force to start again",
-                                 where=str(out))
-            check_output_folder(out, force=force)
-        atomic_write(plan_path, lambda fh: fh.write(json.dumps(plan, indent=2)), binary=False)
+        start_output(out, plan, PLAN_FILE, kind="a sensitivity", resume=resume, force=force)
         log = sa.SampleLog(out / SAMPLES_FILE, factors, sa.group_size(method, len(factors)))
     result = sa.run_sensitivity(pset, search, factors, method=method, samples=n, seed=seed, fraction=fraction,
-                                excluded=excluded, workers=workers, log=log, resume=resume, progress=_Progress())
+                                excluded=excluded, workers=workers, log=log, resume=resume, progress=ProgressLine("sensitivity"))
     data = result.to_dict()
     if out is not None:
         import matplotlib

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import json
-import sys
-import time
 from pathlib import Path
 from typing import Annotated
 
@@ -12,22 +10,10 @@ import typer
 
 from ..errors import InputError
 from ._common import ForceOpt, JsonOpt, ManoeuvreOpt, OptionOpt, VehicleArg, emit, manoeuvre_options, readable, within
-from .sensitivity import _Progress
+from ._sampled import ProgressLine, start_output
 
 JSON_FILE, SAMPLES_FILE, FIGURE_FILE, PLAN_FILE = ("uncertainty.json", "uncertainty-samples.csv", "uncertainty.png",
                                                    "uncertainty-plan.json")
-
-
-class _UncertaintyProgress(_Progress):
-    """``uncertainty: 12/64 runs`` on stderr at the start, every few seconds, and at the end."""
-
-    def __call__(self, done: int, total: int) -> None:
-        now = time.monotonic()
-        if (done, total) == self.shown:
-            return
-        if self.last is None or done == total or now - self.last >= self.every_s:
-            print(f"uncertainty: {done}/{total} runs", file=sys.stderr, flush=True)
-            self.last, self.shown = now, (done, total)
 
 
 def _plan(pset, search, inputs, samples, seed, fraction) -> dict:
@@ -82,7 +68,7 @@ def uncertainty_cmd(
     as_json: JsonOpt = False,
 ):
     """Uncertainty of the threshold velocity: median and 5-95 % interval over the assumed and measured values."""
-    from .._files import atomic_write, check_output_folder, ensure_folder, refuse_symlink
+    from .._files import atomic_write
     from ..params import load_vehicle
     from ..study import uncertainty as ua
 
@@ -98,28 +84,11 @@ def uncertainty_cmd(
     plan = json.loads(json.dumps(_plan(pset, search, inputs, int(samples), seed, fraction)))
     log = None
     if out is not None:
-        plan_path = out / PLAN_FILE
-        if resume and refuse_symlink(plan_path).exists():
-            try:
-                earlier = json.loads(plan_path.read_text(encoding="utf-8"))
-            except (ValueError, UnicodeDecodeError):
-                raise InputError("cannot be read; not resuming (pass --force to start again)", where=str(plan_path)) from None
-            if earlier != plan:
-                changed = sorted(k for k in plan if earlier.get(k) != plan[k])
-                raise InputError(f"was another run (its {', '.join(changed)} differ); not resuming (pass --force "
-                                 "to start again)", where=str(plan_path))
-        elif resume:
-            ensure_folder(out)
-        else:
-            if not force and refuse_symlink(plan_path).exists():
-                raise InputError("holds an uncertainty run; pass --resume to continue it or --force to start again",
-                                 where=str(out))
-            check_output_folder(out, force=force)
-        atomic_write(plan_path, lambda fh: fh.write(json.dumps(plan, indent=2)), binary=False)
+        start_output(out, plan, PLAN_FILE, kind="an uncertainty", resume=resume, force=force)
         log = ua.SampleLog(out / SAMPLES_FILE, [i.factor for i in inputs], 1)
     result = ua.run_uncertainty(pset, search, inputs, samples=int(samples), seed=seed, fraction=fraction,
                                 excluded=excluded, workers=workers, log=log, resume=resume,
-                                progress=_UncertaintyProgress())
+                                progress=ProgressLine("uncertainty"))
     data = result.to_dict()
     if out is not None:
         import matplotlib

@@ -21,7 +21,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
-from ..errors import InputError, ParameterError, SimulationError
+from ..errors import InputError, ParameterError
 from ..params.io import ParameterSet
 from .sample_runs import MAX_RESTARTS, Search
 
@@ -61,24 +61,11 @@ def evaluate_cell(pset: ParameterSet, mass_kg: float, x_m: float, z_m: float,
     Runs in a worker process; an invalid vehicle or a failed search is a null cell, not an error."""
     from ..params.knobs import apply_knobs
     from ..params.ops import with_freight
-    from .executors import one_line
-
     try:
         vehicle = with_freight(apply_knobs(pset, {"freight.x_m": x_m, "freight.z_m": z_m}), mass_kg)
     except ParameterError as exc:
         return None, f"invalid vehicle: {' '.join(str(exc).split())}"
-    try:
-        try:
-            result = search.run(vehicle)
-        except SimulationError as exc:
-            if "time step too large" not in str(exc):
-                raise
-            result = search.run(vehicle, dt_s=search.dt_s / 2)
-    except Exception as exc:  # noqa: BLE001 - a cell that cannot be searched is reported, the chart goes on
-        return None, one_line(exc)
-    if result.threshold_speed_kmh is None:
-        return None, f"no threshold: {' '.join(str(result.detail).split())}"
-    return float(result.threshold_speed_kmh), None
+    return search.threshold(vehicle)
 
 
 @dataclass

@@ -44,32 +44,37 @@ class Search:
                                   high_kmh=self.high_kmh, resolution_kmh=self.resolution_kmh,
                                   dt=self.dt_s if dt_s is None else dt_s)
 
+    def threshold(self, pset: ParameterSet) -> tuple[float | None, str | None]:
+        """The threshold velocity [km/h] of ``pset``, or None and why there is none (never raises for a failed
+        search: a sampled study reports it and goes on). A variant whose fastest mode needs a finer time step
+        than :attr:`dt_s` (a stiffer or lighter part) is searched again with half the step."""
+        from .executors import one_line
+
+        try:
+            try:
+                result = self.run(pset)
+            except SimulationError as exc:
+                if "time step too large" not in str(exc):
+                    raise
+                result = self.run(pset, dt_s=self.dt_s / 2)
+        except Exception as exc:  # noqa: BLE001 - a vehicle that cannot be searched is reported, the study goes on
+            return None, one_line(exc)
+        if result.threshold_speed_kmh is None:
+            return None, f"no threshold: {' '.join(str(result.detail).split())}"
+        return float(result.threshold_speed_kmh), None
+
 
 def evaluate_sample(pset: ParameterSet, factors: tuple[Factor, ...], x, search: Search) -> tuple[float | None, str | None]:
     """The threshold velocity [km/h] of the vehicle with the factors at ``x``, or None and why it failed.
 
     A failed sample (an invalid vehicle, a search with no threshold, a simulation error) is not an error:
-    the sensitivity run goes on and reports it. A variant whose fastest mode needs a finer time step than
-    ``search.dt_s`` (a stiffer or lighter part) is searched again with half the step.
+    the sensitivity run goes on and reports it (:meth:`Search.threshold`).
     """
-    from .executors import one_line
-
     try:
         varied = apply_factors(pset, factors, x)
     except ParameterError as exc:
         return None, f"invalid vehicle: {' '.join(str(exc).split())}"
-    try:
-        try:
-            result = search.run(varied)
-        except SimulationError as exc:
-            if "time step too large" not in str(exc):
-                raise
-            result = search.run(varied, dt_s=search.dt_s / 2)  # a stiffer variant: the same search, finer steps
-    except Exception as exc:  # noqa: BLE001 - a sample that cannot be searched is reported, the run goes on
-        return None, one_line(exc)
-    if result.threshold_speed_kmh is None:
-        return None, f"no threshold: {' '.join(str(result.detail).split())}"
-    return float(result.threshold_speed_kmh), None
+    return search.threshold(varied)
 
 
 def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, search: Search, *, workers: int = 2,

@@ -14,6 +14,7 @@ from __future__ import annotations
 import contextlib
 import importlib
 import pkgutil
+from abc import ABC, abstractmethod
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -87,7 +88,7 @@ class ReadOptions:
     sample_rate_hz: float | None = None
 
 
-class LogFormat:
+class LogFormat(ABC):
     """One log layout. Subclass, set ``name`` and ``description``, implement ``sniff`` and ``read``.
 
     ``sniff`` scores a file's :class:`Head`: 0 or False when the layout does not fit, True counts as 1.
@@ -106,8 +107,10 @@ class LogFormat:
     def sniff(self, head: Head) -> float | bool:
         return 0.0
 
+    @abstractmethod
     def read(self, raw: bytes, path: Path, options: ReadOptions) -> ImuLog:
-        raise NotImplementedError
+        """The log in ``raw`` (the file's bytes) as an :class:`~trikedyn.measure.logs.ImuLog`; every layout
+        reads."""
 
     def write(self, data: pd.DataFrame, path: Path) -> None:
         raise LogFormatError(f"format {self.name!r} can be read but not written; writable formats: "

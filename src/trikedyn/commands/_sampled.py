@@ -1,0 +1,57 @@
+"""What the sampled studies (``sensitivity``, ``uncertainty``, ``loading-chart``) share: a progress line that
+works without a terminal, and an output folder that a resumed run must match."""
+
+from __future__ import annotations
+
+import json
+import sys
+import time
+from pathlib import Path
+
+from ..errors import InputError
+
+
+class ProgressLine:
+    """``LABEL: 12/45 UNIT`` on stderr at the start, every ``every_s`` seconds, and at the end (a line, not a
+    bar: it also works without a terminal)."""
+
+    def __init__(self, label: str, unit: str = "runs", every_s: float = 5.0):
+        self.label, self.unit, self.every_s = label, unit, every_s
+        self.last = None
+        self.shown = None
+
+    def __call__(self, done: int, total: int) -> None:
+        now = time.monotonic()
+        if (done, total) == self.shown:
+            return
+        if self.last is None or done == total or now - self.last >= self.every_s:
+            print(f"{self.label}: {done}/{total} {self.unit}", file=sys.stderr, flush=True)
+            self.last, self.shown = now, (done, total)
+
+
+def start_output(out: Path, plan: dict, plan_file: str, *, kind: str, resume: bool, force: bool) -> None:
+    """Prepare ``out`` for a run described by ``plan`` (written as ``plan_file``).
+
+    With ``resume``, an existing plan must equal ``plan`` (else the folder holds another run); without it, a
+    folder holding a ``kind`` run, or any other output, is replaced only with ``force``.
+    """
+    from .._files import atomic_write, check_output_folder, ensure_folder, refuse_symlink
+
+    plan_path = out / plan_file
+    if resume and refuse_symlink(plan_path).exists():
+        try:
+            earlier = json.loads(plan_path.read_text(encoding="utf-8"))
+        except (ValueError, UnicodeDecodeError):
+            raise InputError("cannot be read; not resuming (pass --force to start again)", where=str(plan_path)) from None
+        if earlier != plan:
+            changed = sorted(k for k in plan if earlier.get(k) != plan[k])
+            raise InputError(f"was another run (its {', '.join(changed)} differ); not resuming (pass --force "
+                             "to start again)", where=str(plan_path))
+    elif resume:
+        ensure_folder(out)
+    else:
+        if not force and refuse_symlink(plan_path).exists():
+            raise InputError(f"holds {kind} run; pass --resume to continue it or --force to start again",
+                             where=str(out))
+        check_output_folder(out, force=force)
+    atomic_write(plan_path, lambda fh: fh.write(json.dumps(plan, indent=2)), binary=False)
