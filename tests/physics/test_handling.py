@@ -88,5 +88,10 @@ def test_rollover_ends_with_a_clear_simulation_error(reference):
 
 
 def test_time_step_too_large_is_refused(reference):
+    """Classical RK4 is refused at 10 ms (the spin-slip mode, ~300 rad/s); the default loop, with those pairs
+    exact, at 20 ms (the rear wheel hop, ~154 rad/s, needs dt <= 16 ms)."""
+    with pytest.raises(SimulationError, match="time step too large.*fastest mode"):
+        simulate(reference, duration_s=1.0, speed_kmh=20.0, dt=0.01, integrator="rk4")
+    simulate(reference, duration_s=1.0, speed_kmh=20.0, dt=0.01)
     with pytest.raises(SimulationError, match="time step too large"):
-        simulate(reference, duration_s=1.0, speed_kmh=20.0, dt=0.01)
+        simulate(reference, duration_s=1.0, speed_kmh=20.0, dt=0.02)

@@ -125,7 +125,7 @@ def _why_it_ended(result, params, ay_target_end: float) -> tuple[str, str, int]:
 
 def steady_state_test(vehicle, *, radius_m: float = 20.0, start_speed_kmh: float = 15.0,
                       ay_rate_mps2_per_s: float = 0.1, max_ay_mps2: float = 9.0, direction: str = "left",
-                      fit_limit_mps2: float | None = None, dt: float = 5e-3) -> SteadyStateTest:
+                      fit_limit_mps2: float | None = None, dt: float | None = None) -> SteadyStateTest:
     """ISO 4138 steady-state circular driving at constant radius, the speed raised slowly.
 
     Parameters
@@ -257,7 +257,7 @@ def reduce_braking_in_turn(result) -> Figures:
     return Figures({"braking": braking, "min_wheel_loads_N": loads})
 
 
-def step_steer_test(vehicle, speed_kmh: float, *, steer_deg: float = 2.0, hold_s: float = 4.0, dt: float = 5e-3):
+def step_steer_test(vehicle, speed_kmh: float, *, steer_deg: float = 2.0, hold_s: float = 4.0, dt: float | None = None):
     """ISO 7401 step steer with the speed held: yaw-rate and lateral-acceleration step responses.
 
     Returns
@@ -272,7 +272,7 @@ def step_steer_test(vehicle, speed_kmh: float, *, steer_deg: float = 2.0, hold_s
 
 
 def frequency_response_test(vehicle, speed_kmh: float, *, amplitude_deg: float = 1.0, f_start_hz: float = 0.2,
-                            f_end_hz: float = 3.0, sweep_s: float = 30.0, dt: float = 5e-3):
+                            f_end_hz: float = 3.0, sweep_s: float = 30.0, dt: float | None = None):
     """ISO 7401 frequency response from a sine sweep: gain and phase of yaw rate and lateral acceleration
     against the road-wheel steer."""
     result = run(_model(vehicle), "sweep", speed_kmh=speed_kmh, dt=dt, amplitude_deg=amplitude_deg,
@@ -281,7 +281,7 @@ def frequency_response_test(vehicle, speed_kmh: float, *, amplitude_deg: float =
 
 
 def braking_in_turn_test(vehicle, speed_kmh: float, *, radius_m: float = 20.0, deceleration_mps2: float = 3.0,
-                         dt: float = 5e-3):
+                         dt: float | None = None):
     """ISO 7975 braking in a turn: path deviation, yaw-rate change and wheel loads while braking."""
     result = run(_model(vehicle), "braking-in-turn", speed_kmh=speed_kmh, dt=dt, radius_m=radius_m,
                  deceleration_mps2=deceleration_mps2)

@@ -201,7 +201,7 @@ METHODS = ("margin", "bisection")
 def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *, options: dict | None = None,
                        low_kmh: float = 10.0, high_kmh: float = 90.0, step_kmh: float = 10.0,
                        resolution_kmh: float = 0.1, driver: DriverSettings | None = None,
-                       dt: float = 5e-3, method: str = "margin") -> ThresholdResult:
+                       dt: float | None = None, method: str = "margin") -> ThresholdResult:
     """The threshold velocity of a vehicle in a manoeuvre.
 
     Parameters
@@ -221,8 +221,9 @@ def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *,
         Resolution [km/h]: the threshold is ``low_kmh`` plus a whole number of it (or ``high_kmh``).
     driver : DriverSettings, optional
         The driver's parameters; defaults otherwise.
-    dt : float
-        Time step [s].
+    dt : float, optional
+        Time step [s]; by default the loop's automatic step at standstill
+        (:func:`~trikedyn.simulate.run.automatic_step`), the same for every run of the search.
     method : {"margin", "bisection"}
         ``"margin"`` (default): runs chosen by the continuous margin (:mod:`trikedyn.analysis.search`);
         ``"bisection"``: bracketing from ``low_kmh`` in ``step_kmh`` steps, then bisection. Both certify
@@ -244,6 +245,11 @@ def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *,
     if method not in METHODS:
         raise InputError(f"unknown method {method!r}; expected one of {', '.join(METHODS)}", where="threshold search")
     runs: list[RunVerdict] = []
+    if dt is None:  # one step for the whole search: the automatic step at standstill
+        from ..model.statics import static_equilibrium
+        from ..simulate.run import time_step
+
+        dt = time_step(model, static_equilibrium(model).state, None)
 
     def measure(v):
         verdict, probe = _measure(model, build, round(v, 6), driver, dt)

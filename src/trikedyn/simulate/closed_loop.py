@@ -21,7 +21,7 @@ from ..model.statics import rolling_state, static_equilibrium
 from ..model.vehicle import VehicleModel, build_model
 from ..params.io import ParameterSet
 from .result import Result
-from .run import run_model
+from .run import run_model, time_step
 
 __all__ = ["run", "drive", "footprint"]
 
@@ -64,8 +64,9 @@ def _judging_channels(params, manoeuvre: Manoeuvre):
 
 
 def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc", *, speed_kmh: float | None = None,
-        driver: DriverSettings | None = None, dt: float = 5e-3, output_rate_hz: float = 100.0,
-        raise_on_failure: bool = False, duration_s: float | None = None, **options) -> Result:
+        driver: DriverSettings | None = None, dt: float | None = None, output_rate_hz: float = 100.0,
+        raise_on_failure: bool = False, duration_s: float | None = None, integrator: str = "etdrk4",
+        **options) -> Result:
     """Drive a manoeuvre and return the recorded run.
 
     Parameters
@@ -79,8 +80,13 @@ def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc"
         Target speed [km/h]; needed when ``manoeuvre`` is a name.
     driver : DriverSettings, optional
         The driver's parameters; defaults otherwise.
-    dt, output_rate_hz : float
-        Time step [s] and output rate [Hz].
+    dt : float, optional
+        Time step [s]; by default the largest of 10, 5, 2.5, ... ms the vehicle's stability allows
+        (:func:`~trikedyn.simulate.run.automatic_step`).
+    output_rate_hz : float
+        Output rate [Hz].
+    integrator : str
+        ``"etdrk4"`` (default) or ``"rk4"`` (:data:`~trikedyn.simulate.run.INTEGRATORS`).
     raise_on_failure : bool
         Raise :class:`~trikedyn.errors.SimulationError` (with the partial ``.result``) when the run stops
         early; by default the result says so (``success``, ``message``).
@@ -113,6 +119,7 @@ def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc"
     path = manoeuvre.path
     heading = float(path.heading_rad[0]) if path is not None else 0.0
     x0 = rolling_state(model, eq, v0, heading_rad=heading)
+    dt = time_step(model, x0, dt, integrator)
     if path is not None:
         x0[0], x0[1] = float(path.x_m[0]), float(path.y_m[0])
     drv = with_steering(driver_array(settings, params, dt), open_loop=not manoeuvre.closed_loop,
@@ -126,7 +133,8 @@ def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc"
             "window": manoeuvre.window.to_dict(), "footprint_m": list(footprint(params))}
     return run_model(model, x0, inputs, duration_s=duration, dt=dt, output_rate_hz=output_rate_hz,
                      raise_on_failure=raise_on_failure, path=path_rows, speed_profile=manoeuvre.speed.as_array(),
-                     driver=drv, meta=meta, extra=_judging_channels(params, manoeuvre), manoeuvre=manoeuvre)
+                     driver=drv, meta=meta, extra=_judging_channels(params, manoeuvre), manoeuvre=manoeuvre,
+                     integrator=integrator)
 
 
 def _steer_inputs(steer: np.ndarray, duration_s: float, dt: float) -> np.ndarray:
@@ -139,7 +147,7 @@ def _steer_inputs(steer: np.ndarray, duration_s: float, dt: float) -> np.ndarray
 
 
 def drive(vehicle: ParameterSet | VehicleModel, path, speed, *, driver: DriverSettings | None = None,
-          duration_s: float | None = None, dt: float = 5e-3, output_rate_hz: float = 100.0,
+          duration_s: float | None = None, dt: float | None = None, output_rate_hz: float = 100.0,
           raise_on_failure: bool = True) -> Result:
     """Drive a bare ``path`` at ``speed`` (km/h, or a :class:`~trikedyn.manoeuvres.speed.SpeedProfile`).
 

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..errors import InputError, ParameterError, SimulationError
 from ..params.io import ParameterSet
+from ..simulate import DEFAULT_DT_S
 from .factors import Factor, apply_factors
 
 __all__ = ["MAX_RESTARTS", "SampleLog", "Search", "evaluate_sample", "run_samples"]
@@ -34,10 +35,11 @@ class Search:
     resolution_kmh: float = 0.1
     low_kmh: float = 10.0
     high_kmh: float = 90.0
-    dt_s: float = 5e-3
+    dt_s: float | None = None
 
     def run(self, pset: ParameterSet, dt_s: float | None = None):
-        """The threshold search on ``pset``, with the time step ``dt_s`` [s] (default: :attr:`dt_s`)."""
+        """The threshold search on ``pset``, with the time step ``dt_s`` [s] (default: :attr:`dt_s`; None: the
+        loop's automatic step, :func:`~trikedyn.simulate.run.automatic_step`)."""
         from ..analysis.threshold import threshold_velocity
 
         return threshold_velocity(pset, self.manoeuvre, options=dict(self.options), low_kmh=self.low_kmh,
@@ -56,7 +58,7 @@ class Search:
             except SimulationError as exc:
                 if "time step too large" not in str(exc):
                     raise
-                result = self.run(pset, dt_s=self.dt_s / 2)
+                result = self.run(pset, dt_s=(self.dt_s or DEFAULT_DT_S) / 2)
         except Exception as exc:  # noqa: BLE001 - a vehicle that cannot be searched is reported, the study goes on
             return None, one_line(exc)
         if result.threshold_speed_kmh is None:

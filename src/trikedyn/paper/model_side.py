@@ -9,19 +9,20 @@ from pathlib import Path
 
 import numpy as np
 
-from ._files import atomic_write
-from .analysis.metrics import summary
-from .manoeuvres import registry, speed
-from .measure.suspension import identify_suspension
-from .model.statics import static_equilibrium
-from .model.vehicle import build_model, speed_bump
-from .params import load_vehicle
-from .params.ops import static_wheel_loads, unsprung_mass
-from .report import figures
-from .simulate.closed_loop import run
-from .simulate.result import rollover_index
-from .simulate.run import simulate
-from .units import STANDARD_GRAVITY
+from .._files import atomic_write
+from ..analysis.metrics import summary
+from ..manoeuvres import registry, speed
+from ..measure.suspension import identify_suspension
+from ..model.statics import static_equilibrium
+from ..model.vehicle import build_model, speed_bump
+from ..params import load_vehicle
+from ..params.ops import static_wheel_loads, unsprung_mass
+from ..report import figures
+from ..simulate.closed_loop import run
+from ..simulate.result import rollover_index
+from ..simulate.run import simulate
+from ..units import STANDARD_GRAVITY
+from . import STUDY_SPEC
 
 __all__ = ["model_bump_test", "manoeuvres", "parametric_study", "STUDY_FINDINGS"]
 
@@ -104,10 +105,10 @@ STUDY_FINDINGS = ("falls with freight", "rises with stiffness", "damping matters
 
 
 def parametric_study(out: Path, workers: int | None = 2, figures_on: bool = True):
-    """The paper's study (Fig. 10) with the built-in spec; returns the table and the findings."""
-    from .study.runner import run_study
+    """The paper's study (Fig. 10) with its built-in spec (:data:`trikedyn.paper.STUDY_SPEC`); returns the table and the findings."""
+    from ..study.runner import run_study
 
-    table = run_study("paper", out / "study", workers=workers, progress=False)
+    table = run_study(STUDY_SPEC, out / "study", workers=workers, progress=False)
     atomic_write(out / "fig10_threshold_study.csv", lambda fh: table.to_csv(fh, index=False), binary=False)
     if figures_on:
         figures.threshold_study(table, out / "fig10_threshold_study.png", "threshold velocity (cf. Fig. 10)")

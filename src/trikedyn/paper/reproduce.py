@@ -3,10 +3,11 @@
 The measurement side (section 2.1): the parameter audit, Table 1 (Eqs. 1-4 and identification from
 speed-bump records emulated at the paper's 10 Hz: a quarter car, and the multibody model itself through its
 seat sensor) and Table 3 (CG against freight); the model side (sections 2.3-3, in
-:mod:`trikedyn.reproduce_model`): both lane changes with their time histories and rollover index
+:mod:`trikedyn.paper.model_side`): both lane changes with their time histories and rollover index
 (Figs. 7-9) and the parametric study of the threshold velocity (Fig. 10). Each result is written as CSV
 and PNG, set beside the paper's statement it reproduces or contradicts in ``summary.md``,
-``summary.json`` and one self-contained ``report.html``.
+``summary.json`` and ``report.html`` (:mod:`trikedyn.paper.report`: the figures and an animation of each
+lane change beside it).
 """
 
 from __future__ import annotations
@@ -19,14 +20,14 @@ from pathlib import Path
 
 import numpy as np
 
-from . import paper
-from ._files import atomic_write
-from .measure.quarter_car import quarter_car_free_decay, quarter_car_modes
-from .measure.suspension import damping_coefficient, identify_suspension, sprung_mass_from_stiffness
-from .params import audit, load_vehicle, mass_properties, with_freight
-from .params.ops import static_wheel_loads, unsprung_mass
-from .report import figures as figures_module
-from .units import STANDARD_GRAVITY
+from .._files import atomic_write
+from ..measure.quarter_car import quarter_car_free_decay, quarter_car_modes
+from ..measure.suspension import damping_coefficient, identify_suspension, sprung_mass_from_stiffness
+from ..params import audit, load_vehicle, mass_properties, with_freight
+from ..params.ops import static_wheel_loads, unsprung_mass
+from ..report import figures as figures_module
+from ..units import STANDARD_GRAVITY
+from . import data as paper
 
 __all__ = ["BUMP", "reproduce"]
 
@@ -174,17 +175,19 @@ def _statements(eq_rows, ident_rows, t3_rows, audits) -> list[dict]:
     tip = [f for f in audits["reference-etrike"] if f["topic"].startswith("tip-over") and f["values"]["lateral"]]
     return [
         {
+            "id": "eq4",
             "paper": "Eq. 4, C = 2 xi sqrt(K M_s), gives Table 1's damping coefficients",
             "verdict": "contradicts",
-            "evidence": f"Eq. 4 with Table 1's own xi, f_n and K gives {front['damping_eq4_Ns_per_m']:.1f} and "
+            "evidence": f"Eq. 4 with Table 1's own ξ, f_n and K gives {front['damping_eq4_Ns_per_m']:.1f} and "
             f"{rear['damping_eq4_Ns_per_m']:.1f} N s/m, {front['ratio_eq4_to_table1']:.2f}x and "
             f"{rear['ratio_eq4_to_table1']:.2f}x Table 1's {front['damping_table1_Ns_per_m']} and "
-            f"{rear['damping_table1_Ns_per_m']} N s/m; Table 1's C would mean xi = "
+            f"{rear['damping_table1_Ns_per_m']} N s/m; Table 1's C would mean ξ = "
             f"{front['damping_ratio'] / front['ratio_eq4_to_table1']:.3f} and "
             f"{rear['damping_ratio'] / rear['ratio_eq4_to_table1']:.3f}. Both presets ship: reference-etrike "
             "(Table 1) and reference-etrike-eq4 (Eq. 4).",
         },
         {
+            "id": "eq3",
             "paper": "K = 4 pi^2 f_n^2 M_s (Eq. 3) with M_s from the loads on each suspension",
             "verdict": "reproduces, with a finding",
             "evidence": f"Table 1's K and f_n imply M_s = {front['sprung_mass_eq3_kg']:.2f} kg (front) and "
@@ -192,6 +195,7 @@ def _statements(eq_rows, ident_rows, t3_rows, audits) -> list[dict]:
             f"{paper.TOTAL_MASS_KG:g} kg vehicle, i.e. the bump test was driven with a driver aboard.",
         },
         {
+            "id": "table3",
             "paper": "Table 3: CG against freight mass (0-200 kg in the back trunk)",
             "verdict": "reproduces",
             "evidence": f"one freight position and a base mass of 583 kg (508 kg vehicle + 75 kg driver) give every "
@@ -199,6 +203,7 @@ def _statements(eq_rows, ident_rows, t3_rows, audits) -> list[dict]:
             "comes within 1 mm.",
         },
         {
+            "id": "sampling",
             "paper": "10 Hz sampling satisfies Shannon's theorem for 2.9 Hz, so the record can be analysed",
             "verdict": "reproduces, with a caveat",
             "evidence": f"from emulated 10 Hz speed-bump records (bump {BUMP['height_m'] * 1000:.0f} mm x "
@@ -207,16 +212,18 @@ def _statements(eq_rows, ident_rows, t3_rows, audits) -> list[dict]:
             "is only 3.4 samples per cycle, so crest amplitudes for the log decrement (Eq. 1) alone are biased.",
         },
         {
+            "id": "tyre",
             "paper": "The tyre's stiffness is negligible in the quarter-car reduction",
             "verdict": "contradicts",
             "evidence": "with the paper's own 200 kN/m tyre in series the body mode differs from the suspension "
             "alone: on reference-etrike-eq4 the body modes are "
-            + ", ".join(f"{r['suspension']} {r['body_mode_frequency_hz']:.2f} Hz (xi {r['body_mode_damping_ratio']:.2f})"
+            + ", ".join(f"{r['suspension']} {r['body_mode_frequency_hz']:.2f} Hz (ξ {r['body_mode_damping_ratio']:.2f})"
                         for r in eq4)
             + f" against the suspension-only {front['natural_frequency_hz']} Hz / {rear['natural_frequency_hz']} Hz "
-            f"(xi {front['damping_ratio']} / {rear['damping_ratio']}).",
+            f"(ξ {front['damping_ratio']} / {rear['damping_ratio']}).",
         },
         {
+            "id": "cg_offset",
             "paper": "The CG is 16 mm to the left, so the vehicle is unbalanced (rollover matters)",
             "verdict": "reproduces",
             "evidence": "rigid static tip-over thresholds of reference-etrike: "
@@ -230,7 +237,8 @@ def _model_statements(bump_rows, man_rows, static_ri, findings, table) -> list[d
     worst_k = max(abs(r["stiffness_error_pct"]) for r in bump_rows)
     worst_c = max(abs(r["damping_error_pct"]) for r in bump_rows)
     out.append({
-        "paper": "The suspension's K and C follow from a speed-bump record of the seat sensor (Eqs. 1-4)",
+        "id": "model_bump",
+            "paper": "The suspension's K and C follow from a speed-bump record of the seat sensor (Eqs. 1-4)",
         "verdict": "reproduces, with a finding",
         "evidence": "the multibody model driven over a 50 mm cushion at 5 km/h (under the front wheel, then under "
         "the rear wheels), its seat sensor read at 10 Hz with noise and bias and identified with the tyre in "
@@ -240,17 +248,19 @@ def _model_statements(bump_rows, man_rows, static_ri, findings, table) -> list[d
     })
     slc, dlc = man_rows
     out.append({
-        "paper": "The e-trike completes the single and double lane changes with good lateral stability (Figs. 7-8)",
+        "id": "lane_changes",
+            "paper": "The e-trike completes the single and double lane changes with good lateral stability (Figs. 7-8)",
         "verdict": "reproduces",
         "evidence": f"the driver model completes ISO 14791 at {slc['max_speed_kmh']:.0f} km/h (max a_y "
-        f"{slc['max_lateral_acceleration_mps2']:.2f} m/s^2, path error {slc['max_path_error_m']:.2f} m) and "
+        f"{slc['max_lateral_acceleration_mps2']:.2f} m/s², path error {slc['max_path_error_m']:.2f} m) and "
         f"ISO 3888-1 with the speed rising {dlc['min_speed_kmh']:.0f}-{dlc['max_speed_kmh']:.0f} km/h (max a_y "
-        f"{dlc['max_lateral_acceleration_mps2']:.2f} m/s^2, {dlc['cone_strikes']} cone strikes, every wheel down), "
+        f"{dlc['max_lateral_acceleration_mps2']:.2f} m/s², {dlc['cone_strikes']} cone strikes, every wheel down), "
         "and settles after each. The paper's measured logs are not available, so its experiment-vs-simulation "
         "agreement cannot be checked here; `trikedyn compare` does that with a user's own logs.",
     })
     out.append({
-        "paper": "The rollover index is low in both lane changes and not zero at steady state, the CG being left",
+        "id": "rollover",
+            "paper": "The rollover index is low in both lane changes and not zero at steady state, the CG being left",
         "verdict": "reproduces",
         "evidence": f"max |RI| {slc['max_abs_ri']:.3f} (SLC) and {dlc['max_abs_ri']:.3f} (DLC); at steady state "
         f"RI = {static_ri:+.3f}, negative because the left rear wheel carries more with the CG 16 mm to the left.",
@@ -261,12 +271,14 @@ def _model_statements(bump_rows, man_rows, static_ri, findings, table) -> list[d
         f3 = findings["damping matters less than stiffness"]
         drops = ", ".join(f"{m.upper()} {v:.1f} km/h" for m, v in f1["mean_drop_0_to_200_kg_kmh"].items())
         out.append({
+            "id": "freight",
             "paper": "The threshold velocity falls as the freight mass rises (Fig. 10)",
             "verdict": "reproduces" if f1["holds"] else "contradicts",
             "evidence": f"{f1['lines_falling']} of {f1['lines']} threshold-vs-freight lines fall; from 0 to 200 kg "
             f"the threshold drops by {drops} on average.",
         })
         out.append({
+            "id": "stiffness",
             "paper": "A stiffer suspension raises the threshold velocity (Fig. 10a)",
             "verdict": "reproduces" if f2["holds"] else "contradicts",
             "evidence": f"in {f2['cases_rising']} of {f2['cases']} (manoeuvre, freight) cases the threshold rises "
@@ -274,6 +286,7 @@ def _model_statements(bump_rows, man_rows, static_ri, findings, table) -> list[d
             f"{f2['mean_change_80_to_120_pct_kmh']:+.2f} km/h.",
         })
         out.append({
+            "id": "damping",
             "paper": "Damping affects the threshold velocity less than stiffness (Fig. 10b)",
             "verdict": "reproduces" if f3["holds"] else "contradicts",
             "evidence": f"mean |change| from 80 to 120 %: stiffness {f3['mean_abs_change_stiffness_kmh']:.2f} km/h, "
@@ -285,13 +298,21 @@ def _model_statements(bump_rows, man_rows, static_ri, findings, table) -> list[d
 def reproduce(out_dir: str | Path, *, figures: bool = True, study: bool = True, workers: int | None = 2,
               log=None) -> dict:
     """Run the reproduction into ``out_dir``; returns the summary (also written as ``summary.json``)."""
-    from . import reproduce_model as rm
+    from . import model_side as rm
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     say = log or (lambda text: print(text, file=sys.stderr))
     say("audit: reference-etrike and reference-etrike-eq4")
     audits = _audits(out)
+    say("manoeuvres: ISO 14791 single lane change and ISO 3888-1 double lane change")
+    runs, man_rows, static_ri = rm.manoeuvres(out, figures)
+    _write_csv(out / "manoeuvres.csv", man_rows)
+    animations = None
+    if figures:  # drawn by another process while this one goes on with the tables
+        from .report import start_animations
+
+        animations = start_animations(out, runs)
     say("Table 1: Eqs. 1-4 and identification from emulated 10 Hz speed-bump records (quarter car)")
     eq_rows, ident_rows = table1(out, figures=figures)
     say("Table 1 from the multibody model: speed-bump cushions, seat sensor at 10 Hz")
@@ -299,9 +320,6 @@ def reproduce(out_dir: str | Path, *, figures: bool = True, study: bool = True, 
     _write_csv(out / "table1_model_bump.csv", bump_rows)
     say("Table 3: CG against freight")
     t3_rows = table3(out)
-    say("manoeuvres: ISO 14791 single lane change and ISO 3888-1 double lane change")
-    runs, man_rows, static_ri = rm.manoeuvres(out, figures)
-    _write_csv(out / "manoeuvres.csv", man_rows)
     findings, table = None, None
     if study:
         say(f"parametric study (Fig. 10): 50 threshold searches on {workers or 'all'} workers")
@@ -320,7 +338,9 @@ def reproduce(out_dir: str | Path, *, figures: bool = True, study: bool = True, 
         "statements": statements,
     }
     if figures:
-        _report(out, statements, study)
+        from .report import write_reproduction_report
+
+        write_reproduction_report(out, summary, animations)
     summary["files"] = sorted(p.name for p in out.iterdir())
     _write_text(out / "summary.json", json.dumps(summary, indent=2, default=_jsonable))
     lines = ["# trikedyn reproduce: the reference paper, end to end", ""]
@@ -329,64 +349,6 @@ def reproduce(out_dir: str | Path, *, figures: bool = True, study: bool = True, 
     lines += ["Files: " + ", ".join(summary["files"]), ""]
     _write_text(out / "summary.md", "\n".join(lines))
     return summary
-
-
-_SECTION_TITLES = {
-    "Eq. 4, C = 2 xi sqrt": "Table 1: damping coefficients and Eq. 4",
-    "K = 4 pi^2 f_n^2 M_s": "Table 1: stiffness and Eq. 3",
-    "Table 3: CG against ": "Table 3: centre of gravity with freight",
-    "10 Hz sampling satis": "Identification from a 10 Hz record (quarter car)",
-    "The tyre's stiffness": "Tyre compliance in the quarter car",
-    "The CG is 16 mm to t": "Lateral CG offset and static tip-over",
-    "The suspension's K a": "Identification from the multibody model's seat sensor",
-    "The e-trike complete": "Lane changes (Figs. 7-8)",
-    "The rollover index i": "Rollover index (Fig. 9)",
-    "The threshold veloci": "Threshold velocity and freight (Fig. 10)",
-    "A stiffer suspension": "Threshold velocity and stiffness (Fig. 10a)",
-    "Damping affects the ": "Threshold velocity and damping (Fig. 10b)",
-}
-
-_SECTION_FILES = {
-    "Eq. 4, C = 2 xi sqrt": ([], ["table1_equations.csv"]),
-    "K = 4 pi^2 f_n^2 M_s": ([], ["audit_reference-etrike.txt"]),
-    "Table 3: CG against ": ([], ["table3.csv"]),
-    "10 Hz sampling satis": (["fig2_identification_reference-etrike-eq4_front.png",
-                              "fig2_identification_reference-etrike-eq4_rear.png"], ["table1_identified.csv"]),
-    "The tyre's stiffness": ([], ["table1_identified.csv"]),
-    "The CG is 16 mm to t": ([], []),
-    "The suspension's K a": (["fig2_model_bump_front.png", "fig2_model_bump_rear.png"], ["table1_model_bump.csv"]),
-    "The e-trike complete": (["fig7_slc.png", "fig8_dlc.png"], ["manoeuvres.csv"]),
-    "The rollover index i": (["fig9_rollover_index.png"], []),
-    "The threshold veloci": (["fig10_threshold_study.png"], ["fig10_threshold_study.csv"]),
-    "A stiffer suspension": ([], []),
-    "Damping affects the ": ([], []),
-}
-
-
-def _report(out: Path, statements: list[dict], study: bool) -> Path:
-    import pandas as pd
-
-    from .report.html import write_report
-
-    sections = []
-    for s in statements:
-        figs, tables = _SECTION_FILES.get(s["paper"][:20], ([], []))
-        section = {"title": _SECTION_TITLES.get(s["paper"][:20], s["paper"]), "paper": s["paper"], "verdict": s["verdict"], "evidence": s["evidence"],
-                   "figures": [(out / f, f) for f in figs if (out / f).exists()], "tables": []}
-        for name in tables:
-            path = out / name
-            if path.suffix == ".csv" and path.exists():
-                frame = pd.read_csv(path)
-                if name == "fig10_threshold_study.csv":
-                    keep = [c for c in ("manoeuvre", "freight_kg", "stiffness_scale", "damping_scale",
-                                        "threshold_speed_kmh", "limit", "limiting_wheel") if c in frame.columns]
-                    frame = frame[keep]
-                section["tables"].append((frame, name))
-        sections.append(section)
-    return write_report(out, "trikedyn reproduction of the electric delta trike paper", sections,
-                        summary="Each section sets a statement of the paper beside what trikedyn finds on the "
-                        "built-in reference vehicle (reference-etrike), with the numbers.",
-                        vehicle="reference-etrike")
 
 
 def _jsonable(obj):
