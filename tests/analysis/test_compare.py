@@ -1,4 +1,5 @@
-"""Tests of trikedyn.analysis.compare: offset by cross-correlation, metrics, results, bad input."""
+"""Tests of trikedyn.analysis.compare and the modules it chains: offset by cross-correlation (.alignment),
+metrics and results (.scoring), tables, bad input."""
 
 from __future__ import annotations
 
@@ -13,14 +14,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from trikedyn.analysis.compare import (
-    ChannelComparison,
-    Comparison,
-    channel_metrics,
-    compare,
-    find_offset,
-    load_table,
-)
+from trikedyn.analysis.alignment import find_offset
+from trikedyn.analysis.compare import compare, load_table
+from trikedyn.analysis.scoring import ChannelComparison, Comparison, channel_metrics
 from trikedyn.errors import InputError
 from trikedyn.measure.logs import write_log
 
@@ -280,3 +276,13 @@ def test_bad_arguments():
         compare({"time_s": [0, 1]}, nominal())
     with pytest.raises(InputError, match="has no 'time_s' column"):
         compare(nominal().drop(columns="time_s"), nominal())
+
+
+def test_names_moved_out_are_still_importable_from_compare():
+    """The alignment and the metrics moved to their own modules; code importing them from compare still runs."""
+    from trikedyn.analysis import alignment, scoring
+    from trikedyn.analysis import compare as module
+
+    assert module.find_offset is alignment.find_offset and module.MIN_SAMPLES == alignment.MIN_SAMPLES
+    for name in scoring.__all__:
+        assert getattr(module, name) is getattr(scoring, name)

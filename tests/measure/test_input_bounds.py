@@ -11,7 +11,8 @@ from trikedyn.errors import InputError, LogFormatError
 from trikedyn.measure import limits
 from trikedyn.measure.logs import read_log, write_log
 from trikedyn.measure.quarter_car import quarter_car_free_decay
-from trikedyn.measure.suspension import identify_suspension, upsample
+from trikedyn.measure.signals import upsample
+from trikedyn.measure.suspension import identify_suspension
 from trikedyn.measure.weighing import load_weighing, reduce_weighing
 
 WEIGHING = """reading_std_kg = 0.5

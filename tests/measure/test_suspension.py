@@ -1,4 +1,6 @@
-"""Tests of trikedyn.measure.suspension: Eqs. 1-4 (paper, section 2.1), signal processing, identification.
+"""Tests of trikedyn.measure.suspension: Eqs. 1-4 (paper, section 2.1) and the identification.
+
+The signal processing and the free-decay fit it chains are tested in test_signals.py and test_decay.py.
 
 The identification is checked against the two-mass quarter car of trikedyn.measure.quarter_car: its sprung
 (body) mode, from the eigenvalues, is the reference, not sqrt(K/M_s)/2pi (the tyre is in series).
@@ -132,72 +134,6 @@ def test_suspension_from_body_mode_without_tyre_is_eqs_3_4():
     k, c = sus.suspension_from_body_mode(2.5, 0.3, 200.0, 1e15)
     assert k == pytest.approx(sus.stiffness_from_frequency(2.5, 200.0), rel=1e-9)
     assert c == pytest.approx(sus.damping_coefficient(0.3, k, 200.0), rel=1e-9)
-
-
-# ---------------------------------------------------------------- signal processing
-
-@pytest.mark.parametrize("f0", [2.9, 3.123, 7.77])
-def test_spectrum_peak_pure_tone(f0):
-    fs, n = 100.0, 500
-    t = np.arange(n) / fs
-    peak, freq, mag = sus.spectrum_peak(np.sin(2 * np.pi * f0 * t + 0.3), fs)
-    assert abs(peak - f0) < 1e-3 * fs / n  # 0.1 % of the FFT bin
-    assert mag.max() == pytest.approx(1.0, abs=0.03) and freq[-1] == pytest.approx(fs / 2)
-
-
-@pytest.mark.parametrize("xi", [0.1, 0.29, 0.4])
-def test_one_sided_peak_ratio_matches_the_fft(xi):
-    fs, fn = 1000.0, 3.0
-    wn = 2 * np.pi * fn
-    t = np.arange(int(30 * fs)) / fs
-    x = np.exp(-xi * wn * t) * np.cos(wn * math.sqrt(1 - xi**2) * t + math.atan2(-xi, math.sqrt(1 - xi**2)))
-    peak = sus.spectrum_peak(x, fs, np.r_[0.5, np.ones(len(x) - 1)], 4)[0]  # trapezoidal first sample
-    assert peak / fn == pytest.approx(sus.one_sided_peak_ratio(xi), rel=2e-5)
-    assert sus.one_sided_peak_ratio(xi) > math.sqrt(1 - xi**2)  # between f_d and f_n
-
-
-def test_upsample_band_limited_and_irregular():
-    t = np.arange(200) / 10.0
-    tu, xu = sus.upsample(t, np.sin(2 * np.pi * 2.9 * t), 200.0)
-    assert tu[1] - tu[0] == pytest.approx(0.005) and tu[-1] <= t[-1]
-    inner = (tu > 2.0) & (tu < 18.0)
-    assert np.abs(xu - np.sin(2 * np.pi * 2.9 * tu))[inner].max() < 0.02
-    jitter = t + np.random.default_rng(0).uniform(-0.002, 0.002, len(t))
-    tj, xj = sus.upsample(jitter, np.sin(2 * np.pi * 0.5 * jitter), 100.0)
-    np.testing.assert_allclose(np.diff(tj), np.diff(tj)[0], rtol=1e-9)  # uniform, at about 100 Hz
-    assert np.diff(tj)[0] == pytest.approx(0.01, rel=2e-3)
-    assert np.abs(xj - np.sin(2 * np.pi * 0.5 * tj))[(tj > 2) & (tj < 18)].max() < 0.02
-
-
-def test_wavelet_denoise_keeps_the_oscillation():
-    fs = 100.0
-    t = np.arange(600) / fs
-    clean = 5.0 * np.exp(-3.0 * t) * np.cos(2 * np.pi * 2.5 * t)
-    noisy = clean + np.random.default_rng(1).normal(0.0, 0.1, len(t))
-    den = sus.wavelet_denoise(noisy, level=2)  # approximation band 0-12.5 Hz kept
-    assert np.std(den - clean) < 0.6 * np.std(noisy - clean)
-    np.testing.assert_array_equal(sus.wavelet_denoise(noisy, level=0), noisy)
-
-
-def test_find_crests_and_log_decrement():
-    fs, fd, sigma = 1000.0, 2.5, 1.5
-    t = np.arange(4000) / fs
-    x = np.exp(-sigma * t) * np.cos(2 * np.pi * fd * t)
-    times, values, polarity = sus.find_crests(t, x, 1e-3)
-    np.testing.assert_array_equal(polarity[:4], [-1.0, 1.0, -1.0, 1.0])  # the maximum at t = 0 is an end
-    np.testing.assert_allclose(np.diff(times), 0.5 / fd, rtol=1e-4)
-    delta = sus.log_decrement(-values[0], -values[2], 1)  # extension crests, one cycle apart
-    assert delta == pytest.approx(sigma / fd, rel=1e-4)
-
-
-def test_fit_free_decay_exact_data():
-    t = np.arange(0.0, 4.0, 0.01)
-    wn, xi = 2 * np.pi * 2.5, 0.3
-    y = 5 * np.exp(-xi * wn * t) * np.cos(wn * math.sqrt(1 - xi**2) * t + 0.4) + 0.2
-    fit = sus.fit_free_decay(t, y, 2.2)
-    assert fit.natural_frequency_hz == pytest.approx(2.5, rel=1e-7)
-    assert fit.damping_ratio == pytest.approx(0.3, rel=1e-7)
-    np.testing.assert_allclose(fit(t), y, atol=1e-7)
 
 
 # ---------------------------------------------------------------- identification against the quarter car
@@ -335,3 +271,13 @@ def test_matplotlib_not_imported_with_the_module():
             "print('matplotlib' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_names_moved_out_are_still_importable_from_suspension():
+    """The signal processing and the decay fit moved to their own modules; code importing them from
+    trikedyn.measure.suspension still runs."""
+    from trikedyn.measure import decay, signals
+
+    for module in (decay, signals):
+        for name in set(module.__all__) - {"fit_decay_after_peak", "scalar_or_array", "uniform_record"}:
+            assert getattr(sus, name) is getattr(module, name)

@@ -1,5 +1,5 @@
 """``trikedyn animate`` and :mod:`trikedyn.report.animation`: a run file becomes a GIF of the trike through the
-cones (issue 13: "writes a GIF of at least 20 frames showing the cones"), outputs are never overwritten
+cones, in plan or 3d (issue 13: "writes a GIF of at least 20 frames showing the cones"), outputs are never overwritten
 without --force, and bad input is one line with exit code 2."""
 
 from __future__ import annotations
@@ -67,6 +67,25 @@ def test_rear_view_as_an_html_page(capsys, run_file, tmp_path):
     assert strict_json(out)["frames"] == 6  # 0, 4, ..., 16 s and the last sample (19.68 s)
     text = page.read_text(encoding="utf-8")
     assert text.startswith("<!DOCTYPE html>") and text.count("data:image/png;base64") == 6
+
+
+def test_3d_view_writes_a_gif_of_the_cones(capsys, run_file, tmp_path):
+    """The 3d view: a GIF of at least 20 frames; cones (orange) in the frames where the vehicle is among them,
+    the body and the wheels drawn."""
+    gif = tmp_path / "3d.gif"
+    code, out, err = _call(capsys, "animate", run_file, "--out", gif, "--view", "3d", "--every-s", 0.9, "--json")
+    assert code == 0, err
+    data = strict_json(out)
+    assert data["view"] == "3d" and data["cones"] == 18
+    with Image.open(gif) as image:
+        assert image.format == "GIF" and image.size == (600, 400)
+        assert image.n_frames == data["frames"] >= 20
+        orange = []
+        for k in range(image.n_frames):
+            image.seek(k)
+            pixels = np.asarray(image.convert("RGB"), dtype=int)
+            orange.append(int((np.abs(pixels - (255, 127, 14)).sum(axis=2) < 40).sum()))
+    assert sum(n > 20 for n in orange) >= 5, orange  # the cones of the three lanes pass by
 
 
 def test_a_run_of_an_unknown_vehicle_is_drawn_from_its_footprint(capsys, run_file, tmp_path):

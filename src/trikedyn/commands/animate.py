@@ -141,7 +141,8 @@ def animate_cmd(
     out: Annotated[Path | None, typer.Option("--out", help="Animation to write: .gif (default: beside the run), "
                                              ".html (a page with a player) or .mp4 (needs ffmpeg).")] = None,
     view: Annotated[str, typer.Option("--view", help="plan: the trike through the cones, from above; rear: the "
-                                      "body's roll and the wheel loads, from behind.")] = "plan",
+                                      "body's roll and the wheel loads, from behind; 3d: the trike rolling and "
+                                      "pitching through the cones, seen by a camera that follows it.")] = "plan",
     fps: Annotated[int, typer.Option("--fps", callback=within(1, 60, "frames/s"), help="Frames per second of the "
                                      "animation [1/s].")] = 10,
     every_s: Annotated[float, typer.Option("--every-s", callback=within(0.001, 60, "s"), help="Simulated time "
@@ -150,7 +151,7 @@ def animate_cmd(
     as_json: JsonOpt = False,
 ):
     """Animate a run: the trike (body outline, wheels shaded by their load, red when lifted) through the cones
-    with time and speed, or seen from behind rolling with its wheel loads as bars. GIF by default."""
+    with time and speed, seen from behind rolling with its wheel loads as bars, or in 3d. GIF by default."""
     from .._files import check_output
     from ..report.animation import FORMATS, VIEWS, animate, ffmpeg_available
 

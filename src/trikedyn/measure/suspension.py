@@ -2,39 +2,31 @@
 
 The paper resamples a 10 Hz record of the body's vertical acceleration, denoises it (Discrete Meyer wavelet),
 reads f_n off its Fourier spectrum and xi off the log decrement of both crest polarities (Eqs. 1-2), then K
-and C from the sprung mass (Eqs. 3-4). Each step is a pure function; :func:`identify_suspension` chains them.
+and C from the sprung mass (Eqs. 3-4). This module holds those equations, the tyre-in-series correction and
+:func:`identify_suspension`, which chains them with the generic signal processing of
+:mod:`trikedyn.measure.signals` and the free-decay fit of :mod:`trikedyn.measure.decay`.
 """
 
 from __future__ import annotations
 
-import itertools
 import math
-from fractions import Fraction
-from typing import NamedTuple
 
 import numpy as np
-import pywt
-from scipy import signal as sps
-from scipy.optimize import least_squares
 
 from trikedyn.errors import InputError
 
+# DecayFit, fit_free_decay: unused here, importable from here as before signals and decay were split off
+from .decay import DecayFit, fit_decay_after_peak, fit_free_decay, one_sided_peak_ratio  # noqa: F401
 from .identification import SuspensionIdentification
 from .limits import MAX_RESAMPLED_SAMPLES, MIN_SAMPLES, bounded, checked_record, checked_resample  # noqa: F401
+from .signals import find_crests, spectrum_peak, uniform_record, upsample, wavelet_denoise
+from .signals import scalar_or_array as _out
 
 __all__ = [
-    "DecayFit", "SuspensionIdentification", "damping_coefficient", "damping_ratio_from_log_decrement",
-    "find_crests", "fit_free_decay", "identify_suspension", "log_decrement", "one_sided_peak_ratio",
-    "spectrum_peak", "sprung_mass_from_stiffness", "stiffness_from_frequency", "suspension_from_body_mode",
-    "suspension_stiffness_from_series", "upsample", "wavelet_denoise",
+    "SuspensionIdentification", "damping_coefficient", "damping_ratio_from_log_decrement",
+    "identify_suspension", "log_decrement", "sprung_mass_from_stiffness", "stiffness_from_frequency",
+    "suspension_from_body_mode", "suspension_stiffness_from_series",
 ]
-
-_START_FRACTIONS = (0.125, 0.25, 0.375, 0.5)  # candidate fit starts after the largest excursion [periods]
-_CHI2_99_2DOF = 9.210
-
-
-def _out(x):
-    return float(x) if np.ndim(x) == 0 else x
 
 
 def log_decrement(x0, xn, n):
@@ -112,269 +104,6 @@ def suspension_from_body_mode(natural_frequency_hz, damping_ratio, sprung_mass_k
     return _out(z_s.real - lam.real * c), _out(c)
 
 
-def _uniform(time_s, x):
-    """The record on a uniform grid at its median step (linear interpolation when the steps jitter)."""
-    t, x = np.asarray(time_s, float), np.asarray(x, float)
-    step = float(np.median(np.diff(t)))
-    if np.max(np.abs(np.diff(t) - step)) <= 1e-6 * step:
-        return t, x, 1.0 / step
-    grid = t[0] + step * np.arange(math.floor((t[-1] - t[0]) / step + 1e-9) + 1)
-    return grid, np.interp(grid, t, x), 1.0 / step
-
-
-def upsample(time_s, signal, rate_hz, *, padtype="line"):
-    """Band-limited resampling to a higher rate, as the paper did before its analysis.
-
-    Jittered time stamps are first interpolated linearly to a uniform grid at the median rate fs, then
-    :func:`scipy.signal.resample_poly` (polyphase Kaiser FIR) resamples by ``up/down ~ rate_hz / fs``.
-
-    Parameters
-    ----------
-    time_s, signal : array_like
-        Time stamps [s], strictly increasing, and samples (any unit).
-    rate_hz : float
-        Target rate [Hz]; at or below fs the uniform record is returned.
-    padtype : str, optional
-        Values assumed beyond the ends (see resample_poly); ``"reflect"`` suits a record that starts at its
-        largest excursion.
-
-    Returns
-    -------
-    time_s, signal : ndarray
-        Resampled time [s] and signal, within the original time span.
-    """
-    t, x, fs = _uniform(time_s, signal)
-    if rate_hz <= fs * (1.0 + 1e-9):
-        return t, x
-    if (t[-1] - t[0]) * rate_hz > MAX_RESAMPLED_SAMPLES:
-        raise InputError(f"{t[-1] - t[0]:.4g} s at {rate_hz:g} Hz make {(t[-1] - t[0]) * rate_hz:.3g} samples, at most "
-                         f"{MAX_RESAMPLED_SAMPLES}", where="rate_hz")
-    ratio = Fraction(float(rate_hz) / fs).limit_denominator(64)
-    up, down = ratio.numerator, ratio.denominator
-    y = sps.resample_poly(x, up, down, padtype=padtype)
-    ty = t[0] + np.arange(len(y)) * down / (up * fs)
-    keep = ty <= t[-1] + 1e-9 / fs
-    return ty[keep], y[keep]
-
-
-def wavelet_denoise(signal, wavelet="dmey", level=None, *, sigma=None):
-    """Wavelet denoising (Discrete Meyer, as in the paper) by soft universal thresholding.
-
-    Details of levels 1..``level`` are soft-thresholded at ``sigma sqrt(2 ln N)``; the approximation is kept.
-    The finest band [fs/4, fs/2] must hold noise only and the approximation band [0, fs / 2^(level+1)] the
-    oscillation: :func:`identify_suspension` chooses ``level`` so.
-
-    Parameters
-    ----------
-    signal : array_like
-        Uniformly sampled signal.
-    wavelet : str, optional
-        PyWavelets wavelet name.
-    level : int, optional
-        Levels thresholded; the deepest the length allows by default; 0 returns a copy.
-    sigma : float, optional
-        Noise standard deviation (signal unit); by default the MAD / 0.6745 of the finest details.
-
-    Returns
-    -------
-    ndarray
-        The denoised signal, same length.
-    """
-    x = np.asarray(signal, float)
-    w = pywt.Wavelet(wavelet)
-    deepest = pywt.dwt_max_level(len(x), w.dec_len)
-    level = deepest if level is None else min(int(level), deepest)
-    if level < 1:
-        return x.copy()
-    coeffs = pywt.wavedec(x, w, level=level, mode="symmetric")
-    sigma = np.median(np.abs(coeffs[-1])) / 0.6745 if sigma is None else sigma
-    thr = sigma * math.sqrt(2.0 * math.log(len(x)))
-    coeffs = [coeffs[0]] + [pywt.threshold(c, thr, mode="soft") for c in coeffs[1:]]
-    return pywt.waverec(coeffs, w, mode="symmetric")[: len(x)]
-
-
-def _parabola(y_m, y_0, y_p):
-    """Offset [samples] and value of the vertex of the parabola through three equally spaced points."""
-    den = y_m - 2.0 * y_0 + y_p
-    if den == 0.0:
-        return 0.0, y_0
-    p = 0.5 * (y_m - y_p) / den
-    return p, y_0 - 0.25 * (y_m - y_p) * p
-
-
-def spectrum_peak(signal, fs, window="hann", pad_factor=8, *, fmin=0.0, fmax=None):
-    """Peak of a windowed, zero-padded FFT amplitude spectrum, refined by a parabola on the log magnitude.
-
-    Parameters
-    ----------
-    signal : array_like
-        Uniform samples, offset removed.
-    fs : float
-        Sampling rate [Hz].
-    window : str, tuple or array_like, optional
-        :func:`scipy.signal.get_window` spec, or the window samples themselves.
-    pad_factor : int, optional
-        The FFT length is the power of two at or above ``pad_factor`` times the length.
-    fmin, fmax : float, optional
-        Band searched [Hz].
-
-    Returns
-    -------
-    peak_hz : float
-        Interpolated peak frequency [Hz].
-    freq_hz, magnitude : ndarray
-        One-sided spectrum [Hz] and amplitude (a sine of amplitude A peaks near A).
-    """
-    x = np.asarray(signal, float)
-    win = sps.get_window(window, len(x), fftbins=False) if isinstance(window, (str, tuple)) \
-        else np.asarray(window, float)
-    nfft = 1 << math.ceil(math.log2(len(x) * max(1, int(pad_factor))))
-    mag = np.abs(np.fft.rfft(x * win, nfft)) * 2.0 / np.sum(win)
-    freq = np.fft.rfftfreq(nfft, 1.0 / fs)
-    band = np.flatnonzero((freq >= max(fmin, freq[1])) & (freq <= (fs / 2.0 if fmax is None else fmax)))
-    k = band[np.argmax(mag[band])]
-    inner = 0 < k < len(mag) - 1 and np.all(mag[k - 1:k + 2] > 0.0)
-    p = _parabola(*np.log(mag[k - 1:k + 2]))[0] if inner else 0.0
-    return (k + p) * fs / nfft, freq, mag
-
-
-def one_sided_peak_ratio(damping_ratio):
-    """Spectral peak over f_n [-] of a free decay transformed from one of its crests to its end.
-
-    For ``e^(-sigma t) cos(omega_d t + phi)``, ``t >= 0``, ``x'(0) = 0``: ``|X|^2 ~ (r^2 + 4 xi^2) /
-    ((1 - r^2)^2 + 4 xi^2 r^2)``, r = f/f_n, peaks at ``r^2 = sqrt(1 + 8 xi^2) - 4 xi^2``: 0.9944 at xi = 0.2,
-    0.9327 at 0.4, between f_d/f_n (0.980, 0.917) and 1.
-    """
-    z2 = np.asarray(damping_ratio, float) ** 2
-    return _out(np.sqrt(np.sqrt(1.0 + 8.0 * z2) - 4.0 * z2))
-
-
-def find_crests(time_s, signal, min_prominence):
-    """Compression crests (maxima) and extension crests (minima), alternating, vertex-refined.
-
-    With z up a compressed suspension pushes the body up: compression crests are acceleration maxima. Of two
-    successive crests of one polarity the larger is kept.
-
-    Parameters
-    ----------
-    time_s, signal : array_like
-        Uniform time [s] and signal.
-    min_prominence : float
-        Least prominence of a crest (signal unit), a few times the noise floor.
-
-    Returns
-    -------
-    times, values, polarity : ndarray
-        Crest times [s], values, and polarity (+1 compression, -1 extension).
-    """
-    t, x = np.asarray(time_s, float), np.asarray(signal, float)
-    found = []
-    for sign in (1.0, -1.0):
-        for i in sps.find_peaks(sign * x, prominence=min_prominence)[0]:
-            p, v = _parabola(*x[i - 1:i + 2]) if 0 < i < len(x) - 1 else (0.0, x[i])
-            found.append((t[i] + p * (t[1] - t[0]), v, sign))
-    kept = []
-    for crest in sorted(found):
-        if kept and kept[-1][2] == crest[2]:
-            kept[-1] = max(kept[-1], crest, key=lambda c: abs(c[1]))
-        else:
-            kept.append(crest)
-    arr = np.array(kept).reshape(-1, 3)
-    return arr[:, 0], arr[:, 1], arr[:, 2]
-
-
-class DecayFit(NamedTuple):
-    """Fitted ``e^(-sigma tau) (B cos omega_d tau + D sin omega_d tau) + c``, ``tau = t - start_s`` [s].
-
-    Call it on times [s]. ``covariance``: of (f_n [Hz], xi [-]); ``coefficients``: (B, D, c); ``noise_std``:
-    the residual standard deviation.
-    """
-
-    natural_frequency_hz: float
-    damping_ratio: float
-    covariance: np.ndarray
-    coefficients: np.ndarray
-    start_s: float
-    noise_std: float
-
-    def __call__(self, time_s):
-        w, z = 2.0 * math.pi * self.natural_frequency_hz, self.damping_ratio
-        tau = np.asarray(time_s, float) - self.start_s
-        return _decay_basis(tau, z * w, w * math.sqrt(1.0 - z * z)) @ self.coefficients
-
-
-def _decay_basis(tau, sigma, omega):
-    e = np.exp(-sigma * tau)
-    return np.column_stack((e * np.cos(omega * tau), e * np.sin(omega * tau), np.ones_like(tau)))
-
-
-def _projected_residual(p, tau, y):
-    basis = _decay_basis(tau, *p)
-    return basis @ np.linalg.lstsq(basis, y, rcond=None)[0] - y
-
-
-def fit_free_decay(time_s, signal, frequency_guess_hz, damping_ratio_guess=None, *, max_frequency_hz=np.inf):
-    """Least-squares fit of a single-mode free decay plus offset to a record starting where the decay does.
-
-    Variable projection: amplitudes and offset are solved linearly inside a bounded nonlinear least squares
-    over (sigma, omega_d), started from the best point of a grid. The model is evaluated at the sample
-    instants: point sampling and aliasing are exact, and jittered time stamps are fine. The covariance is the
-    Gauss-Newton one scaled by the residual variance.
-
-    Parameters
-    ----------
-    time_s, signal : array_like
-        The free decay: time [s] and samples [m/s^2].
-    frequency_guess_hz : float
-        Guess of f_n [Hz]; the grid spans +-15 %.
-    damping_ratio_guess : float, optional
-        Guess of xi [-], added to the grid 0.05-0.6.
-    max_frequency_hz : float, optional
-        Upper bound of f_d [Hz] (the Nyquist frequency).
-
-    Returns
-    -------
-    DecayFit
-    """
-    t, y = np.asarray(time_s, float), np.asarray(signal, float)
-    tau, w_max, guess = t - t[0], 2.0 * math.pi * max_frequency_hz, damping_ratio_guess
-    xis = [0.05, 0.1, 0.2, 0.3, 0.45, 0.6] + ([guess] if guess is not None and 0.0 < guess < 0.9 else [])
-    grid = [(z * w, min(w * math.sqrt(1.0 - z * z), 0.999 * w_max))
-            for w in 2.0 * math.pi * frequency_guess_hz * np.linspace(0.85, 1.15, 7) for z in xis]
-    start = min(grid, key=lambda p: float(np.sum(_projected_residual(p, tau, y) ** 2)))
-    sol = least_squares(_projected_residual, start, args=(tau, y), bounds=([0.0, 0.0], [np.inf, w_max]),
-                        x_scale="jac")
-    sigma, omega = sol.x
-    wn = math.hypot(sigma, omega)
-    s2 = float(sol.fun @ sol.fun) / max(len(y) - 5, 1)
-    grad = np.array([[sigma / (2 * math.pi * wn), omega / (2 * math.pi * wn)],
-                     [omega**2 / wn**3, -sigma * omega / wn**3]])  # d(f_n, xi) / d(sigma, omega_d)
-    cov = grad @ (s2 * np.linalg.pinv(sol.jac.T @ sol.jac)) @ grad.T
-    coef = np.linalg.lstsq(_decay_basis(tau, sigma, omega), y, rcond=None)[0]
-    return DecayFit(wn / (2.0 * math.pi), sigma / wn, cov, coef, float(t[0]), math.sqrt(s2))
-
-
-def _fit_from_decay_start(t, x, t_peak, f_guess, xi_guess, fs):
-    """Fit from the earliest start (1/8..1/2 period after the largest excursion) whose estimates agree with
-    the next start's (99 % chi-square, Hausman covariance): drops a bump still pushing, or the wheel mode's
-    quick transient after a release, which are not the body mode's free decay."""
-    period = 1.0 / (f_guess * math.sqrt(1.0 - min(xi_guess or 0.0, 0.9) ** 2))
-    starts = sorted({int(np.searchsorted(t, t_peak + f * period - 1e-9 / fs)) for f in _START_FRACTIONS})
-    fits = [fit_free_decay(t[i:], x[i:], f_guess, xi_guess, max_frequency_hz=fs / 2.0)
-            for i in starts if len(t) - i >= 8]
-    if not fits:
-        raise InputError("record too short after the largest excursion", where="accel_mps2")
-    for early, late in itertools.pairwise(fits):
-        d = np.array([early.natural_frequency_hz - late.natural_frequency_hz,
-                      early.damping_ratio - late.damping_ratio])
-        cov = late.covariance - early.covariance
-        if np.any(np.linalg.eigvalsh(cov) <= 0.0):
-            cov = late.covariance
-        if d @ np.linalg.pinv(cov) @ d <= _CHI2_99_2DOF:
-            return early
-    return fits[-1]
-
-
 def _crest_stage(tp, xp, t_peak, f_rough, floor, n_cycles):
     """Paper's method on the processed decay: crests, Eq. 1 per polarity averaged, crest period."""
     ct, cv, cp = find_crests(tp, xp, 4.0 * floor)
@@ -417,8 +146,9 @@ def identify_suspension(time_s, accel_mps2, sprung_mass_kg, *, tyre_stiffness_N_
        decay (reflected at its start so the bump or release does not ring into it); crests after the largest
        excursion; Eq. 1 over the ``n`` cycles of each polarity whose crests stand 10x above the noise,
        compression and extension averaged (their offset errors cancel); Eq. 2; FFT peak.
-    3. ``method="fit"`` (default): :func:`fit_free_decay` on the raw samples, from the earliest start 1/8 to
-       1/2 period after the largest excursion where the free-decay model holds, started from step 2.
+    3. ``method="fit"`` (default): :func:`~trikedyn.measure.decay.fit_free_decay` on the raw samples, from
+       the earliest start 1/8 to 1/2 period after the largest excursion where the free-decay model holds
+       (:func:`~trikedyn.measure.decay.fit_decay_after_peak`), started from step 2.
     4. Eqs. 3-4 with ``sprung_mass_kg``; with a tyre stiffness, :func:`suspension_from_body_mode`.
 
     ``natural_frequency_hz`` is the undamped f_n; ``damped_frequency_hz`` is f_d = f_n sqrt(1 - xi^2). The
@@ -426,7 +156,8 @@ def identify_suspension(time_s, accel_mps2, sprung_mass_kg, *, tyre_stiffness_N_
     f_n for xi = 0.29. A Hann window also suppresses the start of a transient, where its energy is, and moves
     the peak with where the event falls in the record. The FFT here is one-sided: from the first crest used
     (the decay is its own exponential window) to where it reaches the noise; its peak is f_n times
-    :func:`one_sided_peak_ratio`, inverted with the crest xi; the crest period cross-checks f_d.
+    :func:`~trikedyn.measure.decay.one_sided_peak_ratio`, inverted with the crest xi; the crest period
+    cross-checks f_d.
 
     Why the fit: at 10 Hz a 2.9 Hz decay has 3.4 samples per cycle and, for xi >= 0.3, much energy above
     5 Hz: resampled crests are distorted and the FFT peak moves (5-13 % on f_n, up to 30 % on xi), and Eq. 1
@@ -477,7 +208,7 @@ def identify_suspension(time_s, accel_mps2, sprung_mass_kg, *, tyre_stiffness_N_
     if method not in ("fit", "paper"):
         raise InputError(f"unknown method {method!r}, expected 'fit' or 'paper'", where="method")
     t_raw, a_raw = checked_record(time_s, accel_mps2)
-    t, a, fs0 = _uniform(t_raw, a_raw)
+    t, a, fs0 = uniform_record(t_raw, a_raw)
     tail = a[-max(len(a) // 4, 8):]
     offset = float(np.median(tail))
     x = a - offset
@@ -515,8 +246,8 @@ def identify_suspension(time_s, accel_mps2, sprung_mass_kg, *, tyre_stiffness_N_
     f_spec = f_peak if math.isnan(xi_c) else f_peak / one_sided_peak_ratio(xi_c)
 
     i_raw = int(np.argmax(np.abs(a_raw - offset)))
-    fit = _fit_from_decay_start(t_raw, a_raw - offset, t_raw[i_raw], f_spec,
-                                None if math.isnan(xi_c) else xi_c, fs0)
+    fit = fit_decay_after_peak(t_raw, a_raw - offset, t_raw[i_raw], f_spec,
+                               None if math.isnan(xi_c) else xi_c, fs0, where="accel_mps2")
     if method == "fit":
         f_n, xi = fit.natural_frequency_hz, fit.damping_ratio
         f_std, xi_std = (float(v) for v in np.sqrt(np.diag(fit.covariance)))

@@ -1,4 +1,5 @@
-"""Animations of a run: the trike driving through the cones (plan view) or seen from behind (rear view).
+"""Animations of a run: the trike driving through the cones (plan view, or in 3d) or seen from behind (rear
+view).
 
 Pure drawing. A :class:`Scene` (trajectory, wheel loads, outline, course) is made from a
 :class:`~trikedyn.simulate.result.Result` or from a run file's channels (:func:`scene_from`);
@@ -8,7 +9,10 @@ or an MP4 (needs ffmpeg). matplotlib is imported inside the functions.
 - **plan**: a view that follows the vehicle (22 m x 14 m) under a strip with the whole course; the body
   outline, the three wheels (shaded by their vertical load, red when lifted), the trail of the CG, the
   cones (red once struck), bars of the wheel loads, time [s] and speed [km/h];
-- **rear**: the body seen from behind, rolled by its roll angle, and the wheel loads as bars.
+- **rear**: the body seen from behind, rolled by its roll angle, and the wheel loads as bars;
+- **3d**: the body as a box rolled and pitched by the run's angles, the wheels as discs shaded by their load,
+  cones and lanes on the ground, seen by a camera that follows the vehicle
+  (:mod:`trikedyn.report.animation_3d`).
 """
 
 from __future__ import annotations
@@ -27,7 +31,7 @@ from ..errors import InputError
 
 __all__ = ["FORMATS", "VIEWS", "Scene", "animate", "ffmpeg_available", "frame_indices", "scene_from"]
 
-VIEWS = ("plan", "rear")
+VIEWS = ("plan", "rear", "3d")
 FORMATS = (".gif", ".html", ".mp4")
 MAX_FRAMES = 5000  # most frames in one animation (a longer run needs a larger time between frames)
 FIGSIZE_IN = (6.0, 4.0)
@@ -63,6 +67,8 @@ class Scene:
     cone_hit_s : numpy.ndarray
         Time each cone is first struck [s] (inf: never).
     title : str
+    pitch_rad : numpy.ndarray or None
+        Pitch [rad], positive nose down (the 3d view); None: level.
     """
 
     time_s: np.ndarray
@@ -81,6 +87,7 @@ class Scene:
     corridors: tuple = ()
     cone_hit_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
     title: str = ""
+    pitch_rad: np.ndarray | None = None
 
     @classmethod
     def from_result(cls, result) -> Scene:
@@ -105,7 +112,7 @@ def scene_from(channels: Mapping, meta: Mapping, *, params, manoeuvre=None, wher
     ----------
     channels : mapping of str to array_like
         ``time_s`` [s], ``x_m``, ``y_m`` [m], ``yaw_rad``, ``speed_mps`` [m/s], and per wheel
-        ``<wheel>_fz_N`` [N]; ``roll_rad`` and ``steer_rad`` [rad] if recorded.
+        ``<wheel>_fz_N`` [N]; ``roll_rad``, ``pitch_rad`` and ``steer_rad`` [rad] if recorded.
     meta : mapping
         The run's metadata: ``wheels``, ``vehicle``, ``manoeuvre`` (each optional; for the title).
     params : VehicleParameters
@@ -158,7 +165,7 @@ def scene_from(channels: Mapping, meta: Mapping, *, params, manoeuvre=None, wher
                  None if path is None else np.column_stack((path.x_m, path.y_m)),
                  np.zeros((0, 2)) if path is None else np.asarray(path.cones, dtype=float),
                  tuple((c.x_start_m, c.x_end_m, c.y_min_m, c.y_max_m) for c in getattr(path, "corridors", ())),
-                 hits, title)
+                 hits, title, channel("pitch_rad", 0.0))
 
 
 def frame_indices(time_s, every_s: float) -> np.ndarray:
@@ -370,8 +377,9 @@ def animate(result, path, view: str = "plan", fps: int = 10, every_s: float = 0.
     path : str or Path
         Output file: ``.gif`` (Pillow), ``.html`` (a page with a JavaScript player) or ``.mp4`` (needs
         ffmpeg). Written atomically; an existing file is replaced.
-    view : {"plan", "rear"}
-        The trike through the cones seen from above, or the body's roll and the wheel loads from behind.
+    view : {"plan", "rear", "3d"}
+        The trike through the cones seen from above, the body's roll and the wheel loads from behind, or the
+        trike rolling and pitching through the cones in 3d, seen by a camera that follows it.
     fps : int
         Frames per second of the animation [1/s].
     every_s : float
@@ -412,7 +420,11 @@ def animate(result, path, view: str = "plan", fps: int = 10, every_s: float = 0.
     from matplotlib.figure import Figure  # no pyplot: the user's backend and figures are left alone
 
     fig = Figure(figsize=FIGSIZE_IN, dpi=dpi, facecolor="white")
-    update = (_plan if view == "plan" else _rear)(fig, scene)
+    if view == "3d":
+        from .animation_3d import draw_3d as draw
+    else:
+        draw = _plan if view == "plan" else _rear
+    update = draw(fig, scene)
     writer = _writer(suffix, fps)
     with tempfile.TemporaryDirectory(prefix="trikedyn-anim-") as folder:
         scratch = Path(folder) / f"animation{suffix}"
