@@ -26,9 +26,12 @@ def _all_finite(findings) -> bool:
 
 
 def _leaves(data, prefix=""):
-    """Dotted override paths of every numeric leaf (wheels and payload items by name)."""
+    """Dotted override paths of every numeric leaf (wheels and payload items by name); the declared ranges of
+    the assumed values (``[ranges]``) are not parameters (tests/study/test_ranges.py)."""
     if isinstance(data, dict):
         for key, value in data.items():
+            if not prefix and key == "ranges":
+                continue
             yield from _leaves(value, f"{prefix}{key}.")
     elif isinstance(data, list | tuple):
         for item in data:

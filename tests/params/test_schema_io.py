@@ -43,8 +43,8 @@ def test_every_unmeasured_value_has_a_reason(reference):
     missing = []
     for path, value in _flatten(data):
         leaf = path.split(".")[-1]
-        if leaf in structural or value == 0.0 or value == []:
-            continue
+        if leaf in structural or value == 0.0 or value == [] or path.startswith("ranges."):
+            continue  # (a declared range's reason is its comment: tests/study/test_ranges.py)
         if path not in reference.notes:
             missing.append(path)
     # x of the rear wheels is the origin by definition

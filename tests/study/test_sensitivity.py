@@ -49,7 +49,7 @@ def test_factors_are_the_assumed_values_that_can_vary(reference):
     assert set(reference.assumed()) <= covered
     assert 40 <= len(factors) <= 60
     for f in factors:
-        assert f.low < f.high and f.range_from in ("fraction", "narrowed")
+        assert f.low < f.high and f.range_from in ("fraction", "narrowed", "declared")
         if f.range_from == "fraction":
             assert min(abs(f.low), abs(f.high)) == pytest.approx(0.8 * abs(f.value))
 

@@ -27,8 +27,8 @@ def _table(result) -> str:
     group = "trajectories" if result.method == "morris" else "base samples"
     lines = [
         f"{result.vehicle} on {result.manoeuvre}: threshold {'none' if ref is None else f'{ref:.1f} km/h'} as given",
-        f"{result.method}: {len(result.factors)} factors, each over +/-{result.fraction:.0%} of its value unless a "
-        f"range is declared; {result.samples} {group}, {result.n_runs} runs, {result.failed} failed"
+        f"{result.method}: {len(result.factors)} factors ({_origins(result)}); "
+        f"{result.samples} {group}, {result.n_runs} runs, {result.failed} failed"
         + (f" ({result.dropped} {group} left out)" if result.dropped else ""),
     ]
     if result.at_search_limit:
@@ -46,10 +46,21 @@ def _table(result) -> str:
         f = by_name[row["parameter"]]
         cells = "".join(f"{_num(row[k]):>{11 if (k == 'mu_star') else 8 if k in ('ST', 'S1', 'sigma') else 7}}"
                         for k in keys)
-        lines.append(f"{rank:<5}{row['parameter']:<{width}}{cells}   {readable(f.low)} .. {readable(f.high)}")
+        origin = {"declared": "declared", "narrowed": "narrowed"}.get(f.range_from, f"+/-{result.fraction:.0%}")
+        lines.append(f"{rank:<5}{row['parameter']:<{width}}{cells}   {readable(f.low)} .. {readable(f.high)} ({origin})")
     if result.excluded:
         lines.append(f"left out: {len(result.excluded)} assumed values (see --json 'excluded')")
     return "\n".join(lines)
+
+
+def _origins(result) -> str:
+    """Where the factors' ranges come from, in words: declared in the vehicle file, or the default fraction."""
+    count = {k: sum(f.range_from == k for f in result.factors) for k in ("declared", "fraction", "narrowed")}
+    parts = [f"{count['declared']} over the range declared in the vehicle file",
+             f"{count['fraction']} over +/-{result.fraction:.0%} of their value (none declared)"]
+    if count["narrowed"]:
+        parts.append(f"{count['narrowed']} narrowed so that every combination is a rigid body")
+    return ", ".join(parts)
 
 
 def _num(value: float) -> str:

@@ -32,22 +32,47 @@ def _text(result) -> str:
     d = result.to_dict()
     ref = d["reference_threshold_speed_kmh"]
     normal = [i for i in result.inputs if i.distribution == "normal"]
+    uniform = [i for i in result.inputs if i.distribution != "normal"]
+    origins = {k: sum(i.factor.range_from == k for i in uniform) for k in ("declared", "fraction", "narrowed")}
     lines = [
         f"{result.vehicle} on {result.manoeuvre}: threshold {'none' if ref is None else f'{ref:.1f} km/h'} as given",
-        f"{len(result.inputs)} uncertain inputs ({len(result.inputs) - len(normal)} uniform over their range, "
-        f"{len(normal)} normal from --std, truncated at +/-3 sigma); Latin hypercube, {result.samples} samples, "
-        f"{d['failed']} failed",
+        f"{len(result.inputs)} uncertain inputs ({len(uniform)} uniform over their range, "
+        f"{len(normal)} normal from measured sigmas, truncated at +/-3 sigma); Latin hypercube, {result.samples} "
+        f"samples, {d['failed']} failed",
         f"  median {_fmt(d['median_kmh'])} km/h, 5-95 % {_fmt(d['p05_kmh'])} .. {_fmt(d['p95_kmh'])} km/h, "
         f"mean {_fmt(d['mean_kmh'])}, std {_fmt(d['std_kmh'])} km/h (n={d['n']})",
     ]
     if d["at_search_limit"]:
         lines.append(f"  {d['at_search_limit']} samples reached the top of the search ({result.search.high_kmh:g} km/h; "
                      "raise it with --high)")
+    if uniform:
+        lines.append(f"  uniform: {origins['declared']} over the range declared in the vehicle file, "
+                     f"{origins['fraction']} over +/-{result.fraction:.0%} of their value (none declared)"
+                     + (f", {origins['narrowed']} narrowed to rigid bodies (the inertias)" if origins["narrowed"] else ""))
     for i in normal:
-        lines.append(f"  {i.name}: normal, mean {readable(i.factor.value)}, std {readable(i.std)}")
+        lines.append(f"  {i.name}: normal, mean {readable(i.factor.value)}, std {readable(i.std)}  "
+                     f"[{i.source or '--std'}]")
+    for note in result.notes:
+        lines.append(f"  note: {note}")
     for row in d["failures"]:
         lines.append(f"  failed ({row['samples']}): {row['error']}")
     return "\n".join(lines)
+
+
+def _far_from_measured(pset, measured, stds) -> list[str]:
+    """A note for each measured sigma used about a vehicle value more than 3 sigma from what was measured."""
+    from ..study.factors import numeric_parameters
+
+    values = numeric_parameters(pset)
+    notes = []
+    for m in measured:
+        value = values.get(m.path)
+        if m.path in stds or value is None or abs(value - m.measured) <= 3 * m.std:
+            continue
+        notes.append(f"{m.path}: the vehicle's {readable(value)} is {abs(value - m.measured) / m.std:.0f} sigma from "
+                     f"the measured {readable(m.measured)}; its sigma is sampled about the vehicle's value (update "
+                     "the vehicle file if the measurement is of this vehicle)")
+    return notes
 
 
 def uncertainty_cmd(
@@ -56,7 +81,9 @@ def uncertainty_cmd(
     option: OptionOpt = [],  # noqa: B006
     samples: Annotated[int, typer.Option("--samples", callback=within(2, 100_000), help="Latin-hypercube samples (threshold searches).")] = 64,
     parameter: Annotated[list[str], typer.Option("--parameter", "-p", help="Assumed values varied uniformly over their range: dotted paths or design knobs, repeatable or comma-separated. Default: every assumed value that can vary.")] = [],  # noqa: B006
-    std: Annotated[list[str], typer.Option("--std", help="A measured value PATH=SIGMA [its unit] (mass.cg_z_m=0.01): normal about the vehicle's value, truncated at +/-3 sigma; repeatable.")] = [],  # noqa: B006
+    std: Annotated[list[str], typer.Option("--std", help="A measured value PATH=SIGMA [its unit] (mass.cg_z_m=0.01): normal about the vehicle's value, truncated at +/-3 sigma; repeatable. Wins over --weighing and --identification.")] = [],  # noqa: B006
+    weighing: Annotated[Path | None, typer.Option("--weighing", help="A weighing file (as `trikedyn cg weigh` reads): the sigmas of the CG's x and y (level weighing) and z (tilted weighings), normal about the vehicle's CG.")] = None,
+    identification: Annotated[list[str], typer.Option("--identification", help="[SUSPENSION=]FILE: the JSON of `trikedyn identify --json` (or a folder holding it): the sigmas of that suspension's stiffness and damping, propagated from those of f_n and xi; the name is needed when the vehicle has more than one suspension (front=id.json); repeatable.")] = [],  # noqa: B006
     fraction: Annotated[float, typer.Option("--fraction", callback=within(0, 0.9, above=True), help="Each assumed value varies over value x (1 -/+ fraction) unless the vehicle file declares its range [-].")] = 0.2,
     resolution: Annotated[float, typer.Option("--resolution", callback=within(0.01, 10, "km/h"), help="Resolution of each threshold search [km/h].")] = 0.1,
     high: Annotated[float, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h]; a sample that passes it counts as this speed.")] = 90.0,
@@ -79,7 +106,10 @@ def uncertainty_cmd(
         raise InputError("give --resume (continue) or --force (start again), not both", where="--resume")
     options = manoeuvre_options(manoeuvre, option)
     pset = load_vehicle(vehicle)
-    inputs, excluded = ua.build_inputs(pset, parameter, stds, fraction)
+    measured = ua.measured_stds(pset, weighing, identification)
+    sigmas = {m.path: m.std for m in measured} | stds
+    sources = {m.path: m.source for m in measured} | dict.fromkeys(stds, "--std")
+    inputs, excluded = ua.build_inputs(pset, parameter, sigmas, fraction, sources)
     search = ua.Search(manoeuvre, options, resolution, high_kmh=high)
     plan = json.loads(json.dumps(_plan(pset, search, inputs, int(samples), seed, fraction)))
     log = None
@@ -89,6 +119,7 @@ def uncertainty_cmd(
     result = ua.run_uncertainty(pset, search, inputs, samples=int(samples), seed=seed, fraction=fraction,
                                 excluded=excluded, workers=workers, log=log, resume=resume,
                                 progress=ProgressLine("uncertainty"))
+    result.measured, result.notes = list(measured), _far_from_measured(pset, measured, stds)
     data = result.to_dict()
     if out is not None:
         import matplotlib

@@ -21,6 +21,26 @@ so first (``gt=0``) and then has a least physical value (spring stiffness 100 N/
 a triangle (each at least :data:`MIN_SUPPORT_M` from the line through the other two), and payload leaves
 at least :data:`MIN_MASS_KG` with its CG at least :data:`MIN_CG_HEIGHT_M` above the ground. Within these
 ranges the audit and the derived quantities never divide by zero or overflow.
+
+An assumed value may declare the range it is uncertain over (what ``trikedyn sensitivity`` and ``trikedyn
+uncertainty`` vary it over; without one they take ``value * (1 -/+ 0.2)``, the ``--fraction``). The ranges
+sit in ``[ranges.SECTION]`` tables, each written right after the section it is about, keyed as that section
+is: ``[ranges.mass]`` after ``[mass]``, ``[ranges.suspension.front]`` after ``[suspension.front]``,
+``[ranges.wheels.front]`` after the front ``[[wheels]]`` entry, ``[ranges.components.battery]`` after the
+battery; a design knob (``track_m``, ``wheelbase_m``, ``cg_height_m``) goes in ``[ranges]`` itself. A range
+is ``[low, high]`` in the value's unit or ``{ rel = f }`` for ``value * (1 -/+ f)``::
+
+    [tyre]
+    mu_y = { value = 0.85, assumed = "dry asphalt" }
+
+    [ranges.tyre]
+    mu_y = [0.6, 1.0]  # damp to dry asphalt
+
+Dotted keys in one ``[ranges]`` table (``tyre.mu_y = [0.6, 1.0]``) are the same thing. The schema checks the
+form (two finite numbers, low < high; ``0 < rel < 1``); the sensitivity and uncertainty commands check that
+each key names a number of the vehicle (or a design knob) and that low < value < high, naming the file and
+the key (``trikedyn.study.factors.declared_ranges``). A value moved by a study or an override may leave its
+range: the range describes the vehicle as written.
 """
 
 from __future__ import annotations
@@ -28,7 +48,7 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, field_validator, model_validator
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, field_validator, model_validator
 
 __all__ = [
     "AeroSpec",
@@ -38,6 +58,7 @@ __all__ = [
     "MassSpec",
     "PayloadItemSpec",
     "PointSpec",
+    "RelativeRange",
     "SteeringSpec",
     "SuspensionSpec",
     "TyreSpec",
@@ -321,6 +342,61 @@ class BodySpec(_Spec):
     overall_length_m: _positive(0.5, "m") = Field(gt=0, le=15)
 
 
+class RelativeRange(_Spec):
+    """A range relative to its value: ``value * (1 -/+ rel)``."""
+
+    rel: float = Field(gt=0, lt=1, description="half-width as a fraction of the value (0.2: +/-20 %)")
+
+
+def _range(value):
+    """``[low, high]`` (two finite numbers, low < high) or ``{ rel = f }``; one clear message otherwise."""
+    if isinstance(value, RelativeRange):
+        return value
+    if isinstance(value, dict):
+        rel = value.get("rel")
+        if set(value) != {"rel"}:
+            raise ValueError(f"expected {{ rel = fraction }} alone, got the keys {', '.join(map(str, value))}")
+        if isinstance(rel, bool) or not isinstance(rel, int | float) or not (math.isfinite(rel) and 0 < rel < 1):
+            raise ValueError(f"rel: expected a fraction between 0 and 1 (0.2 = +/-20 %), got {rel!r}")
+        return RelativeRange(rel=float(rel))
+    if isinstance(value, list | tuple) and len(value) == 2 and all(
+            isinstance(v, int | float) and not isinstance(v, bool) for v in value):
+        low, high = (float(v) for v in value)
+        if not (math.isfinite(low) and math.isfinite(high)):
+            raise ValueError(f"expected finite numbers, got [{low:g}, {high:g}]")
+        if not low < high:
+            raise ValueError(f"expected [low, high] with low < high, got [{low:g}, {high:g}]")
+        return (low, high)
+    raise ValueError(f"expected [low, high] (two numbers) or {{ rel = fraction }}, got {value!r}")
+
+
+RangeSpec = Annotated[tuple[float, float] | RelativeRange, BeforeValidator(_range)]
+"""A declared range: ``[low, high]`` in the value's unit, or ``{ rel = f }``."""
+
+MAX_RANGES = 500
+
+
+def _flat_ranges(node, prefix: str = "") -> dict:
+    """``[ranges.mass] cg_z_m = ...`` and ``[ranges] "mass.cg_z_m" = ...`` alike: ``{"mass.cg_z_m": ...}``.
+
+    A table is a range (``{ rel = f }``) if it has a ``rel`` key, else a section to descend into. A key given
+    in both forms keeps the later one (after ``extends`` merged the tables, the extending file's).
+    """
+    if not isinstance(node, dict):
+        raise ValueError("expected a table of ranges keyed by parameter path ([ranges.mass] cg_z_m = [low, high])")
+    out = {}
+    for key, value in node.items():
+        path = f"{prefix}.{key}" if prefix else str(key)
+        if isinstance(value, dict) and value and "rel" not in value:
+            out.update(_flat_ranges(value, path))
+        else:
+            out.pop(path, None)
+            out[path] = value  # the later wins: a file's own range over the one of the file it extends
+        if len(out) > MAX_RANGES:
+            raise ValueError(f"more than {MAX_RANGES} ranges")
+    return out
+
+
 class VehicleParameters(_Spec):
     """A whole vehicle. Load with :func:`trikedyn.params.load_vehicle`."""
 
@@ -343,6 +419,19 @@ class VehicleParameters(_Spec):
         default=(), max_length=100,
         description="movable masses inside the body mass (part of [mass], not added to it)",
     )
+    ranges: dict[str, RangeSpec] = Field(
+        default_factory=dict, max_length=MAX_RANGES, exclude_if=lambda ranges: not ranges,
+        description=("the range an assumed value is uncertain over, for the sensitivity and uncertainty commands "
+                     "(else value x (1 -/+ 0.2)): [low, high] in its unit, or { rel = f } for value x (1 -/+ f); "
+                     "in [ranges.SECTION] tables next to the values (key as in the section: [ranges.mass] "
+                     "cg_z_m = [0.36, 0.42]; [ranges.wheels.front] radius_m = ...), or dotted keys in [ranges]; "
+                     "a design knob (track_m, wheelbase_m, cg_height_m) in [ranges] itself"),
+    )
+
+    @field_validator("ranges", mode="before")
+    @classmethod
+    def _flatten_ranges(cls, ranges):
+        return _flat_ranges(ranges)
 
     @field_validator("wheels")
     @classmethod

@@ -1,11 +1,13 @@
 """Which of a vehicle's values a sensitivity study varies, and over what range (the factors).
 
-See :mod:`trikedyn.study.sensitivity`, step 1.
+See :mod:`trikedyn.study.sensitivity`, step 1. A factor's range is the one its vehicle file declares next to
+the value (``[ranges.mass] cg_x_m = [0.70, 0.95]``, or ``{ rel = 0.1 }``; see
+:mod:`trikedyn.params.schema` and :func:`declared_ranges`), else ``value * (1 -/+ fraction)`` with the stated
+default :data:`DEFAULT_FRACTION` (``--fraction``); each factor says which (``range_from``).
 """
 
 from __future__ import annotations
 
-import ast
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
@@ -14,11 +16,12 @@ from difflib import get_close_matches
 from ..errors import InputError, ParameterError
 from ..params.io import ParameterSet
 
-__all__ = ["DEFAULT_FRACTION", "EXCLUDED_GROUPS", "Factor", "apply_factors", "candidate_factors", "numeric_parameters",
-           "problem", "select_factors"]
+__all__ = ["DEFAULT_FRACTION", "EXCLUDED_GROUPS", "Factor", "apply_factors", "candidate_factors", "declared_ranges",
+           "numeric_parameters", "problem", "select_factors"]
 
 DEFAULT_FRACTION = 0.2
-"""Each factor varies over ``value * (1 -/+ fraction)`` unless its vehicle file declares a range."""
+"""Each factor varies over ``value * (1 -/+ fraction)`` unless its vehicle file declares a range (its
+``[ranges]`` tables: :func:`declared_ranges`); ``--fraction`` changes it."""
 
 
 EXCLUDED_GROUPS = {
@@ -59,7 +62,8 @@ class Factor:
     note : str
         Why the value is what it is (the vehicle file's ``assumed`` or ``source`` note).
     range_from : str
-        ``"fraction"``, ``"declared"`` (a ``range`` next to the value in the vehicle file) or ``"narrowed"``
+        ``"fraction"`` (no range declared: ``value * (1 -/+ fraction)``), ``"declared"`` (the vehicle file's
+        ``[ranges]``, :func:`declared_ranges`) or ``"narrowed"``
         (a fraction narrowed so that every combination is a valid vehicle: the principal inertias).
     covers : tuple of str
         The vehicle file's values it varies (for a knob: those it moves, e.g. both wheels' ``y_m``).
@@ -110,7 +114,7 @@ def _leaves(node, prefix: str = ""):
 
 def numeric_parameters(pset: ParameterSet) -> dict[str, float]:
     """Every numeric parameter of the vehicle by dotted path (booleans, names and the payload left out)."""
-    return {path: float(value) for path, value in _leaves(pset.params.model_dump())
+    return {path: float(value) for path, value in _leaves(pset.params.model_dump(exclude={"ranges"}))
             if _is_number(value) and not path.startswith("payload.")}
 
 
@@ -133,19 +137,76 @@ def _note(pset: ParameterSet, path: str) -> str:
     return ""
 
 
-def _declared_range(pset: ParameterSet, path: str) -> tuple[float, float] | None:
-    """A ``range = [low, high]`` declared next to the value in the vehicle file, if the file format keeps one."""
-    text = pset.notes.get(path, {}).get("range")
-    if text is None:
+def _range_key_value(pset: ParameterSet, key: str, values: dict[str, float]) -> float | None:
+    """The vehicle's value that a ``[ranges]`` key names: a numeric parameter, a design knob, or a value a
+    mirrored pair of wheels shares (``wheels.LEFT+RIGHT.ATTR``); None if it names none."""
+    if key in values:
+        return values[key]
+    if _knobs() is not None and key in _knobs().knob_names(pset):
+        known = _knob_value(pset, key)
+        if known is not None:
+            return known[0]
+    parts = key.split(".")
+    if len(parts) == 3 and parts[0] == "wheels" and PAIR_SEPARATOR in parts[1]:
+        left, right = parts[1].split(PAIR_SEPARATOR, 1)
+        a, b = values.get(f"wheels.{left}.{parts[2]}"), values.get(f"wheels.{right}.{parts[2]}")
+        if a is not None and a == b:
+            return a
+    return None
+
+
+def declared_ranges(pset: ParameterSet) -> dict[str, tuple[float, float]]:
+    """The ranges the vehicle file declares (its ``[ranges]`` tables, :class:`~trikedyn.params.schema.VehicleParameters`),
+    by key, as ``(low, high)`` in the value's unit (a ``{ rel = f }`` resolved against the value).
+
+    Raises
+    ------
+    ParameterError
+        ``where="FILE: ranges.KEY"``: the key names no number of the vehicle (with the closest one), or the range
+        does not hold the value strictly inside (``low < value < high``; a relative range of a zero value).
+    """
+    declared = getattr(pset.params, "ranges", None) or {}
+    if not declared:
+        return {}
+    values = numeric_parameters(pset)
+    out: dict[str, tuple[float, float]] = {}
+    origin = pset.origin or pset.name
+    for key, spec in declared.items():
+        where = f"{origin}: ranges.{key}"
+        value = _range_key_value(pset, key, values)
+        if value is None:
+            known = [*values, *(_knobs().knob_names(pset) if _knobs() is not None else ())]
+            hint = get_close_matches(key, known, n=1, cutoff=0.6)
+            tip = f"; did you mean '{hint[0]}'?" if hint else " (a dotted path of a number, or a design knob)"
+            raise ParameterError(f"no number of the vehicle is called '{key}'{tip}", where=where)
+        rel = getattr(spec, "rel", None)
+        if rel is not None:
+            if value == 0.0:
+                raise ParameterError(f"{{ rel = {rel:g} }} of a value of 0 is empty; give [low, high]", where=where)
+            low, high = sorted((value * (1.0 - rel), value * (1.0 + rel)))
+        else:
+            low, high = (float(b) for b in spec)
+            if not low < value < high:
+                raise ParameterError(f"[{low:g}, {high:g}] does not hold the value {value:g} "
+                                     "(expected low < value < high)", where=where)
+        out[key] = (low, high)
+    return out
+
+
+def _declared_range(pset: ParameterSet, name: str, value: float, keys: Iterable[str],
+                    declared: dict[str, tuple[float, float]] | None = None) -> tuple[float, float] | None:
+    """The range declared for a factor: under its own name, else under one of the parameters it sets or
+    explains whose value is the factor's (a knob's range is never taken from a wheel's ``y_m``)."""
+    declared = declared_ranges(pset) if declared is None else declared
+    if not declared:
         return None
-    try:
-        bounds = ast.literal_eval(text) if isinstance(text, str) else text
-        low, high = (float(b) for b in bounds)
-    except (ValueError, TypeError, SyntaxError):
-        raise ParameterError(f"range: expected [low, high], got {text!r}", where=path) from None
-    if not (math.isfinite(low) and math.isfinite(high) and low < high):
-        raise ParameterError(f"range: expected finite low < high, got {text!r}", where=path)
-    return low, high
+    if name in declared:
+        return declared[name]
+    values = numeric_parameters(pset)
+    for key in keys:
+        if key in declared and key in values and values[key] == value:
+            return declared[key]
+    return None
 
 
 def _check_fraction(fraction: float) -> float:
@@ -154,8 +215,9 @@ def _check_fraction(fraction: float) -> float:
     return float(fraction)
 
 
-def _make(pset, name, value, paths, fraction, kind="value", centre=0.0, note_path=None, covers=None) -> Factor:
-    declared = _declared_range(pset, note_path or paths[0])
+def _make(pset, name, value, paths, fraction, kind="value", centre=0.0, note_path=None, covers=None,
+          ranges=None) -> Factor:
+    declared = _declared_range(pset, name, value, (*paths, *([note_path] if note_path else [])), ranges)
     if declared is not None:
         low, high, origin = *declared, "declared"
     else:
@@ -210,11 +272,15 @@ def _all_factors(pset: ParameterSet, fraction: float) -> tuple[dict[str, Factor]
     refused: dict[str, str] = {}
     paired: dict[str, str] = {}  # a paired wheel's path -> the pair factor that varies it
 
+    declared = declared_ranges(pset)
+
     def add(name, value, paths, note_path=None, **kw):
-        if value == 0.0 and _declared_range(pset, note_path or paths[0]) is None:
-            refused[name] = f"'{name}' is 0: a relative range is empty (declare a range next to it in the vehicle file)"
+        keys = (*paths, *([note_path] if note_path else []))
+        if value == 0.0 and _declared_range(pset, name, value, keys, declared) is None:
+            refused[name] = (f"'{name}' is 0: a relative range is empty (declare one in the vehicle file: "
+                             f"[ranges] \"{name}\" = [low, high])")
         else:
-            factors[name] = _make(pset, name, value, paths, fraction, note_path=note_path, **kw)
+            factors[name] = _make(pset, name, value, paths, fraction, note_path=note_path, ranges=declared, **kw)
 
     for left, right in _pairs(pset):
         pair = f"wheels.{left}{PAIR_SEPARATOR}{right}"
@@ -353,7 +419,7 @@ def select_factors(pset: ParameterSet, names: Iterable[str], fraction: float = D
     """
     fraction = _check_fraction(fraction)
     every, refused, _ = _all_factors(pset, fraction)
-    all_paths = {path for path, _ in _leaves(pset.params.model_dump())}
+    all_paths = {path for path, _ in _leaves(pset.params.model_dump(exclude={"ranges"}))}
     chosen: list[Factor] = []
     for raw in names:
         for name in (n.strip() for n in str(raw).split(",")):

@@ -5,7 +5,12 @@ Two kinds of input:
 - **assumed** values (the factors of :mod:`trikedyn.study.factors`): uniform over their range
   (``value * (1 -/+ fraction)`` or the range declared in the vehicle file), as the sensitivity study varies them;
 - **measured** values with a standard deviation (``mass.cg_z_m`` from a weighing, a suspension stiffness from an
-  identification): normal about the vehicle's value, truncated at +/-3 sigma (:data:`TRUNCATION`).
+  identification): normal about the vehicle's value, truncated at +/-3 sigma (:data:`TRUNCATION`). The sigmas
+  are given by hand (``--std PATH=SIGMA``, :func:`parse_std`) or read from the measurements themselves:
+  :func:`weighing_stds` (a weighing file, :mod:`trikedyn.measure.weighing`: the CG's x and y from the level
+  weighing, its z from the tilted ones) and :func:`identification_stds` (the JSON of ``trikedyn identify
+  --json``: K and C of one suspension, their sigmas propagated from those of f_n and xi). Each input says where
+  its sigma came from (``source``); a sigma given with ``--std`` wins over a measured one.
 
 The samples are a seeded Latin hypercube (:class:`scipy.stats.qmc.LatinHypercube`) mapped through each input's
 inverse distribution function; each sample's threshold is searched as in a sensitivity run
@@ -16,10 +21,12 @@ percentiles, mean, standard deviation [km/h]; ``to_dict``, ``plot``).
 
 from __future__ import annotations
 
+import json
 import math
 import time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 
 import numpy as np
 
@@ -28,8 +35,8 @@ from ..params.io import ParameterSet
 from .factors import DEFAULT_FRACTION, Factor, candidate_factors, select_factors
 from .sample_runs import SampleLog, Search, run_samples
 
-__all__ = ["DEFAULT_SAMPLES", "TRUNCATION", "Input", "UncertaintyResult", "build_inputs", "parse_std",
-           "run_uncertainty", "sample"]
+__all__ = ["DEFAULT_SAMPLES", "TRUNCATION", "Input", "Measured", "UncertaintyResult", "build_inputs",
+           "identification_stds", "measured_stds", "parse_std", "run_uncertainty", "sample", "weighing_stds"]
 
 DEFAULT_SAMPLES = 64
 TRUNCATION = 3.0
@@ -47,11 +54,14 @@ class Input:
     distribution : {"uniform", "normal"}
     std : float
         Standard deviation [the parameter's unit] (normal only; the mean is ``factor.value``).
+    source : str
+        Where the sigma came from (normal only): ``"--std"``, or the weighing or identification file.
     """
 
     factor: Factor
     distribution: str = "uniform"
     std: float = 0.0
+    source: str = ""
 
     @property
     def name(self) -> str:
@@ -70,7 +80,7 @@ class Input:
         f = self.factor
         if self.distribution == "normal":
             return {"parameter": f.name, "distribution": "normal", "mean": f.value, "std": self.std,
-                    "truncated": [f.low, f.high], "sets": list(f.paths)}
+                    "truncated": [f.low, f.high], "sets": list(f.paths), "source": self.source or "--std"}
         return {"parameter": f.name, "distribution": "uniform", "low": f.low, "high": f.high, "value": f.value,
                 "range_from": f.range_from, "sets": list(f.paths), "note": f.note}
 
@@ -100,12 +110,14 @@ def parse_std(items: Iterable[str]) -> dict[str, float]:
 
 
 def build_inputs(pset: ParameterSet, parameters: Iterable[str] = (), stds: dict[str, float] | None = None,
-                 fraction: float = DEFAULT_FRACTION) -> tuple[list[Input], dict[str, str]]:
+                 fraction: float = DEFAULT_FRACTION, sources: dict[str, str] | None = None,
+                 ) -> tuple[list[Input], dict[str, str]]:
     """The inputs: the named (or every candidate) assumed factor uniform, each ``stds`` path normal.
 
-    A path given both ways is normal. Returns the inputs and the assumed values left out (with why; empty
-    when parameters are named).
+    A path given both ways is normal. ``sources``: path -> where its sigma came from (``"--std"`` if not
+    given). Returns the inputs and the assumed values left out (with why; empty when parameters are named).
     """
+    sources = dict(sources or {})
     stds = dict(stds or {})
     parameters = [p for p in parameters if str(p).strip()]
     if parameters:
@@ -117,15 +129,187 @@ def build_inputs(pset: ParameterSet, parameters: Iterable[str] = (), stds: dict[
         try:
             (factor,) = select_factors(pset, [path], fraction)
         except InputError as exc:
-            raise InputError(exc.reason, where="--std") from None
+            raise InputError(exc.reason, where=sources.get(path, "--std")) from None
         normal.append(Input(replace(factor, low=factor.value - TRUNCATION * sigma,
                                     high=factor.value + TRUNCATION * sigma, range_from="measured"),
-                            "normal", float(sigma)))
+                            "normal", float(sigma), sources.get(path, "--std")))
     names = {i.name for i in normal}
     inputs = [Input(f) for f in factors if f.name not in names] + normal
     if not inputs:
         raise InputError("no input to vary", where="--parameter")
     return inputs, excluded
+
+
+# ------------------------------------------------------------------------------------------------
+# measured sigmas: a weighing file, an identification
+# ------------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Measured:
+    """A measured value's standard deviation and where it came from.
+
+    Attributes
+    ----------
+    path : str
+        The vehicle's parameter (``mass.cg_z_m``, ``suspension.front.stiffness_N_per_m``).
+    std : float
+        Its standard deviation [the parameter's unit].
+    measured : float
+        The value the measurement gave (the vehicle's own value is the mean sampled about).
+    source : str
+        The file and what in it (``weighing.toml: tilted weighings``).
+    """
+
+    path: str
+    std: float
+    measured: float
+    source: str
+
+    def to_dict(self) -> dict:
+        return {"parameter": self.path, "std": self.std, "measured": self.measured, "source": self.source}
+
+
+def weighing_stds(path: str | Path) -> list[Measured]:
+    """The CG's standard deviations from a weighing file (:mod:`trikedyn.measure.weighing`): x and y from
+    the level weighing (the readings' ``reading_std_kg``), z from the ``[[tilted]]`` weighings if any.
+
+    Raises
+    ------
+    InputError
+        ``where=FILE``: the file cannot be read or reduced, or it gives no uncertainty (``reading_std_kg = 0``
+        and no scatter).
+    """
+    from ..measure.weighing import load_weighing, reduce_weighing
+
+    where = str(path)
+    result = reduce_weighing(load_weighing(path), where=where)
+    lvl = result.level
+    found = [Measured("mass.cg_x_m", float(lvl.cg_x_std_m), float(lvl.cg_x_m), f"{where}: level weighing"),
+             Measured("mass.cg_y_m", float(lvl.cg_y_std_m), float(lvl.cg_y_m), f"{where}: level weighing")]
+    if result.height is not None:
+        found.append(Measured("mass.cg_z_m", float(result.height.cg_z_std_m), float(result.height.cg_z_m),
+                              f"{where}: tilted weighings"))
+    found = [m for m in found if math.isfinite(m.std) and m.std > 0]
+    if not found:
+        raise InputError("gives the CG without an uncertainty (reading_std_kg = 0 and no scatter): no sigma to "
+                         "sample; give reading_std_kg", where=where)
+    return found
+
+
+IDENTIFICATION_KEYS = ("natural_frequency_hz", "natural_frequency_std_hz", "damping_ratio", "damping_ratio_std",
+                       "sprung_mass_kg", "stiffness_N_per_m", "damping_Ns_per_m")
+"""The keys of an identification's JSON (``trikedyn identify --json``) that its K and C sigmas come from."""
+
+
+def _identification_file(path: Path) -> Path:
+    """The identification JSON: the file itself, or the one ``*.json`` file of a folder."""
+    if path.is_dir():
+        found = sorted(path.glob("*.json"))
+        if len(found) != 1:
+            raise InputError(f"expected a folder with one identification JSON, found {len(found)} .json files",
+                             where=str(path))
+        return found[0]
+    return path
+
+
+def identification_stds(path: str | Path, suspension: str) -> list[Measured]:
+    """K and C of suspension ``suspension`` with their standard deviations, from the JSON that ``trikedyn identify
+    --json`` writes (a file, or a folder holding one).
+
+    The identification gives the standard errors of the natural frequency and damping ratio (``*_std``); K and
+    C are functions of them (Eqs. 3-4, or the quarter car with the tyre in series when ``tyre_stiffness_N_per_m``
+    was given: :func:`~trikedyn.measure.suspension.suspension_from_body_mode`), so their sigmas follow to first
+    order, f_n and xi taken as independent.
+
+    Raises
+    ------
+    InputError
+        ``where=FILE``: not a readable JSON object, a key missing or not a finite number, no uncertainty.
+    """
+    from ..measure.suspension import damping_coefficient, stiffness_from_frequency, suspension_from_body_mode
+    from ..params.tomlfile import is_file, read_text
+
+    file = _identification_file(Path(path))
+    where = str(file)
+    if not is_file(file):
+        raise InputError("no such identification file (the JSON of `trikedyn identify --json`)", where=where)
+    text = read_text(file, where)  # at most MAX_FILE_BYTES
+    try:
+        data = json.loads(text)
+    except ValueError as exc:
+        raise InputError(f"not JSON ({exc.msg} at line {exc.lineno}); expected the output of `trikedyn identify "
+                         "--json`", where=where) from None
+    if not isinstance(data, dict):
+        raise InputError("expected a JSON object (the output of `trikedyn identify --json`)", where=where)
+    values = {}
+    for key in IDENTIFICATION_KEYS:
+        value = data.get(key)
+        if value is None and key.endswith("_std"):
+            raise InputError(f"{key}: no uncertainty in this identification (the fit gave none)", where=where)
+        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+            raise InputError(f"{key}: expected a finite number, got {value!r} (is this the JSON of `trikedyn "
+                             "identify --json`?)", where=where)
+        values[key] = float(value)
+    kt = data.get("tyre_stiffness_N_per_m")
+    if kt is not None and (isinstance(kt, bool) or not isinstance(kt, int | float) or not kt > 0):
+        raise InputError(f"tyre_stiffness_N_per_m: expected a number > 0 or null, got {kt!r}", where=where)
+    f, xi, m = values["natural_frequency_hz"], values["damping_ratio"], values["sprung_mass_kg"]
+    sf, sxi = values["natural_frequency_std_hz"], values["damping_ratio_std"]
+    if not (f > 0 and 0 < xi < 1 and m > 0 and sf >= 0 and sxi >= 0):
+        raise InputError(f"expected f_n > 0, 0 < xi < 1, a sprung mass > 0 and sigmas >= 0; got f_n = {f:g} Hz, "
+                         f"xi = {xi:g}, M_s = {m:g} kg", where=where)
+
+    def kc(fn, z):
+        if kt is None:
+            k = stiffness_from_frequency(fn, m)
+            return float(k), float(damping_coefficient(z, k, m))
+        k, c = suspension_from_body_mode(fn, z, m, float(kt))
+        return float(k), float(c)
+
+    hf, hxi = 1e-6 * f, 1e-6 * max(xi, 1e-3)
+    (kf1, cf1), (kf0, cf0) = kc(f + hf, xi), kc(f - hf, xi)
+    (kx1, cx1), (kx0, cx0) = kc(f, xi + hxi), kc(f, xi - hxi)
+    std_k = math.hypot((kf1 - kf0) / (2 * hf) * sf, (kx1 - kx0) / (2 * hxi) * sxi)
+    std_c = math.hypot((cf1 - cf0) / (2 * hf) * sf, (cx1 - cx0) / (2 * hxi) * sxi)
+    if not (std_k > 0 and std_c > 0):
+        raise InputError("no uncertainty in this identification (natural_frequency_std_hz and damping_ratio_std "
+                         "are 0)", where=where)
+    how = f"identified f_n = {f:.3f} +/- {sf:.3g} Hz, xi = {xi:.3f} +/- {sxi:.3g}"
+    return [Measured(f"suspension.{suspension}.stiffness_N_per_m", std_k, values["stiffness_N_per_m"],
+                     f"{where}: {how}"),
+            Measured(f"suspension.{suspension}.damping_Ns_per_m", std_c, values["damping_Ns_per_m"],
+                     f"{where}: {how}")]
+
+
+def _suspension_of(pset: ParameterSet, item: str) -> tuple[str, str]:
+    """``[NAME=]FILE`` of ``--identification`` -> (suspension name, file)."""
+    names = list(pset.params.suspension)
+    name, sep, file = str(item).partition("=")
+    if sep and name.strip() in names:
+        return name.strip(), file.strip()
+    if sep and "/" not in name and "." not in name:  # NAME=FILE with an unknown NAME
+        from difflib import get_close_matches
+
+        hint = get_close_matches(name.strip(), names, n=1)
+        tip = f"; did you mean '{hint[0]}'?" if hint else ""
+        raise InputError(f"no suspension '{name.strip()}' on this vehicle{tip} (it has {', '.join(names)})",
+                         where="--identification")
+    if len(names) == 1:
+        return names[0], str(item)
+    raise InputError(f"name the suspension the file identifies: NAME=FILE, NAME one of {', '.join(names)} "
+                     f"(e.g. {names[0]}={item})", where="--identification")
+
+
+def measured_stds(pset: ParameterSet, weighing: str | Path | None = None, identifications: Iterable[str] = (),
+                  ) -> list[Measured]:
+    """The measured sigmas from a weighing file and identifications (``[NAME=]FILE``, NAME a suspension of the
+    vehicle, needed when it has more than one), in that order; a path measured twice keeps the last."""
+    found: dict[str, Measured] = {}
+    if weighing is not None:
+        found.update((m.path, m) for m in weighing_stds(weighing))
+    for item in identifications:
+        name, file = _suspension_of(pset, item)
+        found.update((m.path, m) for m in identification_stds(file, name))
+    return list(found.values())
 
 
 def sample(inputs: Iterable[Input], samples: int, seed: int = 1) -> np.ndarray:
@@ -160,6 +344,10 @@ class UncertaintyResult:
     reference_threshold_speed_kmh: float | None
     search: Search = field(default_factory=Search)
     wall_time_s: float = 0.0
+    measured: list = field(default_factory=list)
+    """The :class:`Measured` sigmas read from files (those a ``--std`` overrode too)."""
+    notes: list = field(default_factory=list)
+    """Remarks on the inputs (a vehicle value far from its measurement), one line each."""
 
     @property
     def ok(self) -> np.ndarray:
@@ -198,6 +386,9 @@ class UncertaintyResult:
             **self.statistics(),
             "at_search_limit": int(np.sum(self.ok >= self.search.high_kmh - 1e-9)),
             "inputs": [i.to_dict() for i in self.inputs],
+            "measured": [m.to_dict() | {"used": any(i.name == m.path and i.source == m.source for i in self.inputs)}
+                         for m in self.measured],
+            "notes": list(self.notes),
             "excluded": [{"parameter": k, "reason": v} for k, v in self.excluded.items()],
             "samples": rows,
             "failures": [{"error": k, "samples": v} for k, v in failures.items()],
