@@ -184,26 +184,40 @@ def _matrix_function(g1, g2, dg, close, a, b, c, d, s, q, out, col):
 
 
 @jit(inline="always")
+def _phis_at_pair(s, q, close, conjugate):
+    """``phi_functions`` at ``s + q`` and ``s - q``, and their derivatives ``phi_k' = phi_k - k phi_(k+1)``
+    at ``s`` when the two nearly coincide (else zeros). A complex pair needs one evaluation: the other is
+    its conjugate."""
+    e1, f1, f2, f3, _ = phi_functions(s + q)
+    if conjugate:
+        e2, g1, g2, g3 = e1.conjugate(), f1.conjugate(), f2.conjugate(), f3.conjugate()
+    else:
+        e2, g1, g2, g3, _ = phi_functions(s - q)
+    de, d1, d2, d3 = 0j, 0j, 0j, 0j
+    if close:
+        de, t1, t2, t3, t4 = phi_functions(s)
+        d1, d2, d3 = t1 - t2, t2 - 2.0 * t3, t3 - 3.0 * t4
+    return e1, f1, f2, f3, e2, g1, g2, g3, de, d1, d2, d3
+
+
+@jit(inline="always")
 def block_functions(mat, m, h, out):
     """For each of the first ``m`` blocks ``L`` of ``mat``: :data:`BLOCK_WIDTH` numbers into ``out``
     (``exp(h L / 2)``, ``phi_1(h L / 2)``, then the three ETDRK4 weights of ``h L``)."""
     for j in range(m):
         a, b, c, d = h * mat[j, 0], h * mat[j, 1], h * mat[j, 2], h * mat[j, 3]
         s = 0.5 * (a + d)
-        q = cmath.sqrt(complex(0.25 * (a - d) * (a - d) + b * c, 0.0))
+        disc = 0.25 * (a - d) * (a - d) + b * c
+        q = cmath.sqrt(complex(disc, 0.0))
         close = abs(q) < 1e-7 * (1.0 + abs(s))
+        conjugate = disc < 0.0 and not close
         row = out[j]
         # h L / 2: eigenvalues (s +- q) / 2
-        e1, p11, _, _, _ = phi_functions(0.5 * (s + q))
-        e2, p12, _, _, _ = phi_functions(0.5 * (s - q))
-        es, ps1, ps2, _, _ = phi_functions(complex(0.5 * s, 0.0))
-        _matrix_function(e1, e2, es, close, 0.5 * a, 0.5 * b, 0.5 * c, 0.5 * d, 0.5 * s, 0.5 * q, row, 0)
-        _matrix_function(p11, p12, ps1 - ps2, close, 0.5 * a, 0.5 * b, 0.5 * c, 0.5 * d, 0.5 * s, 0.5 * q, row, 4)
-        # h L: eigenvalues s +- q; phi_k' = phi_k - k phi_(k+1)
-        _, f1, f2, f3, _ = phi_functions(s + q)
-        _, g1, g2, g3, _ = phi_functions(s - q)
-        _, t1, t2, t3, t4 = phi_functions(complex(s, 0.0))
-        d1, d2, d3 = t1 - t2, t2 - 2.0 * t3, t3 - 3.0 * t4
+        e1, p11, _, _, e2, p12, _, _, de, dp1, _, _ = _phis_at_pair(complex(0.5 * s, 0.0), 0.5 * q, close, conjugate)
+        _matrix_function(e1, e2, de, close, 0.5 * a, 0.5 * b, 0.5 * c, 0.5 * d, 0.5 * s, 0.5 * q, row, 0)
+        _matrix_function(p11, p12, dp1, close, 0.5 * a, 0.5 * b, 0.5 * c, 0.5 * d, 0.5 * s, 0.5 * q, row, 4)
+        # h L: eigenvalues s +- q
+        _, f1, f2, f3, _, g1, g2, g3, _, d1, d2, d3 = _phis_at_pair(complex(s, 0.0), q, close, conjugate)
         _matrix_function(f1 - 3.0 * f2 + 4.0 * f3, g1 - 3.0 * g2 + 4.0 * g3, d1 - 3.0 * d2 + 4.0 * d3, close,
                          a, b, c, d, s, q, row, 8)
         _matrix_function(2.0 * f2 - 4.0 * f3, 2.0 * g2 - 4.0 * g3, 2.0 * d2 - 4.0 * d3, close, a, b, c, d, s, q,
