@@ -108,7 +108,7 @@ def test_limit_is_checked_against_the_exact_count_and_validated(tmp_path, fake):
 
 def test_cli_entry_refuses_with_exit_code_2_and_one_line(tmp_path):
     spec = _huge_spec(tmp_path)
-    proc = subprocess.run([sys.executable, "-m", "trikedyn.study.runner", str(spec), "--out", str(tmp_path / "o")],
+    proc = subprocess.run([sys.executable, "-m", "trikedyn", "study", str(spec), "--out", str(tmp_path / "o")],
                           capture_output=True, text=True, timeout=60)
     assert proc.returncode == 2
     assert proc.stderr == (f"trikedyn: error: {spec}: the spec expands to 10,000,000 scenarios, more than the "
@@ -330,7 +330,7 @@ def test_cli_entry_reports_an_unwritable_folder_in_one_line(tmp_path):
     blocker = tmp_path / "notes.txt"
     blocker.write_text("x")
     out = blocker / "out"
-    proc = subprocess.run([sys.executable, "-m", "trikedyn.study.runner", str(spec), "--out", str(out)],
+    proc = subprocess.run([sys.executable, "-m", "trikedyn", "study", str(spec), "--out", str(out)],
                           capture_output=True, text=True, timeout=60)
     assert proc.returncode == 2
     assert proc.stderr == f"trikedyn: error: {out}: cannot be created: '{blocker}' is not a folder\n"

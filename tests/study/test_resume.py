@@ -31,7 +31,7 @@ def _spec(folder: Path) -> Path:
 
 
 def _launch(spec: Path, out: Path) -> subprocess.Popen:
-    cmd = [sys.executable, "-m", "trikedyn.study.runner", str(spec), "--out", str(out), "--workers", "2", "--json"]
+    cmd = [sys.executable, "-m", "trikedyn", "study", str(spec), "--out", str(out), "--workers", "2", "--json"]
     return subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
 
 

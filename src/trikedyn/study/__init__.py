@@ -1,13 +1,16 @@
-"""Parametric studies: grids over stiffness, damping, freight and any parameter (paper Tables 2-3, Fig. 10).
+"""Parametric studies: vehicle variations (stiffness, damping, freight, any parameter or design knob) x
+manoeuvres x metrics (paper Tables 2-3, Fig. 10).
 
-A study is a TOML spec (:mod:`~trikedyn.study.spec`), expanded into scenarios with deterministic ids, run
-in parallel on a process pool or a Dask cluster (:mod:`~trikedyn.study.runner`) into a resumable SQLite
-store (:mod:`~trikedyn.study.store`)::
+A study is a TOML spec (:mod:`~trikedyn.study.spec`), expanded into scenarios with deterministic ids, each
+measuring one metric (:mod:`~trikedyn.study.metrics`: the threshold velocity by default), run in parallel
+on any :class:`concurrent.futures.Executor` (:mod:`~trikedyn.study.executors`: a process pool or a Dask
+cluster) by :mod:`~trikedyn.study.runner` into a resumable SQLite store (:mod:`~trikedyn.study.store`),
+with figures chosen from the study's shape (:mod:`~trikedyn.study.figures`)::
 
     from trikedyn.study import run_study
     table = run_study("paper", "paper-study", workers=2)   # the paper's 50 scenarios
 
-Names are imported lazily, so ``python -m trikedyn.study.runner`` does not import the runner twice.
+Names are imported lazily (importing the package loads neither pandas nor the model).
 """
 
 from __future__ import annotations
@@ -17,9 +20,11 @@ import importlib
 __all__ = [
     "StudyIncomplete",
     "StudyInterrupted",
+    "StudyRun",
     "StudySpec",
     "StudyStore",
     "count_scenarios",
+    "execute_study",
     "expand",
     "list_specs",
     "load_spec",
@@ -27,7 +32,7 @@ __all__ = [
     "run_scenario",
     "run_study",
     "scenario_id",
-    "study_command",
+    "study_metric",
 ]
 
 _WHERE = {
@@ -41,9 +46,11 @@ _WHERE = {
     "StudyStore": "store",
     "StudyIncomplete": "runner",
     "StudyInterrupted": "runner",
+    "StudyRun": "runner",
+    "execute_study": "runner",
     "run_scenario": "runner",
     "run_study": "runner",
-    "study_command": "runner",
+    "study_metric": "metrics",
 }
 
 

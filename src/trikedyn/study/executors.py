@@ -1,13 +1,22 @@
-"""The executors a study runs on: in this process, a local process pool, or a Dask cluster.
+"""The executors a study runs on, each a :class:`concurrent.futures.Executor`.
 
-Each offers the same small interface to :mod:`trikedyn.study.runner`'s loop: ``label`` (for the summary and
-the ``runs`` table), ``window`` (how many scenarios to keep in flight), ``submit(fn, *args, key=)`` ->
-future, ``wait(futures, timeout)`` -> the done ones, ``result(fut)``, ``cancel(fut)`` (True if it never
-started), ``abandon()`` (a second Ctrl-C: stop now) and ``close()``. :func:`make_executor` picks one from
-the run's options; :func:`check_executor` checks those options before anything is written.
+- :class:`InlineExecutor`: one call after the other in this process, at ``submit`` (``workers=0``:
+  debugging; a study whose scenarios are all stored);
+- :class:`SpawnPool`: a :class:`~concurrent.futures.ProcessPoolExecutor` with the spawn context (safe with
+  numba) whose workers ignore SIGINT (the main process decides) and exit on their own when the main process
+  dies; ``shutdown(wait=False, cancel_futures=True)`` also stops the workers in flight (a second Ctrl-C);
+- :class:`DaskExecutor`: the executor of a ``dask.distributed`` client (``Client.get_executor()``), on a new
+  ``LocalCluster`` (``dask_local=N``) or on an existing scheduler (``scheduler="tcp://host:port"``);
+  shutting it down closes the client (and the cluster it started).
 
-Pool workers are spawned (safe with numba), ignore SIGINT (the main process decides) and exit on their own
-when the main process dies.
+Callers use the standard API only (``submit``, :func:`concurrent.futures.wait` with ``FIRST_COMPLETED``,
+``Future.cancel``, ``shutdown``); each executor also says ``label`` (for summaries and the store's ``runs``
+table) and ``window`` (how many calls to keep in flight: enough to keep every worker busy). A future that
+has started cannot be cancelled: ``cancel()`` returns False and the call finishes. Dask does not tell the
+client when a task starts, so a Dask future counts as started from its submission.
+
+:func:`make_executor` picks one from a run's options; :func:`check_executor` checks the options before
+anything is written.
 """
 
 from __future__ import annotations
@@ -16,11 +25,11 @@ import os
 import signal
 import threading
 import time
-from concurrent.futures import FIRST_COMPLETED, CancelledError, Future
+from concurrent.futures import FIRST_COMPLETED, Executor, Future, ProcessPoolExecutor, wait
 
 from ..errors import InputError
 
-__all__ = ["check_executor", "make_executor", "one_line"]
+__all__ = ["DaskExecutor", "InlineExecutor", "SpawnPool", "check_executor", "make_executor", "one_line"]
 
 
 def one_line(exc: BaseException) -> str:
@@ -41,76 +50,78 @@ def _pool_worker_init() -> None:
     threading.Thread(target=_watch_parent, args=(os.getppid(),), daemon=True).start()
 
 
-class _Inline:
-    """Scenarios one after the other in this process."""
-
-    label = "in-process (serial)"
-    window = 1
-
-    def close(self):
-        return None
-
-    def submit(self, fn, *args, key=None) -> Future:
-        fut: Future = Future()
-        fut.set_result(fn(*args))
-        return fut
+class _Compat:
+    """The few helpers that the sampled studies' loops (``loading.py``, ``sample_runs.py``) still call; each
+    is one line of the standard API."""
 
     def wait(self, futures, timeout):
-        return [f for f in futures if f.done()]
-
-    def result(self, fut):
-        return fut.result()
-
-    def cancel(self, fut) -> bool:
-        return False
-
-    def abandon(self):
-        return None
-
-
-class _Pool:
-    """A local ``ProcessPoolExecutor`` (spawn context)."""
-
-    def __init__(self, workers: int):
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
-
-        self.workers = workers
-        self.label = f"process pool ({workers} worker{'s' if workers != 1 else ''})"
-        self.window = workers + 1
-        self._pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
-                                         initializer=_pool_worker_init)
-
-    def close(self):
-        self._pool.shutdown(wait=True, cancel_futures=True)
-
-    def submit(self, fn, *args, key=None):
-        return self._pool.submit(fn, *args)
-
-    def wait(self, futures, timeout):
-        from concurrent.futures import wait
-
         return wait(futures, timeout=timeout, return_when=FIRST_COMPLETED).done
 
     def result(self, fut):
         return fut.result()
 
-    def cancel(self, fut) -> bool:
-        return fut.cancel()
+    def close(self):
+        self.shutdown(wait=True, cancel_futures=True)
 
     def abandon(self):
-        """Stop the workers now (a second Ctrl-C): the scenarios in flight are lost, nothing is stored."""
-        processes = list((getattr(self._pool, "_processes", None) or {}).values())
-        self._pool.shutdown(wait=False, cancel_futures=True)
-        for proc in processes:  # our own workers, by their handles
-            if proc.is_alive():
-                proc.terminate()
-        for proc in processes:
-            proc.join(timeout=2.0)
+        self.shutdown(wait=False, cancel_futures=True)
 
 
-class _Dask:
-    """A ``dask.distributed`` client: on a new ``LocalCluster`` or on an existing scheduler."""
+class InlineExecutor(_Compat, Executor):
+    """Calls run at ``submit``, one after the other, in this process; the future comes back done."""
+
+    window = 1
+
+    def __init__(self, label: str = "in-process (serial)"):
+        self.label = label
+        self._shutdown = False
+
+    def submit(self, fn, /, *args, **kwargs) -> Future:
+        if self._shutdown:
+            raise RuntimeError("cannot schedule new futures after shutdown")
+        fut: Future = Future()
+        fut.set_running_or_notify_cancel()
+        try:
+            fut.set_result(fn(*args, **kwargs))
+        except BaseException as exc:  # noqa: BLE001 - the future carries it, as a pool's would
+            if isinstance(exc, KeyboardInterrupt | SystemExit):
+                raise
+            fut.set_exception(exc)
+        return fut
+
+    def shutdown(self, wait=True, *, cancel_futures=False):
+        self._shutdown = True
+
+
+class SpawnPool(_Compat, ProcessPoolExecutor):
+    """A local process pool: spawn context, workers that ignore SIGINT and die with the main process."""
+
+    def __init__(self, workers: int):
+        import multiprocessing
+
+        super().__init__(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
+                         initializer=_pool_worker_init)
+        self.workers = workers
+        self.label = f"process pool ({workers} worker{'s' if workers != 1 else ''})"
+        self.window = workers + 1
+
+    def shutdown(self, wait=True, *, cancel_futures=False):
+        """As :meth:`ProcessPoolExecutor.shutdown`; ``wait=False, cancel_futures=True`` also terminates the
+        workers (the calls in flight are lost): what a second Ctrl-C asks."""
+        processes = list((getattr(self, "_processes", None) or {}).values())
+        super().shutdown(wait=wait, cancel_futures=cancel_futures)
+        if not wait and cancel_futures:
+            for proc in processes:  # our own workers, by their handles
+                if proc.is_alive():
+                    proc.terminate()
+            for proc in processes:
+                proc.join(timeout=2.0)
+
+
+class DaskExecutor(_Compat, Executor):
+    """``Client.get_executor()`` of a ``dask.distributed`` client, on a new ``LocalCluster`` of
+    ``n_workers`` single-threaded processes or on the scheduler at ``scheduler``; ``shutdown`` closes the
+    client and the cluster it started."""
 
     def __init__(self, n_workers: int | None = None, scheduler: str | None = None):
         try:
@@ -130,35 +141,24 @@ class _Dask:
             except (OSError, TimeoutError) as exc:
                 raise InputError(f"cannot connect to the Dask scheduler: {one_line(exc)}", where=scheduler) from None
             self.label = f"dask cluster at {scheduler}"
-        threads = sum(self._client.nthreads().values())
-        self.window = max(threads, 1) + 1
+        self._executor = self._client.get_executor(pure=False)
+        self.window = max(sum(self._client.nthreads().values()), 1) + 1
+        self._closed = False
 
-    def close(self):
+    def submit(self, fn, /, *args, **kwargs) -> Future:
+        fut = self._executor.submit(fn, *args, **kwargs)
+        fut.set_running_or_notify_cancel()  # Dask does not say when a task starts: count it as started
+        return fut
+
+    def shutdown(self, wait=True, *, cancel_futures=False):
+        if self._closed:
+            return
+        self._closed = True
+        if wait and not cancel_futures:
+            self._executor.shutdown(wait=True)
         self._client.close()
         if self._cluster is not None:
             self._cluster.close()
-
-    def submit(self, fn, *args, key=None):
-        return self._client.submit(fn, *args, key=key, pure=False)
-
-    def wait(self, futures, timeout):
-        from dask.distributed import wait
-
-        try:
-            return wait(futures, timeout=timeout, return_when="FIRST_COMPLETED").done
-        except TimeoutError:
-            return [f for f in futures if f.done()]
-
-    def result(self, fut):
-        if fut.cancelled():
-            raise CancelledError()
-        return fut.result()
-
-    def cancel(self, fut) -> bool:
-        return False  # Dask does not say whether a task started: the few in flight are let finish
-
-    def abandon(self):
-        return None  # close() releases the tasks in flight
 
 
 def check_executor(workers, dask_local, scheduler) -> None:
@@ -172,18 +172,19 @@ def check_executor(workers, dask_local, scheduler) -> None:
             raise InputError(f"expected a whole number of workers >= {least}, got {value!r}", where=name)
 
 
-def make_executor(workers, dask_local, scheduler, n_todo: int):
+def make_executor(workers, dask_local, scheduler, n_todo: int) -> Executor:
+    """The executor for a run's options (at most one of ``workers``, ``dask_local``, ``scheduler``) and
+    ``n_todo`` calls: in this process when there is nothing to do or ``workers=0``; a :class:`SpawnPool` of
+    ``workers`` (all cores by default, no more than ``n_todo``); or a :class:`DaskExecutor`."""
     check_executor(workers, dask_local, scheduler)
     if n_todo == 0:
-        idle = _Inline()
-        idle.label = "none (every scenario stored already)"
-        return idle
+        return InlineExecutor("none (every scenario stored already)")
     if scheduler is not None:
-        return _Dask(scheduler=scheduler)
+        return DaskExecutor(scheduler=scheduler)
     if dask_local is not None:
-        return _Dask(n_workers=int(dask_local))
+        return DaskExecutor(n_workers=int(dask_local))
     if workers is None:
         workers = os.cpu_count() or 1
     if workers == 0:
-        return _Inline()
-    return _Pool(min(int(workers), n_todo))
+        return InlineExecutor()
+    return SpawnPool(min(int(workers), n_todo))

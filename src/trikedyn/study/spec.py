@@ -6,6 +6,7 @@ A study file::
     description = "..."
     vehicle = "reference-etrike"        # preset name, or a .toml path relative to this file
     manoeuvres = ["dlc", "slc"]         # registered manoeuvres (`trikedyn manoeuvres`), default options
+    metrics = ["threshold"]             # optional (this is the default): what each variation measures
     freight_kg = [0, 50, 100, 150, 200]
     resolution_kmh = 0.1                # threshold search: bisection resolution [km/h]
     # optional: low_kmh = 10, high_kmh = 90, step_kmh = 10 (search range and bracketing step [km/h])
@@ -20,6 +21,12 @@ A study file::
     name = "layout"
     overrides = { "track_m" = [1.0, 1.2], "component.battery.z_m" = [0.25, 0.45] }   # design knobs
 
+Metrics (:mod:`trikedyn.study.metrics`): ``threshold`` (the default), ``tilt_angle``,
+``understeer_gradient`` (option ``radius_m``), ``peak_ri`` and ``min_wheel_load`` (option ``speed_kmh``,
+required), or any metric registered with :func:`~trikedyn.study.metrics.study_metric`; an entry is a name
+or a table ``{ name = "peak_ri", speed_kmh = 40 }``. A metric per manoeuvre runs once per manoeuvre, the
+others (``tilt_angle``, ``understeer_gradient``) once per vehicle variation, with ``manoeuvre`` empty.
+
 An override is a dotted parameter path (set as written) or a design knob (:mod:`trikedyn.params.knobs`:
 ``wheelbase_m``, ``track_m``, ``cg_x_fraction``, ``cg_height_m``, ``component.NAME.x_m|y_m|z_m|mass_kg``,
 ``freight.x_m|y_m|z_m``), which keeps the vehicle consistent. Knob values must be numbers within the knob's
@@ -29,10 +36,12 @@ does it (``track_m``, ``wheelbase_m``, ``component.NAME.FIELD``). Both wheels of
 with one value each are one deliberate layout and stay allowed; :func:`trikedyn.params.override` itself
 sets any path as written.
 
-The scenarios are the union of the groups' grids (manoeuvre x stiffness x damping x overrides x freight);
+The scenarios are the union of the groups' grids (metric x manoeuvre x stiffness x damping x overrides x
+freight);
 a scenario that two groups share is run once and carries both group names. Every scenario has a
 ``scenario_id``: a short SHA-256 of its canonical JSON (vehicle, vehicle content digest, manoeuvre, freight,
-scales, overrides, search settings). The id is what the result store is keyed by, so a re-run of the same
+scales, overrides, search settings, and the metric with its options unless it is the default threshold,
+so that a spec without ``metrics`` keeps the ids it always had). The id is what the result store is keyed by, so a re-run of the same
 spec finds its finished scenarios, and a changed vehicle file gives new ids instead of stale results.
 
 :func:`load_spec` does the I/O (reads the file, loads the vehicle once to check override paths and to
@@ -85,8 +94,13 @@ SCENARIO_KEYS = (
     "low_kmh",
     "high_kmh",
     "step_kmh",
+    "metric",
+    "metric_options",
+    "metric_label",
 )
 """Keys of a scenario dict, in this order."""
+
+_NOT_HASHED = ("scenario_id", "groups", "metric_label")
 
 
 # ------------------------------------------------------------------------------------------------
@@ -134,6 +148,11 @@ class _Spec(_Model):
     description: str = ""
     vehicle: str = "reference-etrike"
     manoeuvres: list[str] = Field(default=["dlc", "slc"], min_length=1)
+    metrics: list[str | dict[str, Scalar]] = Field(
+        default=["threshold"], min_length=1,
+        description="what each vehicle variation measures: registered study metrics (threshold, tilt_angle, "
+        "understeer_gradient, peak_ri, min_wheel_load, ...), each a name or a table { name = ..., option = value }",
+    )
     freight_kg: list[float] = Field(default=[0.0], min_length=1)
     resolution_kmh: float = Field(default=0.1, gt=0, le=10)
     low_kmh: float = Field(default=10.0, gt=0)
@@ -194,7 +213,10 @@ class StudySpec:
     vehicle_digest : str
         Short SHA-256 of the vehicle's validated values; part of every scenario id.
     manoeuvres : tuple of str
-        ``"dlc"`` (ISO 3888-1) and/or ``"slc"`` (ISO 14791).
+        Registered manoeuvres, e.g. ``"dlc"`` (ISO 3888-1) and ``"slc"`` (ISO 14791).
+    metrics : tuple of (str, dict)
+        The study metrics (:mod:`trikedyn.study.metrics`): name and complete options; ``(("threshold", {}),)``
+        by default.
     freight_kg : tuple of float
         The paper's freight in the trunk [kg] (Table 3).
     resolution_kmh, low_kmh, high_kmh, step_kmh : float
@@ -217,6 +239,7 @@ class StudySpec:
     step_kmh: float
     groups: tuple[GroupSpec, ...]
     origin: str = "<string>"
+    metrics: tuple[tuple[str, dict], ...] = (("threshold", {}),)
 
     def scenarios(self) -> list[dict]:
         """The unique scenarios, in spec order (see :func:`expand`)."""
@@ -313,6 +336,7 @@ def parse_spec(source: str | dict, origin: str = "<string>", base_dir: str | Pat
             if problem:
                 raise InputError(f"groups[{group.name}].overrides: {problem}", where=origin)
     digest = hashlib.sha256(pset.params.model_dump_json().encode()).hexdigest()[:12]
+    metrics = _parse_metrics(model.metrics, origin)
 
     groups = tuple(
         GroupSpec(
@@ -337,7 +361,25 @@ def parse_spec(source: str | dict, origin: str = "<string>", base_dir: str | Pat
         step_kmh=float(model.step_kmh),
         groups=groups,
         origin=origin,
+        metrics=metrics,
     )
+
+
+def _parse_metrics(entries, origin: str) -> tuple[tuple[str, dict], ...]:
+    """The spec's metric entries, checked against the registry, options complete; the same metric twice
+    (with the same options) is refused."""
+    from .metrics import label, parse_entry
+
+    parsed: list[tuple[str, dict]] = []
+    for entry in entries:
+        try:
+            name, options = parse_entry(entry)
+        except InputError as exc:
+            raise InputError(f"{exc.where}: {exc.reason}", where=origin) from None
+        if (name, options) in parsed:
+            raise InputError(f"metrics: '{label(name, options)}' is listed twice", where=origin)
+        parsed.append((name, options))
+    return tuple(parsed)
 
 
 def _resolve_vehicle(vehicle: str, base_dir: str | Path | None) -> str:
@@ -405,9 +447,11 @@ def _norm(value):
 # ------------------------------------------------------------------------------------------------
 def canonical_json(scenario: dict) -> str:
     """The canonical JSON of a scenario's defining fields (sorted keys, no spaces): what its id hashes."""
-    keys = [k for k in SCENARIO_KEYS if k not in ("scenario_id", "groups")]
-    data = {k: scenario[k] for k in keys}
+    keys = [k for k in SCENARIO_KEYS if k not in _NOT_HASHED]
+    data = {k: scenario.get(k) for k in keys}
     data["overrides"] = dict(sorted(data["overrides"].items()))
+    if data["metric"] in (None, "threshold") and not data["metric_options"]:  # the ids from before metrics
+        del data["metric"], data["metric_options"]
     return json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=False)
 
 
@@ -419,9 +463,10 @@ def scenario_id(scenario: dict) -> str:
 def expand(spec: StudySpec) -> list[dict]:
     """The unique scenarios of a study, in a fixed order.
 
-    The order is: manoeuvre (as listed), then group (as listed), then stiffness scale, damping scale,
-    overrides (each as listed) and freight. A scenario met again in a later group keeps its first place
-    and adds that group's name to ``groups`` (names joined by ``;``).
+    The order is: metric (as listed), manoeuvre (as listed; once, None, for a metric not per manoeuvre),
+    then group (as listed), then stiffness scale, damping scale, overrides (each as listed) and freight. A
+    scenario met again in a later group keeps its first place and adds that group's name to ``groups``
+    (names joined by ``;``).
 
     Returns
     -------
@@ -429,11 +474,17 @@ def expand(spec: StudySpec) -> list[dict]:
         Each with the keys of ``SCENARIO_KEYS``: ``scenario_id`` (str), ``groups`` (str), ``vehicle`` (str),
         ``vehicle_digest`` (str), ``manoeuvre`` (str), ``freight_kg`` [kg], ``stiffness_scale`` and
         ``damping_scale`` [-], ``overrides`` (dict: dotted path -> value), ``resolution_kmh``, ``low_kmh``,
-        ``high_kmh``, ``step_kmh`` [km/h].
+        ``high_kmh``, ``step_kmh`` [km/h] (None for a metric that does not search), ``metric`` (name),
+        ``metric_options`` (dict) and ``metric_label`` (as the table shows it).
     """
+    from .metrics import get, label
+
     by_id: dict[str, dict] = {}
-    for manoeuvre in spec.manoeuvres:
-        for group in spec.groups:
+    for metric_name, options in spec.metrics:
+        metric = get(metric_name)
+        search = (spec.resolution_kmh, spec.low_kmh, spec.high_kmh, spec.step_kmh) if metric.uses_search \
+            else (None,) * 4
+        for manoeuvre, group in itertools.product(spec.manoeuvres if metric.per_manoeuvre else (None,), spec.groups):
             paths = [p for p, _ in group.overrides]
             axes = [vals for _, vals in group.overrides]
             for k, c, combo, m in itertools.product(
@@ -449,10 +500,13 @@ def expand(spec: StudySpec) -> list[dict]:
                     "stiffness_scale": k,
                     "damping_scale": c,
                     "overrides": dict(zip(paths, combo, strict=True)),
-                    "resolution_kmh": spec.resolution_kmh,
-                    "low_kmh": spec.low_kmh,
-                    "high_kmh": spec.high_kmh,
-                    "step_kmh": spec.step_kmh,
+                    "resolution_kmh": search[0],
+                    "low_kmh": search[1],
+                    "high_kmh": search[2],
+                    "step_kmh": search[3],
+                    "metric": metric_name,
+                    "metric_options": dict(options),
+                    "metric_label": label(metric_name, options),
                 }
                 sid = scenario_id(scenario)
                 if sid in by_id:
@@ -478,7 +532,7 @@ def count_scenarios(spec: StudySpec) -> tuple[int, bool]:
     counts once, by inclusion-exclusion over the groups that share their override paths; subsets of groups
     whose grids do not meet are pruned, so this is cheap for any spec written by hand. Past
     ``2**16`` overlapping subsets it stops and returns the sum of the group grids instead, an upper bound.
-    Manoeuvres and freight multiply every group alike.
+    Freight multiplies every group alike; so does each metric, once per manoeuvre or once.
 
     Returns
     -------
@@ -492,7 +546,11 @@ def count_scenarios(spec: StudySpec) -> tuple[int, bool]:
         box = (_distinct(group.stiffness_scale), _distinct(group.damping_scale),
                *(_distinct(axes[p]) for p in paths))
         families.setdefault(paths, []).append(box)
-    common = len(_distinct(spec.manoeuvres)) * len(_distinct(spec.freight_kg))
+    from .metrics import get
+
+    n_manoeuvres = len(_distinct(spec.manoeuvres))
+    runs = sum(n_manoeuvres if get(name).per_manoeuvre else 1 for name, _ in spec.metrics)
+    common = runs * len(_distinct(spec.freight_kg))
     exact = True
     union = 0
     for boxes in families.values():

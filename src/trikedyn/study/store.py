@@ -31,6 +31,10 @@ Tables
 (``"ok"`` or ``"error"``), ``result`` (JSON: :meth:`ThresholdResult.to_dict`, null on error), ``error``
 (one line, null when ok), ``traceback``, ``wall_time_s`` [s], ``worker`` (host:pid), ``run_token`` (the run
 that computed it) and ``finished_at`` [s since the epoch].
+A study with a metric other than the threshold (:mod:`trikedyn.study.metrics`) exports three more columns
+after the overrides: ``metric`` (its label, e.g. ``peak_ri(speed_kmh=40)``), then after ``status``,
+``value`` and ``unit``; the threshold's own columns stay, empty on the other metrics' rows. A study of the
+threshold alone (every spec without ``metrics``) exports exactly the columns it always had.
 ``runs``: one row per run: ``run_token``, ``pid``, ``host``, ``executor``, ``planned`` (scenarios it set
 out to compute), ``started_at``, ``ended_at`` [s since the epoch] and ``outcome``: ``running``,
 ``completed``, ``interrupted`` (SIGINT/SIGTERM), ``incomplete`` (workers lost), ``failed`` (an exception
@@ -70,6 +74,11 @@ EXPORT_COLUMNS = (*SCENARIO_COLUMNS, "status", *RESULT_KEYS, *SEARCH_COLUMNS, "e
 """Columns of the exported table; override columns (named by their dotted parameter path) follow
 ``damping_scale``."""
 RUN_INFO_COLUMNS = ("wall_time_s", "worker", "run_token", "finished_at")
+METRIC_COLUMNS = ("metric", "value", "unit")
+"""Columns of a study with metrics other than the threshold: ``metric`` after the overrides, ``value`` and
+``unit`` after ``status``."""
+_LEGACY = {"metric": "threshold", "metric_options": {}, "metric_label": "threshold"}
+"""What a scenario stored before metrics existed measured."""
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS results (
@@ -100,6 +109,16 @@ CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
 
 def _json(value) -> str:
     return json.dumps(value, sort_keys=False, separators=(",", ":"), allow_nan=True)
+
+
+def _unit(metric: str) -> str | None:
+    """A metric's unit from the registry (a failed row keeps no result, hence no unit)."""
+    from .metrics import get
+
+    try:
+        return get(metric).unit
+    except InputError:
+        return None
 
 
 class StudyStore:
@@ -247,7 +266,7 @@ class StudyStore:
     def _insert(self, row: dict) -> bool:
         from .spec import SCENARIO_KEYS
 
-        scenario = {k: row[k] for k in SCENARIO_KEYS}
+        scenario = {k: row.get(k, _LEGACY.get(k)) for k in SCENARIO_KEYS}
         if row["status"] == "ok":
             skip = {*SCENARIO_KEYS, "status", "error", "traceback", *RUN_INFO_COLUMNS}
             result = {k: v for k, v in row.items() if k not in skip}
@@ -301,9 +320,11 @@ class StudyStore:
             " FROM results")
         out = []
         for scenario, status, result, error, tb, wall, worker, token, finished in cur.fetchall():
-            row = json.loads(scenario)
+            row = {**_LEGACY, **json.loads(scenario)}
             row["status"] = status
             row.update(json.loads(result) if result is not None else dict.fromkeys(RESULT_KEYS))
+            if row["metric"] == "threshold" and "value" not in row:  # stored before metrics existed
+                row.update(value=row.get("threshold_speed_kmh"), unit="km/h")
             row.update(error=error, traceback=tb, wall_time_s=wall, worker=worker, run_token=token,
                        finished_at=finished)
             out.append(row)
@@ -325,7 +346,9 @@ class StudyStore:
         -------
         pandas.DataFrame
             Columns: ``EXPORT_COLUMNS`` with one column per override path (named by it) after
-            ``damping_scale``; ``n_runs`` is a nullable integer.
+            ``damping_scale``; ``n_runs`` is a nullable integer. When a row measures another metric than
+            the threshold: ``metric`` (its label) after the overrides, ``value`` and ``unit`` after
+            ``status`` (see the module docstring).
         """
         import pandas as pd
 
@@ -335,18 +358,23 @@ class StudyStore:
         paths: list[str] = []
         for r in chosen:
             paths.extend(p for p in r["overrides"] if p not in paths)
-        columns = [*SCENARIO_COLUMNS, *paths, "status", *RESULT_KEYS, *SEARCH_COLUMNS, "error"]
+        with_metrics = any(r["metric"] != "threshold" for r in chosen)
+        columns = [*SCENARIO_COLUMNS, *paths, *(["metric"] if with_metrics else []), "status",
+                   *(["value", "unit"] if with_metrics else []), *RESULT_KEYS, *SEARCH_COLUMNS, "error"]
         if run_info:
             columns += list(RUN_INFO_COLUMNS)
         records = []
         for r in chosen:
             rec = {c: r.get(c) for c in columns if c not in paths}
+            if with_metrics:
+                rec.update(metric=r["metric_label"], value=r.get("value"), unit=r.get("unit") or _unit(r["metric"]))
             rec.update({p: r["overrides"].get(p) for p in paths})
             records.append(rec)
         frame = pd.DataFrame.from_records(records, columns=columns)
         frame["n_runs"] = frame["n_runs"].astype("Int64")
         for col in ("freight_kg", "stiffness_scale", "damping_scale", "threshold_speed_kmh", "lift_time_s",
-                    "first_failure_kmh", "first_cone_strike_kmh", *SEARCH_COLUMNS):
+                    "first_failure_kmh", "first_cone_strike_kmh", *SEARCH_COLUMNS,
+                    *(["value"] if with_metrics else [])):
             frame[col] = frame[col].astype("float64")
         return frame
 

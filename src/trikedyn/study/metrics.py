@@ -1,0 +1,230 @@
+"""What a study measures: a registry of study metrics (a study is vehicle variations x manoeuvres x metrics).
+
+A study metric is a function of one varied vehicle (suspension scaled, overrides and freight applied) and,
+for a metric *per manoeuvre*, one of the spec's manoeuvres. It returns a dict with at least ``value`` (a
+number, or None when there is none); other keys are kept in the result store beside it (the threshold's
+``limit``, ``limiting_wheel``, ... fill the table's columns of those names). Built in:
+
+============================  =======  ===============  ==========================================================
+name                          unit     per manoeuvre    what
+============================  =======  ===============  ==========================================================
+``threshold``                 km/h     yes              threshold velocity (the spec's search settings); default
+``tilt_angle``                deg      no               tilt-table angle at which the first wheel lifts
+``understeer_gradient``       deg/g    no               ISO 4138 constant radius (option ``radius_m``, 20 m)
+``peak_ri``                   -        yes              largest |rollover index| of a run at ``speed_kmh``
+``min_wheel_load``            N        yes              smallest wheel load of a run at ``speed_kmh``
+============================  =======  ===============  ==========================================================
+
+Adding a metric is registering a function in any module (no edit of the runner)::
+
+    from trikedyn.study.metrics import study_metric
+
+    @study_metric("static_margin", unit="m", per_manoeuvre=False)
+    def static_margin(pset, scenario, **options):
+        return {"value": ...}
+
+A spec names metrics by name, or as a table with options: ``metrics = ["threshold", "tilt_angle",
+{ name = "peak_ri", speed_kmh = 40 }]``. Worker processes find a metric by importing the module that
+registers it: register in an importable module (the spawned pool also re-imports a script's ``__main__``),
+not interactively, when the study runs on Dask.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from difflib import get_close_matches
+
+from ..errors import InputError
+
+__all__ = ["DEFAULT_METRIC", "MetricOption", "StudyMetric", "get", "label", "metrics", "parse_entry", "study_metric"]
+
+DEFAULT_METRIC = "threshold"
+"""The metric of a spec that lists none (every study before metrics existed): its scenario ids and table
+columns are exactly those of then."""
+
+
+@dataclass(frozen=True)
+class MetricOption:
+    """An option of a study metric: a number (``float``) or a word (``str``); no default: required."""
+
+    name: str
+    kind: type = float
+    default: float | str | None = None
+    minimum: float | None = None
+    maximum: float | None = None
+    help: str = ""
+
+    def parse(self, value, where: str):
+        if self.kind is float:
+            if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+                raise InputError(f"option '{self.name}' expects a finite number, got {value!r}", where=where)
+            value = float(value)
+            if (self.minimum is not None and value < self.minimum) or (self.maximum is not None and value > self.maximum):
+                raise InputError(f"option '{self.name}' must be within [{self.minimum:g}, {self.maximum:g}], got "
+                                 f"{value:g}", where=where)
+            return value
+        if not isinstance(value, str):
+            raise InputError(f"option '{self.name}' expects a word, got {value!r}", where=where)
+        return value
+
+
+@dataclass(frozen=True)
+class StudyMetric:
+    """A registered study metric (see :func:`study_metric`)."""
+
+    name: str
+    unit: str
+    help: str
+    per_manoeuvre: bool
+    uses_search: bool
+    options: tuple[MetricOption, ...] = field(default_factory=tuple)
+    fn: Callable = field(default=None, repr=False)
+
+    def option(self, name: str) -> MetricOption:
+        for opt in self.options:
+            if opt.name == name:
+                return opt
+        names = [o.name for o in self.options]
+        hint = get_close_matches(name, names, n=1)
+        tip = f"; did you mean '{hint[0]}'?" if hint else (f" (it has: {', '.join(names)})" if names else
+                                                            " (it has none)")
+        raise InputError(f"metric '{self.name}' has no option '{name}'{tip}", where="metrics")
+
+
+_REGISTRY: dict[str, StudyMetric] = {}
+
+
+def study_metric(name: str, *, unit: str = "", per_manoeuvre: bool, uses_search: bool = False,
+                 options: tuple[MetricOption, ...] = (), help: str = ""):  # noqa: A002 - the word users see
+    """Decorator: register ``fn(pset, scenario, **options) -> {"value": number | None, ...}`` as a study metric.
+
+    ``pset`` is the scenario's vehicle, varied and loaded; ``scenario`` the scenario dict (its ``manoeuvre``
+    is None for a metric not per manoeuvre; the threshold search settings are in it when ``uses_search``).
+    """
+
+    def decorate(fn):
+        _REGISTRY[name] = StudyMetric(name, unit, help or (fn.__doc__ or "").strip().splitlines()[0],
+                                      per_manoeuvre, uses_search, tuple(options), fn)
+        return fn
+
+    return decorate
+
+
+def metrics() -> list[StudyMetric]:
+    """Every registered study metric."""
+    return list(_REGISTRY.values())
+
+
+def get(name: str) -> StudyMetric:
+    """The study metric ``name``; an unknown name is an :class:`InputError` with a close match."""
+    if name not in _REGISTRY:
+        hint = get_close_matches(name, list(_REGISTRY), n=1)
+        tip = f"did you mean '{hint[0]}'?" if hint else f"known: {', '.join(_REGISTRY)}"
+        raise InputError(f"unknown metric '{name}'; {tip}", where="metrics")
+    return _REGISTRY[name]
+
+
+def parse_entry(entry) -> tuple[str, dict]:
+    """A spec's ``metrics`` entry (a name, or a table ``{name = ..., option = value}``) -> (name, options),
+    the options complete (defaults filled in) and checked."""
+    if isinstance(entry, str):
+        name, given = entry, {}
+    elif isinstance(entry, dict):
+        given = dict(entry)
+        name = given.pop("name", None)
+        if not isinstance(name, str):
+            raise InputError(f"a metric given as a table needs a name, got {entry!r}", where="metrics")
+    else:
+        raise InputError(f"a metric is a name or a table with a name, got {entry!r}", where="metrics")
+    metric = get(name)
+    options = {}
+    for key, value in given.items():
+        options[key] = metric.option(key).parse(value, where=f"metrics[{name}]")
+    for opt in metric.options:
+        if opt.name not in options:
+            if opt.default is None:
+                raise InputError(f"metric '{name}' needs the option '{opt.name}' ({opt.help}), e.g. "
+                                 f"{{ name = \"{name}\", {opt.name} = ... }}", where="metrics")
+            options[opt.name] = opt.default
+    return name, dict(sorted(options.items()))
+
+
+def label(name: str, options: dict) -> str:
+    """The metric as the table and the figures show it: ``peak_ri(speed_kmh=40)``; options at their default
+    are left out (``understeer_gradient``)."""
+    try:
+        defaults = {o.name: o.default for o in get(name).options}
+    except InputError:
+        defaults = {}
+    shown = [(k, v) for k, v in sorted(options.items()) if defaults.get(k, object()) != v]
+    if not shown:
+        return name
+    return f"{name}({', '.join(f'{k}={v:g}' if isinstance(v, float) else f'{k}={v}' for k, v in shown)})"
+
+
+# ------------------------------------------------------------------------------------------------
+# the built-in metrics
+# ------------------------------------------------------------------------------------------------
+@study_metric("threshold", unit="km/h", per_manoeuvre=True, uses_search=True,
+              help="threshold velocity: the highest speed with every wheel on the ground")
+def _threshold(pset, scenario):
+    from ..analysis.threshold import threshold_velocity
+
+    result = threshold_velocity(pset, scenario["manoeuvre"], low_kmh=scenario["low_kmh"],
+                                high_kmh=scenario["high_kmh"], step_kmh=scenario["step_kmh"],
+                                resolution_kmh=scenario["resolution_kmh"])
+    out = result.to_dict()
+    return {"value": out["threshold_speed_kmh"], **out}
+
+
+@study_metric("tilt_angle", unit="deg", per_manoeuvre=False,
+              help="tilt-table angle at which the first wheel lifts (compliant model, the weaker side)")
+def _tilt(pset, scenario):
+    from ..analysis.tilt import tilt_table
+
+    result = tilt_table(pset)
+    return {"value": result.tilt_angle_deg,
+            "detail": f"{result.first_lifting_wheel} lifts tilting to the {result.side}"}
+
+
+@study_metric("understeer_gradient", unit="deg/g", per_manoeuvre=False,
+              options=(MetricOption("radius_m", float, 20.0, 1.0, 1000.0, "circle radius [m]"),),
+              help="understeer gradient, ISO 4138 constant radius (positive: understeer)")
+def _understeer(pset, scenario, radius_m):
+    from ..analysis.handling_tests import steady_state_test
+
+    test = steady_state_test(pset, radius_m=radius_m)
+    return {"value": float(test.diagram.understeer_gradient_deg_per_g),
+            "detail": f"R = {radius_m:g} m; ends at {test.max_lateral_acceleration_mps2:.2f} m/s^2 ({test.limit})"}
+
+
+_SPEED = MetricOption("speed_kmh", float, None, 1.0, 300.0, "speed of the run [km/h]")
+
+
+def _run_metric(pset, scenario, speed_kmh, metric_name):
+    from ..analysis.metrics import evaluate, first_lift
+    from ..analysis.threshold import manoeuvre_builder
+    from ..model.vehicle import build_model
+    from ..simulate.closed_loop import run
+
+    model = build_model(pset)
+    result = run(model, manoeuvre_builder(scenario["manoeuvre"])(model.params, speed_kmh))
+    value = evaluate(result, metric_name)
+    lift = first_lift(result)
+    detail = f"at {speed_kmh:g} km/h: " + (f"{lift.wheel} lifted at {lift.time_s:.2f} s" if lift is not None
+                                           else "every wheel on the ground")
+    return {"value": None if value is None else float(value), "detail": detail}
+
+
+@study_metric("peak_ri", unit="-", per_manoeuvre=True, options=(_SPEED,),
+              help="largest |rollover index| (Eq. 5) of a run at speed_kmh, in the judged window")
+def _peak_ri(pset, scenario, speed_kmh):
+    return _run_metric(pset, scenario, speed_kmh, "max_abs_ri")
+
+
+@study_metric("min_wheel_load", unit="N", per_manoeuvre=True, options=(_SPEED,),
+              help="smallest vertical wheel load of a run at speed_kmh, in the judged window")
+def _min_wheel_load(pset, scenario, speed_kmh):
+    return _run_metric(pset, scenario, speed_kmh, "min_wheel_load_N")

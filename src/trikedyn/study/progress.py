@@ -1,0 +1,80 @@
+"""How a study reports its progress: a bar on a terminal, a plain line otherwise (a log, CI, a pipe).
+
+A reporter is what :func:`trikedyn.study.runner.run_study` takes as ``progress``: a callable
+``(done, total)`` called at the start, after each stored scenario and at the end, with optional ``note(text)``
+(e.g. "SIGINT: stopping after the scenarios in flight") and ``close()``. :func:`reporter` makes the default
+one; the runner itself never prints.
+
+Without a terminal, the line is the sampled studies' :class:`~trikedyn.commands._sampled.ProgressLine`
+(every few seconds and at the end), with the time spent and an estimate of the time left::
+
+    study: 12/50 scenarios, 8.1 s, ~25 s left
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+
+__all__ = ["BarProgress", "LineProgress", "reporter"]
+
+
+class LineProgress:
+    """``study: 12/50 scenarios, 8.1 s, ~25 s left`` on stderr every ``every_s`` seconds and at the end."""
+
+    def __init__(self, label: str = "study", every_s: float = 5.0):
+        from ..commands._sampled import ProgressLine
+
+        self._line = ProgressLine(label, "scenarios", every_s=every_s)
+        self._start = time.monotonic()
+        self._first: int | None = None
+
+    def __call__(self, done: int, total: int) -> None:
+        if self._first is None:
+            self._first = done  # already stored: not part of this run's pace
+        elapsed = time.monotonic() - self._start
+        pace = (done - self._first) / elapsed if elapsed > 0 else 0.0
+        unit = f"scenarios, {elapsed:.1f} s"
+        if 0 < done < total and pace > 0:
+            unit += f", ~{(total - done) / pace:.0f} s left"
+        self._line.unit = unit  # the shared line's text after the counts
+        self._line(done, total)
+
+    def note(self, text: str) -> None:
+        print(text, file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        return None
+
+
+class BarProgress:
+    """A tqdm bar on stderr (a terminal)."""
+
+    def __init__(self, label: str = "study"):
+        self._label = label
+        self._bar = None
+
+    def __call__(self, done: int, total: int) -> None:
+        if self._bar is None:
+            from tqdm import tqdm
+
+            self._bar = tqdm(total=total, initial=done, file=sys.stderr, unit="scenario", desc=self._label,
+                             dynamic_ncols=True)
+        self._bar.update(done - self._bar.n)
+
+    def note(self, text: str) -> None:
+        print(f"\n{text}", file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+
+
+def reporter(progress=True, label: str = "study"):
+    """The reporter for ``progress``: True -> a bar on a terminal, a line every 5 s otherwise; False or None
+    -> None (silent); anything else (a callable ``(done, total)``) is used as it is."""
+    if progress is True:
+        return BarProgress(label) if sys.stderr.isatty() else LineProgress(label)
+    if progress is False or progress is None:
+        return None
+    return progress
