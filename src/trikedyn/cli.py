@@ -50,6 +50,7 @@ from .commands import (  # noqa: E402
     layouts,
     loading,
     logs,
+    optimise,
     sensitivity,
     stability,
     studies,
@@ -78,6 +79,7 @@ app.command("sensitivity")(sensitivity.sensitivity_cmd)
 app.command("study")(studies.study_cmd)
 app.command("reproduce")(studies.reproduce_cmd)
 app.command("loading-chart")(loading.loading_chart_cmd)
+app.command("optimise")(optimise.optimise_cmd)
 app.command("uncertainty")(uncertainty.uncertainty_cmd)
 
 _emit = emit  # the older name

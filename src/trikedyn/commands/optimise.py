@@ -1,0 +1,130 @@
+"""``trikedyn optimise``: move components (and the track or wheelbase) within bounds to raise the threshold velocity."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import re
+from dataclasses import replace
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ..errors import InputError
+from ._common import ForceOpt, JsonOpt, OptionOpt, VehicleArg, emit, manoeuvre_options, within
+from ._sampled import ProgressLine, start_output
+
+JSON_FILE, LOG_FILE, FIGURE_FILE, PLAN_FILE = ("optimise.json", "optimise-evaluations.csv", "optimise.png",
+                                               "optimise-plan.json")
+
+
+def _file_name(name: str) -> str:
+    """A vehicle file name from a vehicle's name (which is free text)."""
+    stem = re.sub(r"[^A-Za-z0-9._-]+", "-", name).strip(".-") or "vehicle"
+    return f"{stem[:80]}-optimised.toml"
+
+
+def _plan(pset, spec, searches) -> dict:
+    """What makes a run's evaluations: a resumed run must have the same."""
+    digest = hashlib.sha256(pset.params.model_dump_json().encode()).hexdigest()[:16]
+    return json.loads(json.dumps({
+        "vehicle": pset.name, "vehicle_digest": digest,
+        "spec": {k: v for k, v in spec.to_dict().items() if k not in ("origin", "description")},
+        "searches": [{"manoeuvre": s.manoeuvre, "options": dict(s.options), "resolution_kmh": s.resolution_kmh,
+                      "high_kmh": s.high_kmh, "low_kmh": s.low_kmh, "dt_s": s.dt_s} for s in searches]}))
+
+
+def _check_command(file: Path, manoeuvre: str, options: dict, payload_kg: float) -> str:
+    parts = ["trikedyn", "threshold", str(file), "--manoeuvre", manoeuvre]
+    for key, value in options.items():
+        parts += ["-o", f"{key}={value}"]
+    if payload_kg:
+        parts += ["--payload", f"{payload_kg:g}"]
+    import shlex
+
+    return " ".join(shlex.quote(p) for p in parts)
+
+
+def optimise_cmd(
+    vehicle: VehicleArg,
+    spec: Annotated[str, typer.Option("--spec", help="An optimise spec: a built-in name (battery-layout) or a .toml file with [optimise] knobs = { \"component.battery.x_m\" = [low, high], ... }.")],
+    manoeuvre: Annotated[list[str], typer.Option("--manoeuvre", help="A registered manoeuvre (dlc, slc, ...) or a path .csv file; repeat it to maximise the worst threshold over several. Default: the spec's manoeuvres.")] = [],  # noqa: B006
+    option: OptionOpt = [],  # noqa: B006
+    maxiter: Annotated[int | None, typer.Option("--maxiter", callback=within(0, 1000), help="Generations after the first (default: the spec's).")] = None,
+    popsize: Annotated[int | None, typer.Option("--popsize", callback=within(1, 100), help="Population = popsize x number of knobs, at least 5 (default: the spec's).")] = None,
+    seed: Annotated[int | None, typer.Option("--seed", callback=within(0, 2**32 - 1), help="Seed of differential evolution (default: the spec's).")] = None,
+    resolution: Annotated[float | None, typer.Option("--resolution", callback=within(0.01, 10, "km/h"), help="Resolution of each threshold search [km/h] (default: the spec's, 0.1).")] = None,
+    high: Annotated[float | None, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h] (default: the spec's, 90; raise it for slc).")] = None,
+    workers: Annotated[int, typer.Option("--workers", callback=within(0, 256), help="Processes (0: in this process); the result does not depend on it.")] = 2,
+    out: Annotated[Path, typer.Option("--out", help="Folder for the optimised vehicle (TOML), optimise.json, the evaluations (CSV, written as they finish) and the figure (PNG).")] = Path("optimise-output"),
+    resume: Annotated[bool, typer.Option("--resume", help="Continue an interrupted run in --out: layouts in its CSV are not searched again.")] = False,
+    force: ForceOpt = False,
+    as_json: JsonOpt = False,
+):
+    """Layout optimiser: move the spec's components (and track or wheelbase) within its bounds to maximise the
+    threshold velocity (the worst over several manoeuvres), by differential evolution; writes the optimised
+    vehicle file."""
+    import time
+
+    from .._files import atomic_write
+    from ..params import load_vehicle, save_vehicle
+    from ..study import optimise as opt
+
+    start = time.perf_counter()
+    if resume and force:
+        raise InputError("give --resume (continue) or --force (start again), not both", where="--resume")
+    the_spec = opt.load_optimise_spec(spec)
+    changes = {k: v for k, v in (("maxiter", maxiter), ("popsize", popsize), ("seed", seed),
+                                 ("resolution_kmh", resolution), ("high_kmh", high)) if v is not None}
+    if manoeuvre:
+        if len(set(manoeuvre)) != len(manoeuvre):
+            raise InputError("a manoeuvre is given twice", where="--manoeuvre")
+        changes["manoeuvres"] = tuple(manoeuvre)
+    the_spec = replace(the_spec, **changes)
+    if option and len(the_spec.manoeuvres) > 1:
+        raise InputError("options (-o) apply to one manoeuvre; give a single --manoeuvre", where="--option")
+    searches = tuple(opt.Search(m, manoeuvre_options(m, option), the_spec.resolution_kmh, high_kmh=the_spec.high_kmh)
+                     for m in the_spec.manoeuvres)
+    pset = load_vehicle(vehicle)
+    the_spec.check(pset)
+    vehicle_file = out / _file_name(pset.name)
+    if vehicle_file.resolve() == Path(vehicle).resolve():
+        raise InputError("is also the vehicle this command reads; use another --out", where=str(vehicle_file))
+    start_output(out, _plan(pset, the_spec, searches), PLAN_FILE, kind="an optimise", resume=resume, force=force)
+    log = opt.EvaluationLog(out / LOG_FILE, the_spec.names, the_spec.manoeuvres)
+    result = opt.run_optimise(pset, the_spec, searches, workers=workers, log=log, resume=resume,
+                              progress=ProgressLine("optimise", "evaluations", every_s=5.0))
+    save_vehicle(result.vehicle, vehicle_file)
+    # the file as written, searched on its own: what `trikedyn threshold FILE` gives
+    written, error = opt.evaluate_layout(load_vehicle(vehicle_file), {}, searches, the_spec.payload_kg)
+    data = result.to_dict()
+    data["vehicle_file"] = str(vehicle_file)
+    data["vehicle_file_thresholds_kmh"] = dict(zip(result.manoeuvres, written, strict=True))
+    data["vehicle_file_verified"] = tuple(written) == tuple(result.best.thresholds)
+    if not data["vehicle_file_verified"]:
+        import warnings
+
+        warnings.warn(f"the written vehicle file searches to {written} km/h, the optimiser found "
+                      f"{result.best.thresholds} km/h{f' ({error})' if error else ''}", RuntimeWarning, stacklevel=1)
+    data["check"] = [_check_command(vehicle_file, s.manoeuvre, dict(s.options), the_spec.payload_kg) for s in searches]
+    import matplotlib
+
+    from ._common import finite, json_default, save_figure
+
+    matplotlib.use("Agg")
+    files = {"vehicle": str(vehicle_file), "json": str(out / JSON_FILE), "evaluations": str(out / LOG_FILE),
+             "figure": str(out / FIGURE_FILE)}
+    save_figure(result.plot(), out / FIGURE_FILE, dpi=120)
+    data["files"] = files
+    data["wall_time_s"] = time.perf_counter() - start
+    text = json.dumps(finite(data)[0], indent=2, default=json_default, allow_nan=False)
+    atomic_write(out / JSON_FILE, lambda fh: fh.write(text), binary=False)
+
+    def shown() -> str:
+        lines = [result.table()]
+        lines += [f"  check: {c}" for c in data["check"]]
+        lines.append(f"wrote {', '.join(files.values())}")
+        return "\n".join(lines)
+
+    emit(data, as_json, shown)
