@@ -3,7 +3,6 @@
 import numpy as np
 import pytest
 
-from trikedyn import paper
 from trikedyn.errors import InputError
 from trikedyn.measure.cg import (
     Box,
@@ -16,6 +15,7 @@ from trikedyn.measure.cg import (
     tilted_wheel_loads,
     wheel_loads_from_cg,
 )
+from trikedyn.paper import data as paper
 from trikedyn.units import STANDARD_GRAVITY as G
 
 CONTACTS = np.array([[1.95, 0.0], [0.0, 0.55], [0.0, -0.55]])

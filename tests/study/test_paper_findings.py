@@ -6,7 +6,7 @@ changes) and checks the paper's qualitative findings against it.
 
 import pytest
 
-from trikedyn.reproduce_model import study_findings
+from trikedyn.paper.model_side import study_findings
 from trikedyn.study.runner import run_study
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 from typing import Annotated
 
@@ -25,30 +26,69 @@ def study_cmd(
     max_scenarios: Annotated[int, typer.Option("--max-scenarios", callback=within(1, 1e9), help="Refuse a spec with more scenarios than this.")] = 10_000,
     as_json: JsonOpt = False,
 ):
-    """Parametric study of the threshold velocity: parallel, resumable, CSV and Parquet tables."""
+    """Parametric study: vehicle variations x manoeuvres x metrics (threshold by default); parallel, resumable, CSV, Parquet and figures."""
     if dry_run:
         from ..study import count_scenarios, load_spec
+        from ..study.metrics import label
 
         loaded = load_spec(spec)
         count, exact = count_scenarios(loaded)
         if count > max_scenarios:
             raise InputError(f"the spec expands to {'up to ' if not exact else ''}{count:,} scenarios, more than the "
                              f"limit {max_scenarios:,}; pass --max-scenarios {count} to run it", where=str(spec))
+        metrics = [label(name, options) for name, options in loaded.metrics]
         data = {"study": loaded.name, "vehicle": loaded.vehicle, "manoeuvres": list(loaded.manoeuvres),
-                "scenarios": count, "exact": exact, "groups": [g.name for g in loaded.groups]}
+                "metrics": metrics, "scenarios": count, "exact": exact, "groups": [g.name for g in loaded.groups]}
         emit(data, as_json, lambda: (f"study '{loaded.name}': {count} scenarios on {loaded.vehicle} "
-                                      f"({', '.join(loaded.manoeuvres)}); nothing run"))
+                                      f"({', '.join(loaded.manoeuvres)}; {', '.join(metrics)}); nothing run"))
         return
-    from ..study.runner import study_command
+    run_study_cmd(spec, out, workers=workers, dask_local=dask_local, scheduler=scheduler, max_scenarios=max_scenarios,
+                  as_json=as_json)
 
-    study_command(spec, workers, dask_local, scheduler, out, as_json, max_scenarios=max_scenarios)
+
+def study_summary_text(s: dict) -> str:
+    """The text summary of a study run (:attr:`trikedyn.study.runner.StudyRun.summary`)."""
+    n = s["scenarios"]
+    lines = [
+        f"study '{s['study']}': {n['done']} of {n['total']} scenarios stored ({n['failed']} failed); "
+        f"{n['computed']} computed in this run, {n['skipped']} already stored",
+        f"wall time {s['wall_time_s']:.1f} s on {s['executor']}",
+    ]
+    if s["table"]:
+        lines.append(f"table: {s['table']} (and {Path(s['parquet']).name})")
+    if s.get("figures"):
+        lines.append(f"figures: {', '.join(Path(p).name for p in s['figures'])}")
+    return "\n".join(lines)
+
+
+def run_study_cmd(spec, out, *, workers=None, dask_local=None, scheduler=None, max_scenarios=10_000,
+                  as_json=False) -> dict:
+    """Run or resume a study, print its summary (text or JSON) and progress (a bar on a terminal, a line every
+    few seconds otherwise); SIGINT/SIGTERM -> exit 130, lost workers -> exit 1 (each with one line on stderr)."""
+    from ..study.runner import StudyIncomplete, StudyInterrupted, execute_study
+
+    run = execute_study(spec, out, workers=workers, dask_local=dask_local, scheduler=scheduler, progress=True,
+                        max_scenarios=max_scenarios)
+    if as_json:
+        typer.echo(json.dumps(run.summary, indent=2))
+    else:
+        typer.echo(study_summary_text(run.summary))
+    try:
+        run.raise_unfinished()
+    except StudyInterrupted as exc:
+        typer.echo(f"trikedyn: {exc}", err=True)
+        raise SystemExit(130) from None
+    except StudyIncomplete as exc:
+        typer.echo(f"trikedyn: {exc}", err=True)
+        raise SystemExit(1) from None
+    return run.summary
 
 
 def reproduce_cmd(
     out: Annotated[Path, typer.Option("--out", help="Output folder (created; a non-empty one needs --force).")] = Path(
         "trikedyn-output"
     ),
-    no_figures: Annotated[bool, typer.Option("--no-figures", help="Skip the PNG figures and the report.")] = False,
+    no_figures: Annotated[bool, typer.Option("--no-figures", help="Skip the PNG figures, the animations and the report.")] = False,
     no_study: Annotated[bool, typer.Option("--no-study", help="Skip the parametric study (Fig. 10).")] = False,
     workers: Annotated[int | None, typer.Option("--workers", help="Processes for the study (default 2).")] = 2,
     force: Annotated[bool, typer.Option("--force", help="Write into a folder that holds files (they are replaced).")] = False,
@@ -56,7 +96,7 @@ def reproduce_cmd(
 ):
     """The reference paper's workflow on the built-in reference vehicle: tables, figures, verdicts, report.html."""
     from .._files import check_output_folder
-    from ..reproduce import reproduce
+    from ..paper.reproduce import reproduce
 
     if workers is not None and not 1 <= workers <= 256:
         raise InputError(f"expected 1 to 256 processes, got {workers}", where="--workers")

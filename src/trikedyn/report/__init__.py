@@ -1,5 +1,2 @@
-"""Reports of a reproduction: a self-contained HTML file with the figures, tables and verdicts."""
-
-from .html import render_report, render_section, write_report
-
-__all__ = ["render_report", "render_section", "write_report"]
+"""Figures and animations of runs and studies (matplotlib). The reference paper's report is in
+:mod:`trikedyn.paper` (:mod:`trikedyn.paper.report`, rendered by :mod:`trikedyn.paper.html`)."""
