@@ -4,6 +4,7 @@ circle, and a straight. Each function's docstring says which choices are ours wh
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -63,6 +64,7 @@ def _iso3888_track(w: float, standard: str):
     return lengths, edges, lanes
 
 
+@functools.lru_cache(maxsize=64)  # a threshold search builds the same track at every speed
 def double_lane_change(
     vehicle_width_m: float,
     *,
@@ -193,6 +195,7 @@ def double_lane_change(
 # --------------------------------------------------------------------------------------------------------------
 # ISO 14791 single lane change
 # --------------------------------------------------------------------------------------------------------------
+@functools.lru_cache(maxsize=64)
 def single_lane_change(
     *,
     lateral_offset_m: float = 3.5,

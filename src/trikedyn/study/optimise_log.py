@@ -1,0 +1,308 @@
+"""What a layout optimisation found: each evaluation, their CSV log (appended as each finishes, read back
+to resume), and the result (:class:`OptimiseResult`: ``to_dict``, ``table``, ``plot``, ``vehicle``)."""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import InputError
+from ..params.io import ParameterSet
+from .optimise_spec import OptimiseSpec, population_size
+from .sample_runs import Search
+
+__all__ = ["Evaluation", "EvaluationLog", "OptimiseResult", "worst"]
+
+
+def worst(thresholds: Sequence[float | None]) -> float:
+    """The objective of a layout: its lowest threshold [km/h] over the manoeuvres, a None counting as 0."""
+    return min((0.0 if t is None else float(t)) for t in thresholds)
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """One layout searched: its knob values (None: the reference vehicle as given), thresholds per manoeuvre
+    [km/h], why any is None, its order and its generation (-1: the reference)."""
+
+    index: int
+    generation: int
+    values: tuple[float, ...] | None
+    thresholds: tuple[float | None, ...]
+    error: str | None = None
+
+    @property
+    def worst(self) -> float:
+        return worst(self.thresholds)
+
+
+# ------------------------------------------------------------------------------------------------
+# the log (CSV, a row appended and flushed as each layout finishes)
+# ------------------------------------------------------------------------------------------------
+class EvaluationLog:
+    """Every evaluation of a run as a CSV file, a row appended as it finishes.
+
+    Columns: ``evaluation``, ``generation`` (-1: the reference vehicle), ``status`` (``ok`` or ``failed``),
+    ``worst_threshold_speed_kmh``, ``threshold_MANOEUVRE_kmh`` per manoeuvre, ``error``, then each knob's
+    value (blank for the reference).
+    """
+
+    def __init__(self, path: str | os.PathLike, knobs: Sequence[str], manoeuvres: Sequence[str]):
+        self.path = Path(path)
+        self.knobs = list(knobs)
+        self.manoeuvres = list(manoeuvres)
+        self.columns = ["evaluation", "generation", "status", "worst_threshold_speed_kmh",
+                        *(f"threshold_{Path(m).stem if m.lower().endswith('.csv') else m}_kmh" for m in self.manoeuvres),
+                        "error", *self.knobs]
+        self._fh = None
+
+    def read(self) -> list[Evaluation]:
+        """The evaluations logged already (a row cut short by a kill is left out: evaluated again).
+
+        Raises
+        ------
+        InputError
+            The file's columns are not those of this run.
+        """
+        from .._files import refuse_symlink
+
+        if not refuse_symlink(self.path).exists():
+            return []
+        text = self.path.read_text(encoding="utf-8", errors="replace")
+        if text and not text.endswith("\n"):
+            text = text[: text.rfind("\n") + 1]
+        rows = list(csv.reader(io.StringIO(text)))
+        if not rows:
+            return []
+        if rows[0] != self.columns:
+            raise InputError("its columns are not those of this run; use another --out or --force", where=str(self.path))
+        n_m = len(self.manoeuvres)
+        out = []
+        for row in rows[1:]:
+            if len(row) != len(self.columns) or row[2] not in ("ok", "failed"):
+                continue
+            try:
+                index, generation = int(row[0]), int(row[1])
+                thresholds = tuple(float(v) if v else None for v in row[4:4 + n_m])
+                raw = row[5 + n_m:]
+                values = None if generation < 0 else tuple(float(v) for v in raw)
+            except ValueError:
+                continue
+            out.append(Evaluation(index, generation, values, thresholds, row[4 + n_m] or None))
+        return out
+
+    def open(self, fresh: bool) -> None:
+        """Open for appending (``fresh``: empty it first), the header written into an empty file."""
+        from .._files import open_nofollow
+
+        fd = open_nofollow(self.path)
+        if fresh:
+            os.ftruncate(fd, 0)
+        size = os.lseek(fd, 0, os.SEEK_END)
+        ends_cleanly = True
+        if size:
+            os.lseek(fd, size - 1, os.SEEK_SET)
+            ends_cleanly = os.read(fd, 1) == b"\n"
+            os.lseek(fd, 0, os.SEEK_END)
+        self._fh = os.fdopen(fd, "a", encoding="utf-8", newline="")
+        if not ends_cleanly:
+            self._fh.write("\n")
+        if not size:
+            csv.writer(self._fh).writerow(self.columns)
+        self._fh.flush()
+
+    def append(self, ev: Evaluation) -> None:
+        status = "ok" if all(t is not None for t in ev.thresholds) else "failed"
+        values = [""] * len(self.knobs) if ev.values is None else [repr(float(v)) for v in ev.values]
+        row = [ev.index, ev.generation, status, repr(ev.worst), *("" if t is None else repr(float(t)) for t in ev.thresholds),
+               " ".join((ev.error or "").split()), *values]
+        csv.writer(self._fh).writerow(row)
+        self._fh.flush()
+
+    def close(self) -> None:
+        if self._fh is not None:
+            self._fh.close()
+            self._fh = None
+
+
+# ------------------------------------------------------------------------------------------------
+# the result
+# ------------------------------------------------------------------------------------------------
+@dataclass
+class OptimiseResult:
+    """What :func:`run_optimise` found.
+
+    Attributes
+    ----------
+    vehicle : ParameterSet
+        The optimised vehicle (without the payload), named ``NAME-optimised``; write it with
+        :func:`~trikedyn.params.io.save_vehicle`.
+    reference, best : Evaluation
+        The vehicle as given, and the best layout.
+    evaluations : list of Evaluation
+        Every layout searched, in order (the reference first).
+    """
+
+    vehicle_name: str
+    spec: OptimiseSpec
+    searches: tuple[Search, ...]
+    reference: Evaluation
+    best: Evaluation
+    reference_values: tuple[float, ...]
+    evaluations: list
+    vehicle: ParameterSet | None = None
+    generations: int = 0
+    message: str = ""
+    resumed: int = 0
+    workers: int = 2
+    wall_time_s: float = 0.0
+    history: list = field(default_factory=list)
+
+    @property
+    def manoeuvres(self) -> list[str]:
+        return [s.manoeuvre for s in self.searches]
+
+    @property
+    def best_threshold_speed_kmh(self) -> float:
+        return self.best.worst
+
+    @property
+    def reference_threshold_speed_kmh(self) -> float:
+        return self.reference.worst
+
+    def moves(self) -> list[dict]:
+        units = _units(self.spec.names)
+        return [{"knob": name, "unit": unit, "reference": ref, "best": best, "move": round(best - ref, 9),
+                 "low": low, "high": high}
+                for (name, low, high), ref, best, unit in zip(self.spec.knobs, self.reference_values,
+                                                             self.best.values, units, strict=True)]
+
+    def to_dict(self) -> dict:
+        """The result as plain data (the ``--json`` output; the command adds ``vehicle_file`` and ``files``)."""
+        failed = sum(e.error is not None for e in self.evaluations)
+        return {
+            "vehicle": self.vehicle_name, "spec": self.spec.origin, "description": self.spec.description,
+            "manoeuvres": self.manoeuvres, "options": {s.manoeuvre: dict(s.options) for s in self.searches},
+            "payload_kg": self.spec.payload_kg,
+            "objective": "worst threshold velocity over the manoeuvres" if len(self.searches) > 1 else "threshold velocity",
+            "best_threshold_speed_kmh": self.best_threshold_speed_kmh,
+            "reference_threshold_speed_kmh": self.reference_threshold_speed_kmh,
+            "gain_kmh": round(self.best_threshold_speed_kmh - self.reference_threshold_speed_kmh, 9),
+            "thresholds": {m: {"reference": r, "best": b} for m, r, b in
+                           zip(self.manoeuvres, self.reference.thresholds, self.best.thresholds, strict=True)},
+            "vehicle_file": None,
+            "moves": self.moves(),
+            "evaluations": len(self.evaluations), "failed_evaluations": failed, "resumed_evaluations": self.resumed,
+            "generations": self.generations, "optimiser": {
+                "method": "scipy.optimize.differential_evolution (best1bin, latinhypercube, polish off, deferred)",
+                "seed": self.spec.seed, "popsize": self.spec.popsize, "population": population_size(
+                    self.spec.popsize, len(self.spec.knobs)), "maxiter": self.spec.maxiter, "tol": self.spec.tol,
+                "step": self.spec.step, "message": self.message},
+            "resolution_kmh": self.searches[0].resolution_kmh, "high_kmh": self.searches[0].high_kmh,
+            "at_search_limit": self.best_threshold_speed_kmh >= self.searches[0].high_kmh - 1e-9,
+            "workers": self.workers, "wall_time_s": self.wall_time_s,
+        }
+
+    def table(self) -> str:
+        """The result for reading."""
+        ref, best = self.reference_threshold_speed_kmh, self.best_threshold_speed_kmh
+        what = "worst threshold over " + ", ".join(self.manoeuvres) if len(self.searches) > 1 else \
+            f"threshold on {self.manoeuvres[0]}"
+        load = f", {self.spec.payload_kg:g} kg freight" if self.spec.payload_kg else ""
+        lines = [f"{self.vehicle_name}, spec {self.spec.origin}{load}: {what} {ref:.1f} -> {best:.1f} km/h "
+                 f"({best - ref:+.1f} km/h)"]
+        if len(self.searches) > 1:
+            for m, r, b in zip(self.manoeuvres, self.reference.thresholds, self.best.thresholds, strict=True):
+                lines.append(f"  {m}: {_kmh(r)} -> {_kmh(b)} km/h")
+        width = max(len(n) for n in self.spec.names) + 2
+        lines.append(f"  {'knob':<{width}}{'reference':>10}{'best':>10}{'move':>9}   bounds")
+        for mv in self.moves():
+            unit = "" if mv["unit"] == "1" else f" {mv['unit']}"
+            lines.append(f"  {mv['knob']:<{width}}{mv['reference']:>10.3f}{mv['best']:>10.3f}{mv['move']:>+9.3f}   "
+                         f"{mv['low']:g} .. {mv['high']:g}{unit}")
+        failed = sum(e.error is not None for e in self.evaluations)
+        lines.append(f"  {len(self.evaluations)} evaluations ({self.generations} generations"
+                     + (f", {self.resumed} from the log" if self.resumed else "")
+                     + (f", {failed} failed" if failed else "")
+                     + f", {_workers(self.workers)}, {self.wall_time_s:.0f} s); "
+                     f"{self.message}")
+        if best >= self.searches[0].high_kmh - 1e-9:
+            lines.append(f"  the best layout passed the whole search ({self.searches[0].high_kmh:g} km/h): raise --high")
+        return "\n".join(lines)
+
+    def plot(self):
+        """Left: each layout's (worst) threshold over the evaluations, the best so far and the reference;
+        right: each knob's reference and best value within its bounds. A matplotlib Figure."""
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(11.0, 4.2))
+        ax, bx = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.4, 1.0]})
+        evs = [e for e in self.evaluations if e.generation >= 0]
+        n = np.arange(1, len(evs) + 1)
+        y = np.array([e.worst for e in evs])
+        ok = np.array([e.error is None for e in evs], dtype=bool)
+        ax.plot(n[ok], y[ok], "o", ms=3, color="tab:blue", alpha=0.6, label="a layout")
+        if (~ok).any():
+            ax.plot(n[~ok], y[~ok], "x", ms=4, color="tab:red", label="failed (counted as 0)")
+        if len(y):
+            ax.step(n, np.maximum.accumulate(y), where="post", color="k", lw=1.2, label="best so far")
+        ax.axhline(self.reference_threshold_speed_kmh, color="tab:orange", ls="--", lw=1.2,
+                   label=f"reference {self.reference_threshold_speed_kmh:.1f} km/h")
+        finite = y[ok] if ok.any() else np.array([self.reference_threshold_speed_kmh])
+        low = min(finite.min(), self.reference_threshold_speed_kmh)
+        high = max(finite.max(), self.reference_threshold_speed_kmh)
+        pad = max(0.5, 0.1 * (high - low))
+        ax.set_ylim(low - pad, high + pad)
+        ax.set_xlabel("evaluation")
+        label = "worst threshold velocity" if len(self.searches) > 1 else "threshold velocity"
+        ax.set_ylabel(f"{label} [km/h]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8, loc="lower right")
+        ax.set_title(f"{', '.join(self.manoeuvres)}: {self.reference_threshold_speed_kmh:.1f} -> "
+                     f"{self.best_threshold_speed_kmh:.1f} km/h", fontsize=9)
+        moves = self.moves()
+        rows = np.arange(len(moves))[::-1]
+        for row, mv in zip(rows, moves, strict=True):
+            span = mv["high"] - mv["low"]
+            r, b = (mv["reference"] - mv["low"]) / span, (mv["best"] - mv["low"]) / span
+            bx.plot([0, 1], [row, row], color="0.8", lw=6, solid_capstyle="butt")
+            bx.annotate("", xy=(b, row), xytext=(r, row), arrowprops={"arrowstyle": "->", "color": "0.3"})
+            bx.plot(r, row, "o", color="tab:orange", ms=7, label="reference" if row == rows[0] else None)
+            bx.plot(b, row, "*", color="tab:green", ms=12, label="best" if row == rows[0] else None)
+            unit = "" if mv["unit"] == "1" else f" {mv['unit']}"
+            bx.text(0.0, row + 0.22, f"{mv['low']:g}", fontsize=7, ha="left", color="0.4")
+            bx.text(1.0, row + 0.22, f"{mv['high']:g}{unit}", fontsize=7, ha="right", color="0.4")
+            bx.text(b, row - 0.3, f"{mv['best']:.3f}", fontsize=7, ha="center", color="tab:green")
+        bx.set_yticks(rows, [mv["knob"] for mv in moves], fontsize=8)
+        bx.set_xlim(-0.05, 1.05)
+        bx.set_ylim(-0.7, len(moves) + 0.2)
+        bx.set_xlabel("position within the bounds [-]")
+        bx.set_title("moves", fontsize=9)
+        bx.legend(fontsize=8, loc="upper center", ncol=2)
+        fig.suptitle(f"Layout optimiser: {self.vehicle_name}, spec {self.spec.origin} ({len(self.evaluations)} "
+                     "evaluations, differential evolution)", fontsize=10)
+        fig.tight_layout()
+        return fig
+
+
+def _workers(n: int) -> str:
+    return "in this process" if n == 0 else f"{n} worker{'s' if n != 1 else ''}"
+
+
+def _kmh(value) -> str:
+    return "none" if value is None else f"{value:.1f}"
+
+
+def _units(names: Sequence[str]) -> list[str]:
+    from ..params.knobs import KNOBS
+
+    out = []
+    for name in names:
+        key = name if name in KNOBS else f"component.NAME.{name.rsplit('.', 1)[-1]}"
+        out.append(KNOBS[key].unit if key in KNOBS else "")
+    return out

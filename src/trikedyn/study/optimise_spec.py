@@ -1,0 +1,220 @@
+"""Optimise specs: what ``trikedyn optimise`` moves, within which bounds, and the optimiser's settings.
+
+A small TOML file, or a built-in name such as ``battery-layout`` (``study/specs/optimise/``)::
+
+    [optimise]
+    description = "battery within its bay"
+    knobs = { "component.battery.x_m" = [0.58, 1.10], "component.battery.z_m" = [0.29, 0.44] }
+    manoeuvres = ["dlc"]      # optional (default: dlc); the command's --manoeuvre replaces it
+    payload_kg = 0.0          # the paper's freight aboard while searching [kg]
+    seed = 1                  # differential evolution's seed
+    popsize = 5               # population: popsize x number of knobs (at least 5)
+    maxiter = 8               # generations after the first
+    # optional: tol = 0.002, step = 0.001 (knob values rounded to this [knob unit]),
+    #           resolution_kmh = 0.1, high_kmh = 90 (the threshold search)
+
+The knobs are :mod:`trikedyn.params.knobs`' (``component.NAME.x_m|y_m|z_m``, ``track_m``, ``wheelbase_m``,
+...). Parsed with pydantic; a mistake is an :class:`~trikedyn.errors.InputError` naming the file and key.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tomllib
+from dataclasses import dataclass
+from difflib import get_close_matches
+from importlib import resources
+from pathlib import Path
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+
+from .._validation import describe_validation_error
+from ..errors import InputError
+from ..params.io import ParameterSet
+
+__all__ = ["MAX_EVALUATIONS", "OptimiseSpec", "list_optimise_specs", "load_optimise_spec", "parse_optimise_spec",
+           "population_size"]
+
+MAX_EVALUATIONS = 20_000
+"""Most layouts a run may evaluate (population x generations)."""
+MAX_KNOBS = 20
+
+
+# ------------------------------------------------------------------------------------------------
+# the spec
+# ------------------------------------------------------------------------------------------------
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class _Optimise(_Model):
+    description: str = ""
+    knobs: dict[str, tuple[float, float]] = Field(
+        min_length=1, max_length=MAX_KNOBS,
+        description="design knob (component.NAME.x_m, track_m, wheelbase_m, ...) = [low, high] in its unit")
+    manoeuvres: list[str] = Field(default=["dlc"], min_length=1, max_length=10,
+                                  description="the objective is the worst threshold over these")
+    payload_kg: float = Field(default=0.0, ge=0, le=2000, description="the paper's freight aboard [kg]")
+    seed: int = Field(default=1, ge=0, le=2**32 - 1, description="seed of differential evolution")
+    popsize: int = Field(default=5, ge=1, le=100, description="population = popsize x number of knobs (at least 5)")
+    maxiter: int = Field(default=8, ge=0, le=1000, description="generations after the first")
+    tol: float = Field(default=0.002, ge=0, le=1, description="stop when the population's spread of thresholds "
+                       "is below tol x their mean")
+    step: float = Field(default=0.001, gt=0, le=1, description="knob values are rounded to this [knob unit]")
+    resolution_kmh: float = Field(default=0.1, ge=0.01, le=10, description="threshold search resolution [km/h]")
+    high_kmh: float = Field(default=90.0, ge=11, le=400, description="highest speed searched [km/h]")
+
+    @field_validator("knobs")
+    @classmethod
+    def _bounds(cls, values):
+        for name, (low, high) in values.items():
+            if not (math.isfinite(low) and math.isfinite(high)):
+                raise ValueError(f"'{name}': bounds must be finite numbers, got [{low!r}, {high!r}]")
+            if not low < high:
+                raise ValueError(f"'{name}': expected [low, high] with low < high, got [{low!r}, {high!r}]")
+        return values
+
+    @field_validator("manoeuvres")
+    @classmethod
+    def _registered(cls, values):
+        from ..manoeuvres.registry import get
+
+        for name in values:
+            if not name.lower().endswith(".csv"):
+                try:
+                    get(name)
+                except InputError as exc:
+                    raise ValueError(exc.reason) from None
+        if len(set(values)) != len(values):
+            raise ValueError("a manoeuvre is listed twice")
+        return values
+
+
+class _File(_Model):
+    optimise: _Optimise
+
+
+@dataclass(frozen=True)
+class OptimiseSpec:
+    """A validated optimise spec.
+
+    Attributes
+    ----------
+    knobs : tuple of (str, float, float)
+        Design knob, lower and upper bound [its unit], in the spec's order.
+    manoeuvres : tuple of str
+    payload_kg : float
+    seed, popsize, maxiter : int
+    tol, step, resolution_kmh, high_kmh : float
+    description, origin : str
+        ``origin``: the built-in name or file path it was read from (named in error messages).
+    """
+
+    knobs: tuple[tuple[str, float, float], ...]
+    manoeuvres: tuple[str, ...] = ("dlc",)
+    payload_kg: float = 0.0
+    seed: int = 1
+    popsize: int = 5
+    maxiter: int = 8
+    tol: float = 0.002
+    step: float = 0.001
+    resolution_kmh: float = 0.1
+    high_kmh: float = 90.0
+    description: str = ""
+    origin: str = "<string>"
+
+    @property
+    def names(self) -> list[str]:
+        return [k[0] for k in self.knobs]
+
+    def to_dict(self) -> dict:
+        return {"origin": self.origin, "description": self.description,
+                "knobs": {n: [lo, hi] for n, lo, hi in self.knobs}, "manoeuvres": list(self.manoeuvres),
+                "payload_kg": self.payload_kg, "seed": self.seed, "popsize": self.popsize, "maxiter": self.maxiter,
+                "tol": self.tol, "step": self.step, "resolution_kmh": self.resolution_kmh, "high_kmh": self.high_kmh}
+
+    def check(self, pset: ParameterSet) -> None:
+        """The knobs exist on ``pset`` and their bounds lie within each knob's own bounds.
+
+        Raises
+        ------
+        InputError
+            ``where=`` the spec's origin: ``optimise.knobs: ...`` (an unknown knob or component, with a
+            close match; a bound outside what the knob accepts).
+        """
+        from ..params.knobs import is_knob, knob_problem
+
+        for name, low, high in self.knobs:
+            if not is_knob(name):
+                from ..params.knobs import _unknown
+
+                problem = _unknown(pset.params, name)
+                problem += "; the optimiser moves design knobs only"
+            else:
+                problem = knob_problem(pset, name, (low, high))
+            if problem:
+                raise InputError(f"optimise.knobs: {problem}", where=self.origin)
+
+
+def _spec_dir():
+    return resources.files("trikedyn.study") / "specs" / "optimise"
+
+
+def list_optimise_specs() -> list[str]:
+    """Names of the optimise specs shipped with trikedyn (``battery-layout``)."""
+    return sorted(p.name[:-5] for p in _spec_dir().iterdir() if p.name.endswith(".toml"))
+
+
+def load_optimise_spec(name_or_path: str | Path | OptimiseSpec) -> OptimiseSpec:
+    """An optimise spec by built-in name (``"battery-layout"``) or from a TOML file.
+
+    Raises
+    ------
+    InputError
+        An unknown name (with a close match), a missing or unreadable file, invalid TOML, an unknown key
+        (with a close match), a value out of range; one line naming the file and the field.
+    """
+    if isinstance(name_or_path, OptimiseSpec):
+        return name_or_path
+    text = str(name_or_path)
+    path = Path(text)
+    if path.suffix == ".toml" or "/" in text or os.sep in text or path.is_file():
+        from ..params.tomlfile import is_file, read_text
+
+        if not is_file(path):
+            raise InputError("no such optimise spec file", where=text)
+        return parse_optimise_spec(read_text(path, text), origin=text)
+    names = list_optimise_specs()
+    if text not in names:
+        hint = get_close_matches(text, names, n=1)
+        tip = f"; did you mean '{hint[0]}'?" if hint else ""
+        raise InputError(f"unknown optimise spec '{text}'{tip} (built in: {', '.join(names)}; or give a .toml file)",
+                         where="--spec")
+    return parse_optimise_spec((_spec_dir() / f"{text}.toml").read_text(encoding="utf-8"), origin=text)
+
+
+def parse_optimise_spec(source: str | dict, origin: str = "<string>") -> OptimiseSpec:
+    """Validate an optimise spec given as TOML text or as the dict it parses to (see the module docstring)."""
+    if isinstance(source, str):
+        try:
+            raw = tomllib.loads(source)
+        except tomllib.TOMLDecodeError as exc:
+            raise InputError(f"invalid TOML: {' '.join(str(exc).split())}", where=origin) from None
+    else:
+        raw = dict(source)
+    try:
+        model = _File.model_validate(raw)
+    except ValidationError as exc:
+        raise InputError(describe_validation_error(exc, raw, _File), where=origin) from None
+    o = model.optimise
+    return OptimiseSpec(knobs=tuple((n, float(lo), float(hi)) for n, (lo, hi) in o.knobs.items()),
+                        manoeuvres=tuple(o.manoeuvres), payload_kg=float(o.payload_kg), seed=int(o.seed),
+                        popsize=int(o.popsize), maxiter=int(o.maxiter), tol=float(o.tol), step=float(o.step),
+                        resolution_kmh=float(o.resolution_kmh), high_kmh=float(o.high_kmh),
+                        description=o.description, origin=origin)
+
+
+def population_size(popsize: int, n_knobs: int) -> int:
+    """Layouts per generation: scipy's ``max(5, popsize x n_knobs)``."""
+    return max(5, popsize * max(1, n_knobs))
