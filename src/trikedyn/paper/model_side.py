@@ -106,13 +106,27 @@ STUDY_FINDINGS = ("falls with freight", "rises with stiffness", "damping matters
 
 def parametric_study(out: Path, workers: int | None = 2, figures_on: bool = True):
     """The paper's study (Fig. 10) with its built-in spec (:data:`trikedyn.paper.STUDY_SPEC`); returns the table and the findings."""
+    table = study_table(out, workers)
+    if figures_on:
+        study_figure(table, out)
+    return table, study_findings(table)
+
+
+def study_table(out: Path, workers: int | None = 2):
+    """The paper's study run into ``out / "study"`` (resumable), its table also as ``fig10_threshold_study.csv``.
+
+    Uses no pyplot, so that :func:`~trikedyn.paper.reproduce.reproduce` can run it in a thread while it draws
+    the other figures."""
     from ..study.runner import run_study
 
     table = run_study(STUDY_SPEC, out / "study", workers=workers, progress=False)
     atomic_write(out / "fig10_threshold_study.csv", lambda fh: table.to_csv(fh, index=False), binary=False)
-    if figures_on:
-        figures.threshold_study(table, out / "fig10_threshold_study.png", "threshold velocity (cf. Fig. 10)")
-    return table, study_findings(table)
+    return table
+
+
+def study_figure(table, out: Path) -> None:
+    """Fig. 10: the threshold velocity over the study."""
+    figures.threshold_study(table, out / "fig10_threshold_study.png", "threshold velocity (cf. Fig. 10)")
 
 
 def study_findings(table) -> dict:

@@ -16,6 +16,7 @@ import csv
 import json
 import math
 import sys
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -295,6 +296,28 @@ def _model_statements(bump_rows, man_rows, static_ri, findings, table) -> list[d
     return out
 
 
+class _Background:
+    """``func(*args)`` in a daemon thread; :meth:`result` waits for it and returns its value or raises its
+    exception."""
+
+    def __init__(self, func, *args):
+        self._box: dict = {}
+        self._thread = threading.Thread(target=self._run, args=(func, args), daemon=True)
+        self._thread.start()
+
+    def _run(self, func, args):
+        try:
+            self._box["value"] = func(*args)
+        except BaseException as exc:  # noqa: BLE001 - handed to the main thread by result()
+            self._box["error"] = exc
+
+    def result(self):
+        self._thread.join()
+        if "error" in self._box:
+            raise self._box["error"]
+        return self._box["value"]
+
+
 def reproduce(out_dir: str | Path, *, figures: bool = True, study: bool = True, workers: int | None = 2,
               log=None) -> dict:
     """Run the reproduction into ``out_dir``; returns the summary (also written as ``summary.json``)."""
@@ -303,6 +326,10 @@ def reproduce(out_dir: str | Path, *, figures: bool = True, study: bool = True, 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     say = log or (lambda text: print(text, file=sys.stderr))
+    background = None
+    if study:  # the study's workers compute while this process does the measurement side and the figures
+        say(f"parametric study (Fig. 10): 50 threshold searches on {workers or 'all'} workers, in the background")
+        background = _Background(rm.study_table, out, workers)
     say("audit: reference-etrike and reference-etrike-eq4")
     audits = _audits(out)
     say("manoeuvres: ISO 14791 single lane change and ISO 3888-1 double lane change")
@@ -321,9 +348,12 @@ def reproduce(out_dir: str | Path, *, figures: bool = True, study: bool = True, 
     say("Table 3: CG against freight")
     t3_rows = table3(out)
     findings, table = None, None
-    if study:
-        say(f"parametric study (Fig. 10): 50 threshold searches on {workers or 'all'} workers")
-        table, findings = rm.parametric_study(out, workers, figures)
+    if background is not None:
+        say("parametric study (Fig. 10): waiting for its last searches")
+        table = background.result()
+        if figures:
+            rm.study_figure(table, out)
+        findings = rm.study_findings(table)
     statements = _statements(eq_rows, ident_rows, t3_rows, audits)
     statements += _model_statements(bump_rows, man_rows, static_ri, findings, table)
     summary = {
