@@ -48,7 +48,9 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, field_validator, model_validator
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, field_validator, model_validator
+
+from .ranges import MAX_RANGES, RangeSpec, RelativeRange, flat_ranges
 
 __all__ = [
     "AeroSpec",
@@ -342,61 +344,6 @@ class BodySpec(_Spec):
     overall_length_m: _positive(0.5, "m") = Field(gt=0, le=15)
 
 
-class RelativeRange(_Spec):
-    """A range relative to its value: ``value * (1 -/+ rel)``."""
-
-    rel: float = Field(gt=0, lt=1, description="half-width as a fraction of the value (0.2: +/-20 %)")
-
-
-def _range(value):
-    """``[low, high]`` (two finite numbers, low < high) or ``{ rel = f }``; one clear message otherwise."""
-    if isinstance(value, RelativeRange):
-        return value
-    if isinstance(value, dict):
-        rel = value.get("rel")
-        if set(value) != {"rel"}:
-            raise ValueError(f"expected {{ rel = fraction }} alone, got the keys {', '.join(map(str, value))}")
-        if isinstance(rel, bool) or not isinstance(rel, int | float) or not (math.isfinite(rel) and 0 < rel < 1):
-            raise ValueError(f"rel: expected a fraction between 0 and 1 (0.2 = +/-20 %), got {rel!r}")
-        return RelativeRange(rel=float(rel))
-    if isinstance(value, list | tuple) and len(value) == 2 and all(
-            isinstance(v, int | float) and not isinstance(v, bool) for v in value):
-        low, high = (float(v) for v in value)
-        if not (math.isfinite(low) and math.isfinite(high)):
-            raise ValueError(f"expected finite numbers, got [{low:g}, {high:g}]")
-        if not low < high:
-            raise ValueError(f"expected [low, high] with low < high, got [{low:g}, {high:g}]")
-        return (low, high)
-    raise ValueError(f"expected [low, high] (two numbers) or {{ rel = fraction }}, got {value!r}")
-
-
-RangeSpec = Annotated[tuple[float, float] | RelativeRange, BeforeValidator(_range)]
-"""A declared range: ``[low, high]`` in the value's unit, or ``{ rel = f }``."""
-
-MAX_RANGES = 500
-
-
-def _flat_ranges(node, prefix: str = "") -> dict:
-    """``[ranges.mass] cg_z_m = ...`` and ``[ranges] "mass.cg_z_m" = ...`` alike: ``{"mass.cg_z_m": ...}``.
-
-    A table is a range (``{ rel = f }``) if it has a ``rel`` key, else a section to descend into. A key given
-    in both forms keeps the later one (after ``extends`` merged the tables, the extending file's).
-    """
-    if not isinstance(node, dict):
-        raise ValueError("expected a table of ranges keyed by parameter path ([ranges.mass] cg_z_m = [low, high])")
-    out = {}
-    for key, value in node.items():
-        path = f"{prefix}.{key}" if prefix else str(key)
-        if isinstance(value, dict) and value and "rel" not in value:
-            out.update(_flat_ranges(value, path))
-        else:
-            out.pop(path, None)
-            out[path] = value  # the later wins: a file's own range over the one of the file it extends
-        if len(out) > MAX_RANGES:
-            raise ValueError(f"more than {MAX_RANGES} ranges")
-    return out
-
-
 class VehicleParameters(_Spec):
     """A whole vehicle. Load with :func:`trikedyn.params.load_vehicle`."""
 
@@ -431,7 +378,7 @@ class VehicleParameters(_Spec):
     @field_validator("ranges", mode="before")
     @classmethod
     def _flatten_ranges(cls, ranges):
-        return _flat_ranges(ranges)
+        return flat_ranges(ranges)
 
     @field_validator("wheels")
     @classmethod
