@@ -9,7 +9,7 @@ import pytest
 from trikedyn.errors import InputError
 from trikedyn.params import override, scale_suspension
 from trikedyn.study import expand, load_spec, parse_spec
-from trikedyn.study.spec import count_scenarios
+from trikedyn.study.scenarios import count_scenarios
 
 LAYOUT = textwrap.dedent("""
     name = "layout"

@@ -15,7 +15,7 @@ import pytest
 
 from trikedyn.errors import InputError
 from trikedyn.study import StudyStore, expand, load_spec, parse_spec, run_scenario, run_study
-from trikedyn.study.spec import canonical_json, scenario_id
+from trikedyn.study.scenarios import canonical_json, scenario_id
 
 from . import warm_numba_cache, write_spec
 

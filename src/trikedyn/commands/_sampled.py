@@ -1,5 +1,6 @@
-"""What the sampled studies (``sensitivity``, ``uncertainty``, ``loading-chart``) share: a progress line that
-works without a terminal, and an output folder that a resumed run must match."""
+"""What the sampled studies (``sensitivity``, ``uncertainty``, ``loading-chart``, ``optimise``) share: a
+progress line that works without a terminal, an output folder that a resumed run must match, and the
+figure and JSON they end with."""
 
 from __future__ import annotations
 
@@ -29,6 +30,14 @@ class ProgressLine:
             self.last, self.shown = now, (done, total)
 
 
+def check_resume(out: Path | None, resume: bool, force: bool) -> None:
+    """``--resume`` needs ``--out`` and excludes ``--force`` (checked before any work)."""
+    if resume and out is None:
+        raise InputError("needs --out (the folder of the run to continue)", where="--resume")
+    if resume and force:
+        raise InputError("give --resume (continue) or --force (start again), not both", where="--resume")
+
+
 def start_output(out: Path, plan: dict, plan_file: str, *, kind: str, resume: bool, force: bool) -> None:
     """Prepare ``out`` for a run described by ``plan`` (written as ``plan_file``).
 
@@ -55,3 +64,23 @@ def start_output(out: Path, plan: dict, plan_file: str, *, kind: str, resume: bo
                              where=str(out))
         check_output_folder(out, force=force)
     atomic_write(plan_path, lambda fh: fh.write(json.dumps(plan, indent=2)), binary=False)
+
+
+def write_results(out: Path, data: dict, figure, figure_file: str, json_file: str, *, dpi: int = 110,
+                  **more_files: str) -> dict:
+    """End a run in ``out``: ``figure`` (a matplotlib figure) as ``figure_file``, then ``data`` with its
+    ``files`` (``json``, ``figure`` and ``more_files``, name -> path) as ``json_file``, NaN as null.
+
+    Returns ``data["files"]``."""
+    import matplotlib
+
+    from .._files import atomic_write
+    from ._common import finite, json_default, save_figure
+
+    matplotlib.use("Agg")
+    files = {**more_files, "json": str(out / json_file), "figure": str(out / figure_file)}
+    save_figure(figure, out / figure_file, dpi=dpi)
+    data["files"] = files
+    text = json.dumps(finite(data)[0], indent=2, default=json_default, allow_nan=False)
+    atomic_write(out / json_file, lambda fh: fh.write(text), binary=False)
+    return files

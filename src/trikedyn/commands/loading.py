@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import csv
-import json
 import math
 from pathlib import Path
 from typing import Annotated
@@ -12,7 +11,7 @@ import typer
 
 from ..errors import InputError
 from ._common import ForceOpt, JsonOpt, ManoeuvreOpt, OptionOpt, VehicleArg, emit, manoeuvre_options, within
-from ._sampled import ProgressLine
+from ._sampled import ProgressLine, write_results
 
 JSON_FILE, CSV_FILE, FIGURE_FILE = "loading-chart.json", "loading-chart.csv", "loading-chart.png"
 def _numbers(text: str | None, option: str) -> list[float] | None:
@@ -69,18 +68,10 @@ def loading_chart_cmd(
                                  margin_fraction=margin_fraction, workers=workers, progress=ProgressLine("loading-chart", "cells", every_s=3.0))
     data = chart.to_dict()
     if out is not None:
-        import matplotlib
-
         from .._files import atomic_write
-        from ._common import finite, json_default, save_figure
 
-        matplotlib.use("Agg")
-        files = {"json": str(out / JSON_FILE), "csv": str(out / CSV_FILE), "figure": str(out / FIGURE_FILE)}
-        save_figure(chart.plot(), out / FIGURE_FILE, dpi=150)
         atomic_write(out / CSV_FILE, lambda fh: csv.writer(fh).writerows(chart.rows()), binary=False)
-        data["files"] = files
-        text = json.dumps(finite(data)[0], indent=2, default=json_default, allow_nan=False)
-        atomic_write(out / JSON_FILE, lambda fh: fh.write(text), binary=False)
+        write_results(out, data, chart.plot(), FIGURE_FILE, JSON_FILE, dpi=150, csv=str(out / CSV_FILE))
 
     def shown() -> str:
         lines = [chart.table()]

@@ -13,7 +13,7 @@ import typer
 
 from ..errors import InputError
 from ._common import ForceOpt, JsonOpt, OptionOpt, VehicleArg, emit, manoeuvre_options, within
-from ._sampled import ProgressLine, start_output
+from ._sampled import ProgressLine, check_resume, start_output, write_results
 
 JSON_FILE, LOG_FILE, FIGURE_FILE, PLAN_FILE = ("optimise.json", "optimise-evaluations.csv", "optimise.png",
                                                "optimise-plan.json")
@@ -67,13 +67,11 @@ def optimise_cmd(
     vehicle file."""
     import time
 
-    from .._files import atomic_write
     from ..params import load_vehicle, save_vehicle
     from ..study import optimise as opt
 
     start = time.perf_counter()
-    if resume and force:
-        raise InputError("give --resume (continue) or --force (start again), not both", where="--resume")
+    check_resume(out, resume, force)
     the_spec = opt.load_optimise_spec(spec)
     changes = {k: v for k, v in (("maxiter", maxiter), ("popsize", popsize), ("seed", seed),
                                  ("resolution_kmh", resolution), ("high_kmh", high)) if v is not None}
@@ -108,18 +106,9 @@ def optimise_cmd(
         warnings.warn(f"the written vehicle file searches to {written} km/h, the optimiser found "
                       f"{result.best.thresholds} km/h{f' ({error})' if error else ''}", RuntimeWarning, stacklevel=1)
     data["check"] = [_check_command(vehicle_file, s.manoeuvre, dict(s.options), the_spec.payload_kg) for s in searches]
-    import matplotlib
-
-    from ._common import finite, json_default, save_figure
-
-    matplotlib.use("Agg")
-    files = {"vehicle": str(vehicle_file), "json": str(out / JSON_FILE), "evaluations": str(out / LOG_FILE),
-             "figure": str(out / FIGURE_FILE)}
-    save_figure(result.plot(), out / FIGURE_FILE, dpi=120)
-    data["files"] = files
     data["wall_time_s"] = time.perf_counter() - start
-    text = json.dumps(finite(data)[0], indent=2, default=json_default, allow_nan=False)
-    atomic_write(out / JSON_FILE, lambda fh: fh.write(text), binary=False)
+    files = write_results(out, data, result.plot(), FIGURE_FILE, JSON_FILE, dpi=120, vehicle=str(vehicle_file),
+                          evaluations=str(out / LOG_FILE))
 
     def shown() -> str:
         lines = [result.table()]

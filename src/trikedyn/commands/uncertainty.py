@@ -8,9 +8,8 @@ from typing import Annotated
 
 import typer
 
-from ..errors import InputError
 from ._common import ForceOpt, JsonOpt, ManoeuvreOpt, OptionOpt, VehicleArg, emit, manoeuvre_options, readable, within
-from ._sampled import ProgressLine, start_output
+from ._sampled import ProgressLine, check_resume, start_output, write_results
 
 JSON_FILE, SAMPLES_FILE, FIGURE_FILE, PLAN_FILE = ("uncertainty.json", "uncertainty-samples.csv", "uncertainty.png",
                                                    "uncertainty-plan.json")
@@ -95,15 +94,11 @@ def uncertainty_cmd(
     as_json: JsonOpt = False,
 ):
     """Uncertainty of the threshold velocity: median and 5-95 % interval over the assumed and measured values."""
-    from .._files import atomic_write
     from ..params import load_vehicle
     from ..study import uncertainty as ua
 
     stds = ua.parse_std(std)
-    if resume and out is None:
-        raise InputError("needs --out (the folder of the run to continue)", where="--resume")
-    if resume and force:
-        raise InputError("give --resume (continue) or --force (start again), not both", where="--resume")
+    check_resume(out, resume, force)
     options = manoeuvre_options(manoeuvre, option)
     pset = load_vehicle(vehicle)
     measured = ua.measured_stds(pset, weighing, identification)
@@ -122,14 +117,5 @@ def uncertainty_cmd(
     result.measured, result.notes = list(measured), _far_from_measured(pset, measured, stds)
     data = result.to_dict()
     if out is not None:
-        import matplotlib
-
-        from ._common import finite, json_default, save_figure
-
-        matplotlib.use("Agg")
-        files = {"json": str(out / JSON_FILE), "samples": str(out / SAMPLES_FILE), "figure": str(out / FIGURE_FILE)}
-        save_figure(result.plot(), out / FIGURE_FILE, dpi=110)
-        data["files"] = files
-        text = json.dumps(finite(data)[0], indent=2, default=json_default, allow_nan=False)
-        atomic_write(out / JSON_FILE, lambda fh: fh.write(text), binary=False)
+        write_results(out, data, result.plot(), FIGURE_FILE, JSON_FILE, samples=str(out / SAMPLES_FILE))
     emit(data, as_json, lambda: _text(result) + (f"\nwrote {', '.join(data['files'].values())}" if out else ""))

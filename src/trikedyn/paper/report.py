@@ -141,7 +141,7 @@ class Animations:
             pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"))
             self._futures = {key: pool.submit(_animate, scene, self.paths[key]) for key, scene in scenes.items()}
             pool.shutdown(wait=False)
-        except (OSError, RuntimeError, NotImplementedError):  # no process to be had: drawn in wait()
+        except (OSError, RuntimeError):  # no process to be had (NotImplementedError is a RuntimeError): drawn in wait()
             self._futures = {}
 
     def wait(self) -> dict[str, Path]:

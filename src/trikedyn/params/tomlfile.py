@@ -12,11 +12,13 @@ from __future__ import annotations
 import os
 import stat
 import tomllib
+from difflib import get_close_matches
 from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["MAX_FILE_BYTES", "MAX_KEY_CHARS", "MAX_NESTING", "MAX_TEXT_CHARS", "is_file", "parse_toml", "read_text"]
+__all__ = ["MAX_FILE_BYTES", "MAX_KEY_CHARS", "MAX_NESTING", "MAX_TEXT_CHARS", "builtin_or_file", "is_file",
+           "parse_toml", "read_text"]
 
 MAX_FILE_BYTES = 1 << 20
 """Largest TOML file read [bytes] (1 MiB: the reference vehicle, with every note, is 14 KiB)."""
@@ -39,6 +41,31 @@ def is_file(path: Path) -> bool:
         return path.is_file()
     except (OSError, ValueError):  # a name too long, a NUL byte, a permission denied on the way
         return False
+
+
+def builtin_or_file(name_or_path: str | Path, folder, kind: str, where: str) -> tuple[str, Path | None]:
+    """The TOML text of a built-in file (a name of a ``.toml`` in the package resource ``folder``) or of a
+    file (a ``.toml`` name, a path with a folder, or an existing file), and that file's path (None for a
+    built-in). ``kind`` names what is asked for in errors (``"study spec"``), ``where`` the option.
+
+    Raises
+    ------
+    InputError
+        No such file, or an unknown name (with the closest built-in one and the list).
+    """
+    text = str(name_or_path)
+    path = Path(text)
+    if path.suffix == ".toml" or "/" in text or os.sep in text or is_file(path):
+        if not is_file(path):
+            raise InputError(f"no such {kind} file", where=text)
+        return read_text(path, text), path
+    names = sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+    if text not in names:
+        hint = get_close_matches(text, names, n=1)
+        tip = f"; did you mean '{hint[0]}'?" if hint else ""
+        raise InputError(f"unknown {kind} '{text}'{tip} (built in: {', '.join(names)}; or give a .toml file)",
+                         where=where)
+    return (folder / f"{text}.toml").read_text(encoding="utf-8"), None
 
 
 def read_text(path: Path, where: str, *, error: type[InputError] = InputError,

@@ -37,12 +37,12 @@ __all__ = [
 
 _WHERE = {
     "StudySpec": "spec",
-    "count_scenarios": "spec",
-    "expand": "spec",
+    "count_scenarios": "scenarios",
+    "expand": "scenarios",
     "list_specs": "spec",
     "load_spec": "spec",
     "parse_spec": "spec",
-    "scenario_id": "spec",
+    "scenario_id": "scenarios",
     "StudyStore": "store",
     "StudyIncomplete": "runner",
     "StudyInterrupted": "runner",

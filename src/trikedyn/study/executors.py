@@ -25,7 +25,7 @@ import os
 import signal
 import threading
 import time
-from concurrent.futures import FIRST_COMPLETED, Executor, Future, ProcessPoolExecutor, wait
+from concurrent.futures import Executor, Future, ProcessPoolExecutor
 
 from ..errors import InputError
 
@@ -50,24 +50,7 @@ def _pool_worker_init() -> None:
     threading.Thread(target=_watch_parent, args=(os.getppid(),), daemon=True).start()
 
 
-class _Compat:
-    """The few helpers that the sampled studies' loops (``loading.py``, ``sample_runs.py``) still call; each
-    is one line of the standard API."""
-
-    def wait(self, futures, timeout):
-        return wait(futures, timeout=timeout, return_when=FIRST_COMPLETED).done
-
-    def result(self, fut):
-        return fut.result()
-
-    def close(self):
-        self.shutdown(wait=True, cancel_futures=True)
-
-    def abandon(self):
-        self.shutdown(wait=False, cancel_futures=True)
-
-
-class InlineExecutor(_Compat, Executor):
+class InlineExecutor(Executor):
     """Calls run at ``submit``, one after the other, in this process; the future comes back done."""
 
     window = 1
@@ -93,7 +76,7 @@ class InlineExecutor(_Compat, Executor):
         self._shutdown = True
 
 
-class SpawnPool(_Compat, ProcessPoolExecutor):
+class SpawnPool(ProcessPoolExecutor):
     """A local process pool: spawn context, workers that ignore SIGINT and die with the main process."""
 
     def __init__(self, workers: int):
@@ -118,7 +101,7 @@ class SpawnPool(_Compat, ProcessPoolExecutor):
                 proc.join(timeout=2.0)
 
 
-class DaskExecutor(_Compat, Executor):
+class DaskExecutor(Executor):
     """``Client.get_executor()`` of a ``dask.distributed`` client, on a new ``LocalCluster`` of
     ``n_workers`` single-threaded processes or on the scheduler at ``scheduler``; ``shutdown`` closes the
     client and the cluster it started."""

@@ -23,7 +23,8 @@ from dataclasses import dataclass, field
 
 from ..errors import InputError, ParameterError
 from ..params.io import ParameterSet
-from .sample_runs import MAX_RESTARTS, Search
+from .pool_runs import ResilientPool, WorkersKeptDying
+from .sample_runs import Search
 
 __all__ = ["DEFAULT_MARGIN_KMH", "DEFAULT_MASSES_KG", "DEFAULT_X_OFFSETS_M", "DEFAULT_Z_OFFSETS_M", "LoadingChart",
            "default_grid", "evaluate_cell", "run_loading_chart", "safe_speed"]
@@ -198,10 +199,6 @@ def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[fl
                       workers: int = 2, progress: Callable | None = None) -> LoadingChart:
     """The loading chart of ``pset`` (default grid: :func:`default_grid`); cells on ``workers`` processes
     (0: in this process); ``progress(done, total)`` is called about once a second and at the end."""
-    from concurrent.futures.process import BrokenProcessPool
-
-    from .executors import make_executor
-
     start = time.perf_counter()
     masses, xs, zs = default_grid(pset)
     masses = list(dict.fromkeys(float(v) for v in (masses if masses_kg is None else masses_kg)))
@@ -224,44 +221,23 @@ def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[fl
         raise InputError(f"{len(keys)} cells; at most {MAX_CELLS}", where="grid")
     threshold: dict = {}
     errors: dict = {}
-    todo = list(keys)
     if progress is not None:
         progress(0, len(keys))
-    deaths: dict = {}
-    restarts = 0
-    while todo:
-        executor = make_executor(workers, None, None, len(todo))
-        pending: dict = {}
-        try:
-            while todo or pending:
-                while todo and len(pending) < executor.window:
-                    key = todo.pop(0)
-                    pending[executor.submit(evaluate_cell, pset, *key, search)] = key
-                for fut in executor.wait(list(pending), 1.0):
-                    result = executor.result(fut)  # a dead worker raises here, its cell still pending
-                    threshold[pending[fut]], errors[pending.pop(fut)] = result
-                if progress is not None:
-                    progress(len(threshold), len(keys))
-        except BrokenProcessPool:
-            # a worker died (e.g. fresh processes racing to write numba's cache): its cells go to a new pool;
-            # a cell on which workers die twice is null
-            executor.abandon()
-            restarts += 1
-            for key in reversed(list(pending.values())):
-                deaths[key] = deaths.get(key, 0) + 1
-                if deaths[key] >= 2 or restarts > MAX_RESTARTS:
-                    threshold[key], errors[key] = None, "a worker process died on this cell (a crash, or out of memory)"
-                else:
-                    todo.insert(0, key)
-            if restarts > MAX_RESTARTS:
-                for key in todo:
-                    threshold[key], errors[key] = None, "worker processes kept dying; cell not run"
-                todo = []
-        except BaseException:
-            executor.abandon()
-            raise
-        finally:
-            executor.close()
+
+    def record(key, value):
+        threshold[key], errors[key] = value
+        if progress is not None:
+            progress(len(threshold), len(keys))
+
+    pool = ResilientPool(workers)
+    try:
+        pool.run(evaluate_cell, ((key, (pset, *key, search)) for key in keys), record,
+                 lambda key: record(key, (None, "a worker process died on this cell (a crash, or out of memory)")))
+    except WorkersKeptDying as exc:  # the cells not run are null
+        for key in exc.remaining:
+            threshold[key], errors[key] = None, "worker processes kept dying; cell not run"
+    finally:
+        pool.close()
     if progress is not None:
         progress(len(threshold), len(keys))
     site = pset.params.freight

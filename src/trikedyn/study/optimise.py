@@ -48,7 +48,8 @@ from .optimise_spec import (
     parse_optimise_spec,
     population_size,
 )
-from .sample_runs import MAX_RESTARTS, Search
+from .pool_runs import ResilientPool, WorkersKeptDying
+from .sample_runs import Search
 
 __all__ = ["MAX_EVALUATIONS", "Evaluation", "EvaluationLog", "OptimiseResult", "OptimiseSpec", "evaluate_layout",
            "list_optimise_specs", "load_optimise_spec", "parse_optimise_spec", "population_size", "run_optimise",
@@ -122,7 +123,7 @@ def _rounded(x, spec: OptimiseSpec) -> tuple[float, ...]:
 
 class _Evaluator:
     """The map-like callable differential evolution evaluates a generation with: the layouts not yet known
-    run on the executor (one for the whole run), each logged as it finishes."""
+    run on its pool (one for the whole run), each logged as it finishes."""
 
     def __init__(self, pset, spec, searches, workers, log, known, progress, total):
         self.pset, self.spec, self.searches, self.workers = pset, spec, searches, workers
@@ -130,29 +131,15 @@ class _Evaluator:
         self.cache: dict[tuple, Evaluation] = {}
         self.evaluations: list[Evaluation] = []
         self.generation = 0
-        self.executor = None
+        self.pool = ResilientPool(workers)
         self.resumed = 0
         self.done = 0
         self.known = {e.values: e for e in known if e.values is not None}
         self.next_index = max((e.index for e in known), default=-1) + 1
 
-    def _executor(self, n_todo):
-        from .executors import make_executor
-
-        if self.executor is None:
-            self.executor = make_executor(self.workers, None, None, max(n_todo, 1))
-        return self.executor
-
     def close(self, abandon: bool = False):
-        """Shut the executor down; ``abandon``: now, the calls in flight lost (a dead worker, Ctrl-C)."""
-        if self.executor is not None:
-            executor, self.executor = self.executor, None
-            if hasattr(executor, "shutdown"):  # a concurrent.futures.Executor
-                executor.shutdown(wait=not abandon, cancel_futures=True)
-            else:  # the executors' older interface
-                if abandon:
-                    executor.abandon()
-                executor.close()
+        """Shut the pool down; ``abandon``: now, the calls in flight lost (Ctrl-C)."""
+        self.pool.close(abandon)
 
     def record(self, ev: Evaluation, logged: bool = False):
         self.evaluations.append(ev)
@@ -166,9 +153,6 @@ class _Evaluator:
 
     def run(self, layouts: list[tuple]) -> None:
         """Evaluate the layouts not in the cache (or the log of an earlier run)."""
-        from concurrent.futures import FIRST_COMPLETED, wait
-        from concurrent.futures.process import BrokenProcessPool
-
         todo = []
         for values in dict.fromkeys(layouts):
             if values in self.cache:
@@ -179,43 +163,21 @@ class _Evaluator:
                 self.record(Evaluation(old.index, old.generation, values, old.thresholds, old.error), logged=True)
             else:
                 todo.append(values)
-        deaths: dict[tuple, int] = {}
-        restarts = 0
-        while todo:
-            executor = self._executor(len(todo))
-            pending: dict = {}
-            try:
-                while todo or pending:
-                    while todo and len(pending) < getattr(executor, "window", 2):
-                        values = todo.pop(0)
-                        knobs = dict(zip(self.spec.names, values, strict=True))
-                        pending[executor.submit(evaluate_layout, self.pset, knobs, self.searches,
-                                                self.spec.payload_kg)] = values
-                    for fut in wait(list(pending), timeout=1.0, return_when=FIRST_COMPLETED).done:
-                        thresholds, error = fut.result()  # a dead worker raises here, its layout still pending
-                        values = pending.pop(fut)
-                        self.record(Evaluation(self.next_index, self.generation, values, thresholds, error))
-                        self.next_index += 1
-            except BrokenProcessPool:
-                # a worker died (a crash, or out of memory): its layouts go to a new pool; a layout on which
-                # workers die twice counts as failed
-                self.close(abandon=True)
-                restarts += 1
-                for values in pending.values():
-                    deaths[values] = deaths.get(values, 0) + 1
-                    if deaths[values] >= 2:
-                        self.record(Evaluation(self.next_index, self.generation, values,
-                                               tuple(None for _ in self.searches),
-                                               "a worker process died on this layout (twice)"))
-                        self.next_index += 1
-                    else:
-                        todo.insert(0, values)
-                if restarts > MAX_RESTARTS:
-                    raise SimulationError(f"worker processes died {restarts} times (a crash, or out of memory); the "
-                                          "evaluations done are logged: run again with --resume") from None
-            except BaseException:
-                self.close(abandon=True)
-                raise
+
+        def finished(values, result):
+            thresholds, error = result
+            self.record(Evaluation(self.next_index, self.generation, values, thresholds, error))
+            self.next_index += 1
+
+        def died(values):
+            finished(values, (tuple(None for _ in self.searches), "a worker process died on this layout (twice)"))
+
+        tasks = ((values, (self.pset, dict(zip(self.spec.names, values, strict=True)), self.searches,
+                           self.spec.payload_kg)) for values in todo)
+        try:
+            self.pool.run(evaluate_layout, tasks, finished, died)
+        except WorkersKeptDying as exc:
+            raise SimulationError(f"{exc}; the evaluations done are logged: run again with --resume") from None
 
     def __call__(self, func: Callable, population) -> list[float]:
         xs = list(population)

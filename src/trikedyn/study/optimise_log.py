@@ -3,8 +3,6 @@ to resume), and the result (:class:`OptimiseResult`: ``to_dict``, ``table``, ``p
 
 from __future__ import annotations
 
-import csv
-import io
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -12,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
 from ..params.io import ParameterSet
+from .csv_log import AppendedCsv
 from .optimise_spec import OptimiseSpec, population_size
 from .sample_runs import Search
 
@@ -44,7 +42,7 @@ class Evaluation:
 # ------------------------------------------------------------------------------------------------
 # the log (CSV, a row appended and flushed as each layout finishes)
 # ------------------------------------------------------------------------------------------------
-class EvaluationLog:
+class EvaluationLog(AppendedCsv):
     """Every evaluation of a run as a CSV file, a row appended as it finishes.
 
     Columns: ``evaluation``, ``generation`` (-1: the reference vehicle), ``status`` (``ok`` or ``failed``),
@@ -53,13 +51,11 @@ class EvaluationLog:
     """
 
     def __init__(self, path: str | os.PathLike, knobs: Sequence[str], manoeuvres: Sequence[str]):
-        self.path = Path(path)
         self.knobs = list(knobs)
         self.manoeuvres = list(manoeuvres)
-        self.columns = ["evaluation", "generation", "status", "worst_threshold_speed_kmh",
-                        *(f"threshold_{Path(m).stem if m.lower().endswith('.csv') else m}_kmh" for m in self.manoeuvres),
-                        "error", *self.knobs]
-        self._fh = None
+        super().__init__(path, ["evaluation", "generation", "status", "worst_threshold_speed_kmh",
+                                *(f"threshold_{Path(m).stem if m.lower().endswith('.csv') else m}_kmh"
+                                  for m in self.manoeuvres), "error", *self.knobs])
 
     def read(self) -> list[Evaluation]:
         """The evaluations logged already (a row cut short by a kill is left out: evaluated again).
@@ -69,23 +65,9 @@ class EvaluationLog:
         InputError
             The file's columns are not those of this run.
         """
-        from .._files import refuse_symlink
-
-        if not refuse_symlink(self.path).exists():
-            return []
-        text = self.path.read_text(encoding="utf-8", errors="replace")
-        if text and not text.endswith("\n"):
-            text = text[: text.rfind("\n") + 1]
-        rows = list(csv.reader(io.StringIO(text)))
-        if not rows:
-            return []
-        if rows[0] != self.columns:
-            raise InputError("its columns are not those of this run; use another --out or --force", where=str(self.path))
         n_m = len(self.manoeuvres)
         out = []
-        for row in rows[1:]:
-            if len(row) != len(self.columns) or row[2] not in ("ok", "failed"):
-                continue
+        for row in self.logged_rows("use another --out or --force"):
             try:
                 index, generation = int(row[0]), int(row[1])
                 thresholds = tuple(float(v) if v else None for v in row[4:4 + n_m])
@@ -96,38 +78,12 @@ class EvaluationLog:
             out.append(Evaluation(index, generation, values, thresholds, row[4 + n_m] or None))
         return out
 
-    def open(self, fresh: bool) -> None:
-        """Open for appending (``fresh``: empty it first), the header written into an empty file."""
-        from .._files import open_nofollow
-
-        fd = open_nofollow(self.path)
-        if fresh:
-            os.ftruncate(fd, 0)
-        size = os.lseek(fd, 0, os.SEEK_END)
-        ends_cleanly = True
-        if size:
-            os.lseek(fd, size - 1, os.SEEK_SET)
-            ends_cleanly = os.read(fd, 1) == b"\n"
-            os.lseek(fd, 0, os.SEEK_END)
-        self._fh = os.fdopen(fd, "a", encoding="utf-8", newline="")
-        if not ends_cleanly:
-            self._fh.write("\n")
-        if not size:
-            csv.writer(self._fh).writerow(self.columns)
-        self._fh.flush()
-
     def append(self, ev: Evaluation) -> None:
         status = "ok" if all(t is not None for t in ev.thresholds) else "failed"
         values = [""] * len(self.knobs) if ev.values is None else [repr(float(v)) for v in ev.values]
-        row = [ev.index, ev.generation, status, repr(ev.worst), *("" if t is None else repr(float(t)) for t in ev.thresholds),
-               " ".join((ev.error or "").split()), *values]
-        csv.writer(self._fh).writerow(row)
-        self._fh.flush()
-
-    def close(self) -> None:
-        if self._fh is not None:
-            self._fh.close()
-            self._fh = None
+        self.write([ev.index, ev.generation, status, repr(ev.worst),
+                    *("" if t is None else repr(float(t)) for t in ev.thresholds),
+                    " ".join((ev.error or "").split()), *values])
 
 
 # ------------------------------------------------------------------------------------------------

@@ -20,10 +20,8 @@ The knobs are :mod:`trikedyn.params.knobs`' (``component.NAME.x_m|y_m|z_m``, ``t
 from __future__ import annotations
 
 import math
-import os
 import tomllib
 from dataclasses import dataclass
-from difflib import get_close_matches
 from importlib import resources
 from pathlib import Path
 
@@ -177,21 +175,10 @@ def load_optimise_spec(name_or_path: str | Path | OptimiseSpec) -> OptimiseSpec:
     """
     if isinstance(name_or_path, OptimiseSpec):
         return name_or_path
-    text = str(name_or_path)
-    path = Path(text)
-    if path.suffix == ".toml" or "/" in text or os.sep in text or path.is_file():
-        from ..params.tomlfile import is_file, read_text
+    from ..params.tomlfile import builtin_or_file
 
-        if not is_file(path):
-            raise InputError("no such optimise spec file", where=text)
-        return parse_optimise_spec(read_text(path, text), origin=text)
-    names = list_optimise_specs()
-    if text not in names:
-        hint = get_close_matches(text, names, n=1)
-        tip = f"; did you mean '{hint[0]}'?" if hint else ""
-        raise InputError(f"unknown optimise spec '{text}'{tip} (built in: {', '.join(names)}; or give a .toml file)",
-                         where="--spec")
-    return parse_optimise_spec((_spec_dir() / f"{text}.toml").read_text(encoding="utf-8"), origin=text)
+    text, _ = builtin_or_file(name_or_path, _spec_dir(), "optimise spec", "--spec")
+    return parse_optimise_spec(text, origin=str(name_or_path))
 
 
 def parse_optimise_spec(source: str | dict, origin: str = "<string>") -> OptimiseSpec:

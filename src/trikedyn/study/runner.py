@@ -13,7 +13,7 @@ to the last digit):
 - ``scheduler="tcp://host:port"``: an existing Dask cluster (its workers need the same trikedyn), likewise.
 
 Bounded: before anything is expanded or written, the spec's scenarios are counted from its axis lengths
-(:func:`~trikedyn.study.spec.count_scenarios`); more than ``max_scenarios`` (10,000 by default; the
+(:func:`~trikedyn.study.scenarios.count_scenarios`); more than ``max_scenarios`` (10,000 by default; the
 paper's study has 50) is an :class:`~trikedyn.errors.InputError` naming the spec file, so a few lines of
 TOML with seven ten-value axes (10^7 scenarios) are refused at once instead of filling the memory.
 
@@ -58,7 +58,8 @@ from pathlib import Path
 from ..errors import InputError, TrikedynError
 from .executors import check_executor, make_executor
 from .executors import one_line as _one_line
-from .spec import SCENARIO_KEYS, StudySpec, count_scenarios, expand, load_spec
+from .scenarios import SCENARIO_KEYS, count_scenarios, expand
+from .spec import StudySpec, load_spec
 from .store import RESULT_KEYS, StudyStore
 
 __all__ = ["MAX_SCENARIOS", "StudyIncomplete", "StudyInterrupted", "StudyRun", "execute_study", "run_scenario",
@@ -103,7 +104,7 @@ def run_scenario(scenario: dict, vehicle=None, run_token: str | None = None) -> 
     Parameters
     ----------
     scenario : dict
-        One of :func:`trikedyn.study.spec.expand`'s scenarios.
+        One of :func:`trikedyn.study.scenarios.expand`'s scenarios.
     vehicle : ParameterSet, optional
         The study's base vehicle (the runner loads it once and ships it). If None, ``scenario["vehicle"]``
         is loaded: a preset name, or a path valid from the working folder.

@@ -4,26 +4,21 @@ they finish so that an interrupted run resumes (see :mod:`trikedyn.study.sensiti
 
 from __future__ import annotations
 
-import csv
-import io
 import os
-from collections import deque
 from collections.abc import Callable, Iterable
-from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
 from ..errors import InputError, ParameterError, SimulationError
 from ..params.io import ParameterSet
 from ..simulate import DEFAULT_DT_S
+from .csv_log import AppendedCsv
 from .factors import Factor, apply_factors
+from .pool_runs import MAX_RESTARTS, ResilientPool, WorkersKeptDying
 
-__all__ = ["MAX_RESTARTS", "SampleLog", "Search", "evaluate_sample", "run_samples"]
+__all__ = ["MAX_RESTARTS", "SampleLog", "Search", "evaluate_sample", "run_logged_samples", "run_samples"]
 
-MAX_RESTARTS = 3
-"""New process pools after a worker died, before a run gives up."""
 
 
 @dataclass(frozen=True)
@@ -94,7 +89,7 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
     on_result : callable, optional
         ``on_result(index, threshold, error)``, called in this process as each row finishes.
     progress : callable, optional
-        ``progress(done, total)``, called at least once a second and when the last row finishes.
+        ``progress(done, total)``, called at the start and as each row finishes.
 
     Returns
     -------
@@ -109,8 +104,6 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
         Worker processes died more than :data:`MAX_RESTARTS` times (after each death the rows in flight go to a
         new pool; a row on which a worker dies twice fails); the rows reported are kept.
     """
-    from .executors import make_executor
-
     factors = tuple(factors)
     n = X.shape[0]
     Y = np.full(n, np.nan)
@@ -118,9 +111,7 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
     for i, (y, err) in (known or {}).items():
         Y[i] = np.nan if y is None else y
         errors[i] = err
-    todo = deque(i for i in range(n) if i not in (known or {}))
-    done = n - len(todo)
-    deaths: dict[int, int] = {}
+    done = len(known or {})
 
     def record(i, y, err):
         nonlocal done
@@ -129,50 +120,44 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
         done += 1
         if on_result is not None:
             on_result(i, y, err)
+        if progress is not None:
+            progress(done, n)
 
     if progress is not None:
         progress(done, n)
-    restarts = 0
-    while todo:
-        executor = make_executor(workers, None, None, len(todo))
-        pending: dict = {}
-        try:
-            while todo or pending:
-                while todo and len(pending) < executor.window:
-                    i = todo.popleft()
-                    pending[executor.submit(evaluate_sample, pset, factors, X[i], search)] = i
-                for fut in executor.wait(list(pending), 1.0):
-                    y, err = executor.result(fut)  # a dead worker raises here, its sample still pending
-                    record(pending.pop(fut), y, err)
-                if progress is not None:
-                    progress(done, n)
-        except BrokenProcessPool:
-            # a worker died (a crash: e.g. two fresh processes racing to write numba's cache; or out of memory):
-            # its samples go back in the queue on a new pool; a sample on which workers die twice fails
-            executor.abandon()
-            restarts += 1
-            for i in sorted(pending.values(), reverse=True):
-                deaths[i] = deaths.get(i, 0) + 1
-                if deaths[i] >= 2:
-                    record(i, None, "a worker process died on this sample (twice)")
-                else:
-                    todo.appendleft(i)
-            if restarts > MAX_RESTARTS:
-                kept = "; the samples done are logged: run again with --resume" if on_result is not None else ""
-                raise SimulationError(f"worker processes died {restarts} times (a crash, or out of memory); "
-                                      f"{done} of {n} samples done{kept}") from None
-        except BaseException:
-            executor.abandon()
-            raise
-        finally:
-            executor.close()
+    pool = ResilientPool(workers)
+    try:
+        pool.run(evaluate_sample, ((i, (pset, factors, X[i], search)) for i in range(n) if i not in (known or {})),
+                 lambda i, value: record(i, *value),
+                 lambda i: record(i, None, "a worker process died on this sample (twice)"))
+    except WorkersKeptDying as exc:
+        kept = "; the samples done are logged: run again with --resume" if on_result is not None else ""
+        raise SimulationError(f"{exc}; {done} of {n} samples done{kept}") from None
+    finally:
+        pool.close()
     return Y, errors
+
+
+def run_logged_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, search: Search, *,
+                       workers: int = 2, log: SampleLog | None = None, resume: bool = False,
+                       progress: Callable | None = None) -> tuple[np.ndarray, list[str | None]]:
+    """:func:`run_samples` with each finished sample appended to ``log``; with ``resume`` the samples logged
+    already (:meth:`SampleLog.read`, which checks they are this run's) are not evaluated again."""
+    if log is None:
+        return run_samples(pset, factors, X, search, workers=workers, progress=progress)
+    known = log.read(X) if resume else {}
+    log.open(fresh=not resume)
+    try:
+        return run_samples(pset, factors, X, search, workers=workers, known=known,
+                           on_result=lambda i, y, err: log.append(i, X[i], y, err), progress=progress)
+    finally:
+        log.close()
 
 
 # ------------------------------------------------------------------------------------------------
 # the log of samples (CSV, appended as rows finish) and the run
 # ------------------------------------------------------------------------------------------------
-class SampleLog:
+class SampleLog(AppendedCsv):
     """The samples of a run as a CSV file: one row per evaluated sample, appended (and flushed) as it finishes.
 
     Columns: ``sample`` (row index), ``group`` (Morris trajectory or Sobol block), ``status`` (``ok`` or
@@ -180,40 +165,23 @@ class SampleLog:
     """
 
     def __init__(self, path: str | os.PathLike, factors: Iterable[Factor], group: int):
-        self.path = Path(path)
         self.names = [f.name for f in factors]
         self.group = group
-        self.columns = ["sample", "group", "status", "threshold_speed_kmh", "error", *self.names]
-        self._fh = None
+        super().__init__(path, ["sample", "group", "status", "threshold_speed_kmh", "error", *self.names])
 
     def read(self, X: np.ndarray) -> dict[int, tuple[float | None, str | None]]:
         """The samples logged already: index -> ``(threshold or None, error or None)``.
 
-        A row cut short by a kill (the last, without its line end) is skipped: evaluated again. A row whose inputs are not those of ``X``
-        means the file belongs to another run.
+        A row cut short by a kill (the last, without its line end) is skipped: evaluated again. A row whose
+        inputs are not those of ``X`` means the file belongs to another run.
 
         Raises
         ------
         InputError
             The file's columns or rows are not those of this run.
         """
-        from .._files import refuse_symlink
-
-        if not refuse_symlink(self.path).exists():
-            return {}
-        text = self.path.read_text(encoding="utf-8", errors="replace")
-        if text and not text.endswith("\n"):
-            text = text[: text.rfind("\n") + 1]  # the last row, cut short by a kill: evaluated again
-        rows = list(csv.reader(io.StringIO(text)))
-        if not rows:
-            return {}
-        if rows[0] != self.columns:
-            raise InputError("its columns are not those of this run (other parameters?); use another --out or --force",
-                             where=str(self.path))
         known = {}
-        for row in rows[1:]:
-            if len(row) != len(self.columns) or row[2] not in ("ok", "failed"):
-                continue  # a line cut short
+        for row in self.logged_rows("use another --out or --force (other parameters?)"):
             try:
                 i = int(row[0])
                 inputs = np.array([float(v) for v in row[5:]])
@@ -226,35 +194,8 @@ class SampleLog:
             known[i] = (y, row[4] or None)
         return known
 
-    def open(self, fresh: bool) -> None:
-        """Open for appending (``fresh``: empty it first), writing the header into an empty file."""
-        from .._files import open_nofollow
-
-        fd = open_nofollow(self.path)
-        if fresh:
-            os.ftruncate(fd, 0)
-        size = os.lseek(fd, 0, os.SEEK_END)
-        ends_cleanly = True
-        if size:
-            os.lseek(fd, size - 1, os.SEEK_SET)
-            ends_cleanly = os.read(fd, 1) == b"\n"
-            os.lseek(fd, 0, os.SEEK_END)
-        self._fh = os.fdopen(fd, "a", encoding="utf-8", newline="")
-        if not ends_cleanly:
-            self._fh.write("\n")  # a line cut short by a kill stays a line of its own
-        if not size:
-            csv.writer(self._fh).writerow(self.columns)
-        self._fh.flush()
-
     def append(self, index: int, x, threshold: float | None, error: str | None) -> None:
         """Log one finished sample (flushed at once)."""
         status = "ok" if threshold is not None else "failed"
-        row = [index, index // self.group, status, "" if threshold is None else repr(float(threshold)),
-               " ".join((error or "").split()), *(repr(float(v)) for v in x)]
-        csv.writer(self._fh).writerow(row)
-        self._fh.flush()
-
-    def close(self) -> None:
-        if self._fh is not None:
-            self._fh.close()
-            self._fh = None
+        self.write([index, index // self.group, status, "" if threshold is None else repr(float(threshold)),
+                    " ".join((error or "").split()), *(repr(float(v)) for v in x)])

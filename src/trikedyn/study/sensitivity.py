@@ -58,7 +58,7 @@ from .factors import (  # noqa: F401  (re-exported: the module is the study's en
     problem,
     select_factors,
 )
-from .sample_runs import MAX_RESTARTS, SampleLog, Search, evaluate_sample, run_samples  # noqa: F401
+from .sample_runs import MAX_RESTARTS, SampleLog, Search, evaluate_sample, run_logged_samples, run_samples  # noqa: F401
 
 __all__ = ["DEFAULT_FRACTION", "DEFAULT_SAMPLES", "METHODS", "Factor", "SampleLog", "Search", "SensitivityResult",
            "analyse", "apply_factors", "candidate_factors", "check_method", "evaluate_sample", "group_size",
@@ -337,20 +337,8 @@ def run_sensitivity(pset: ParameterSet, search: Search, factors: list[Factor], *
     prob = problem(factors)
     X = sample(prob, method, samples, seed)
     reference = search.run(pset).threshold_speed_kmh  # also checks the manoeuvre before any process starts
-    known = {}
-    if log is not None:
-        known = log.read(X) if resume else {}
-        log.open(fresh=not resume)
-
-    def logged(i, y, err):
-        log.append(i, X[i], y, err)
-
-    try:
-        Y, errors = run_samples(pset, factors, X, search, workers=workers, known=known,
-                                on_result=logged if log is not None else None, progress=progress)
-    finally:
-        if log is not None:
-            log.close()
+    Y, errors = run_logged_samples(pset, factors, X, search, workers=workers, log=log, resume=resume,
+                                   progress=progress)
     indices, used, dropped = analyse(prob, method, X, Y, seed)
     return SensitivityResult(pset.name, search.manoeuvre, method, float(fraction), int(samples), int(seed),
                              list(factors), dict(excluded or {}), X, Y, errors, indices, used, dropped,

@@ -264,7 +264,7 @@ class StudyStore:
             return self._insert(row)
 
     def _insert(self, row: dict) -> bool:
-        from .spec import SCENARIO_KEYS
+        from .scenarios import SCENARIO_KEYS
 
         scenario = {k: row.get(k, _LEGACY.get(k)) for k in SCENARIO_KEYS}
         if row["status"] == "ok":

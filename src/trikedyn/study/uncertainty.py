@@ -33,7 +33,7 @@ import numpy as np
 from ..errors import InputError
 from ..params.io import ParameterSet
 from .factors import DEFAULT_FRACTION, Factor, candidate_factors, select_factors
-from .sample_runs import SampleLog, Search, run_samples
+from .sample_runs import SampleLog, Search, run_logged_samples
 
 __all__ = ["DEFAULT_SAMPLES", "TRUNCATION", "Input", "Measured", "UncertaintyResult", "build_inputs",
            "identification_stds", "measured_stds", "parse_std", "run_uncertainty", "sample", "weighing_stds"]
@@ -436,20 +436,8 @@ def run_uncertainty(pset: ParameterSet, search: Search, inputs: list[Input], *, 
         raise InputError("no input to vary", where="--parameter")
     X = sample(inputs, samples, seed)
     reference = search.run(pset).threshold_speed_kmh  # also checks the manoeuvre before any process starts
-    known = {}
-    if log is not None:
-        known = log.read(X) if resume else {}
-        log.open(fresh=not resume)
-
-    def logged(i, y, err):
-        log.append(i, X[i], y, err)
-
-    try:
-        Y, errors = run_samples(pset, [i.factor for i in inputs], X, search, workers=workers, known=known,
-                                on_result=logged if log is not None else None, progress=progress)
-    finally:
-        if log is not None:
-            log.close()
+    Y, errors = run_logged_samples(pset, [i.factor for i in inputs], X, search, workers=workers, log=log,
+                                   resume=resume, progress=progress)
     return UncertaintyResult(pset.name, search.manoeuvre, float(fraction), int(samples), int(seed), list(inputs),
                              dict(excluded or {}), X, Y, errors, None if reference is None else float(reference),
                              search, time.perf_counter() - start)
