@@ -36,7 +36,8 @@ import math
 from .._jit import jit
 from ..tyre.interface import tyre_forces
 
-__all__ = ["BLOCK_WIDTH", "block_functions", "combine_pairs", "expm2", "inverse_mass_diagonal", "phi_functions",
+__all__ = ["BLOCK_WIDTH", "block_functions", "expm2", "inverse_mass_diagonal", "phi_functions", "stage_pairs",
+           "third_stage_pairs", "update_pairs",
            "spin_slip_blocks", "subtract_blocks"]
 
 SLIP_STEP = 1e-5
@@ -226,13 +227,41 @@ def block_functions(mat, m, h, out):
 
 
 @jit(inline="always")
-def combine_pairs(fn, col, idx, m, out, base, scale, v, w, v_scale, w_scale):
-    """On each block's pair: ``out = base + scale F (v_scale v + w_scale w)`` with ``F`` the 2x2 at
-    ``fn[j, col:col + 4]``; the other entries of ``out`` are left as they are."""
+def _times(r, col, a, b):
+    """The 2x2 at ``r[col:col + 4]`` (row-major) times ``(a, b)``."""
+    return r[col] * a + r[col + 1] * b, r[col + 2] * a + r[col + 3] * b
+
+
+@jit(inline="always")
+def stage_pairs(fn, idx, m, x, k, half, out):
+    """The first two stages on each block's pair: ``out = x + h/2 phi_1(h L / 2) k``."""
+    for j in range(m):
+        i0, i1 = idx[j, 0], idx[j, 1]
+        a, b = _times(fn[j], 4, k[i0], k[i1])
+        out[i0], out[i1] = x[i0] + half * a, x[i1] + half * b
+
+
+@jit(inline="always")
+def third_stage_pairs(fn, idx, m, x, k1, k3, half, out):
+    """The third stage on each block's pair: ``out = x + exp(h L / 2) (a - x) + h/2 phi_1(h L / 2)
+    (2 k3 - k1)`` with ``a - x = h/2 phi_1(h L / 2) k1`` (the first stage)."""
     for j in range(m):
         i0, i1 = idx[j, 0], idx[j, 1]
         r = fn[j]
-        a = v_scale * v[i0] + w_scale * w[i0]
-        b = v_scale * v[i1] + w_scale * w[i1]
-        out[i0] = base[i0] + scale * (r[col] * a + r[col + 1] * b)
-        out[i1] = base[i1] + scale * (r[col + 2] * a + r[col + 3] * b)
+        a0, a1 = _times(r, 4, k1[i0], k1[i1])
+        e0, e1 = _times(r, 0, half * a0, half * a1)
+        c0, c1 = _times(r, 4, 2.0 * k3[i0] - k1[i0], 2.0 * k3[i1] - k1[i1])
+        out[i0], out[i1] = x[i0] + e0 + half * c0, x[i1] + e1 + half * c1
+
+
+@jit(inline="always")
+def update_pairs(fn, idx, m, x, k1, k2, k3, k4, h, out):
+    """The step on each block's pair: ``out = x + h (W1 k1 + W2 (k2 + k3) + W3 k4)``, the ETDRK4 weights
+    of :func:`block_functions` (RK4's 1/6, 1/3, 1/6 when ``L = 0``)."""
+    for j in range(m):
+        i0, i1 = idx[j, 0], idx[j, 1]
+        r = fn[j]
+        w10, w11 = _times(r, 8, k1[i0], k1[i1])
+        w20, w21 = _times(r, 12, k2[i0] + k3[i0], k2[i1] + k3[i1])
+        w30, w31 = _times(r, 16, k4[i0], k4[i1])
+        out[i0], out[i1] = x[i0] + h * (w10 + w20 + w30), x[i1] + h * (w11 + w21 + w31)

@@ -18,7 +18,15 @@ from ..driver.preview import DRIVER_STATE, driver_step, open_loop_driver
 from ..model.packing import WHEEL_OUT
 from ..model.rhs import evaluate_into, interpolate_inputs, workspace
 from . import DEFAULT_DT_S
-from .exponential import BLOCK_WIDTH, block_functions, combine_pairs, spin_slip_blocks, subtract_blocks
+from .exponential import (
+    BLOCK_WIDTH,
+    block_functions,
+    spin_slip_blocks,
+    stage_pairs,
+    subtract_blocks,
+    third_stage_pairs,
+    update_pairs,
+)
 
 __all__ = ["DEFAULT_DT_S", "STATUS_NAN", "STATUS_OK", "STATUS_PENETRATION", "STATUS_ROLLOVER", "STATUS_TEXT", "rk4_loop"]
 
@@ -93,8 +101,6 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
     idx = np.zeros((nw, 2), np.int64)  # the exponential blocks: state indices, L, their functions
     mat = np.zeros((nw, 4))
     fn = np.zeros((nw, BLOCK_WIDTH))
-    da = np.empty(nx)
-    scratch_pair = np.empty(nx)
     scratch = np.empty(n)
     t = t0
     rec = 0
@@ -126,22 +132,19 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
         # ETDRK4 about x_n (trikedyn.simulate.exponential); on entries outside the blocks, classical RK4
         for i in range(nx):  # a = x + h/2 phi1(hL/2) N_n
             xs[i] = x[i] + half * k1[i]
-        combine_pairs(fn, 4, idx, m, xs, x, half, k1, k1, 1.0, 0.0)
-        for i in range(nx):
-            da[i] = xs[i] - x[i]
+        stage_pairs(fn, idx, m, x, k1, half, xs)
         if not closed:
             u[0], u[1], u[2] = interpolate_inputs(t + half, inputs)
         evaluate_into(t + half, xs, u, p, wout, ws, k2)
         subtract_blocks(mat, idx, m, xs, x, k2)
         for i in range(nx):  # b = x + h/2 phi1(hL/2) N_a
             xs[i] = x[i] + half * k2[i]
-        combine_pairs(fn, 4, idx, m, xs, x, half, k2, k2, 1.0, 0.0)
+        stage_pairs(fn, idx, m, x, k2, half, xs)
         evaluate_into(t + half, xs, u, p, wout, ws, k3)
         subtract_blocks(mat, idx, m, xs, x, k3)
         for i in range(nx):  # c = x + exp(hL/2) (a - x) + h/2 phi1(hL/2) (2 N_b - N_n)
             xs[i] = x[i] + dt * k3[i]
-        combine_pairs(fn, 4, idx, m, xs, x, half, k3, k1, 2.0, -1.0)
-        combine_pairs(fn, 0, idx, m, xs, xs, 1.0, da, da, 1.0, 0.0)
+        third_stage_pairs(fn, idx, m, x, k1, k3, half, xs)
         if not closed:
             u[0], u[1], u[2] = interpolate_inputs(t + dt, inputs)
         evaluate_into(t + dt, xs, u, p, wout, ws, k4)
@@ -149,9 +152,7 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
         # x + h (W1 N_n + W2 (N_a + N_b) + W3 N_c), the weights 1/6, 1/3, 1/6 outside the blocks
         for i in range(nx):
             xs[i] = x[i] + dt * (k1[i] / 6.0 + (k2[i] + k3[i]) / 3.0 + k4[i] / 6.0)
-        combine_pairs(fn, 8, idx, m, xs, x, dt, k1, k1, 1.0, 0.0)
-        combine_pairs(fn, 12, idx, m, scratch_pair, xs, dt, k2, k3, 1.0, 1.0)
-        combine_pairs(fn, 16, idx, m, xs, scratch_pair, dt, k4, k4, 1.0, 0.0)
+        update_pairs(fn, idx, m, x, k1, k2, k3, k4, dt, xs)
         finite = True
         for i in range(nx):
             x[i] = xs[i]
