@@ -222,8 +222,8 @@ def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *,
     driver : DriverSettings, optional
         The driver's parameters; defaults otherwise.
     dt : float, optional
-        Time step [s]; by default the loop's automatic step at standstill
-        (:func:`~trikedyn.simulate.run.automatic_step`), the same for every run of the search.
+        Time step [s]; by default the loop's automatic step (:func:`~trikedyn.simulate.run.automatic_step`),
+        the same for every run of the search (the stability limit is found once per model).
     method : {"margin", "bisection"}
         ``"margin"`` (default): runs chosen by the continuous margin (:mod:`trikedyn.analysis.search`);
         ``"bisection"``: bracketing from ``low_kmh`` in ``step_kmh`` steps, then bisection. Both certify
@@ -245,11 +245,6 @@ def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *,
     if method not in METHODS:
         raise InputError(f"unknown method {method!r}; expected one of {', '.join(METHODS)}", where="threshold search")
     runs: list[RunVerdict] = []
-    if dt is None:  # one step for the whole search: the automatic step at standstill
-        from ..model.statics import static_equilibrium
-        from ..simulate.run import time_step
-
-        dt = time_step(model, static_equilibrium(model).state, None)
 
     def measure(v):
         verdict, probe = _measure(model, build, round(v, 6), driver, dt)
