@@ -48,6 +48,19 @@ def test_sections_show_the_study_folded_and_the_warnings_as_notes(tmp_path):
     assert "<details>" in doc and "Threshold speed [km/h]" in doc and "not shown" not in doc
 
 
+def test_a_warnings_column_empty_everywhere_gives_no_note_and_no_pandas_warning(tmp_path):
+    """Empty everywhere, the column reads back as float NaN: no note, and no dtype warning from pandas (which
+    ``trikedyn reproduce`` would print)."""
+    import warnings
+
+    pd.DataFrame({"vehicle": ["reference-etrike"], "suspension": ["front"], "identified_frequency_hz": [2.5],
+                  "warnings": [""]}).to_csv(tmp_path / "table1_model_bump.csv", index=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sections = report_sections(tmp_path, _statements())
+    assert sections[1]["notes"] == []
+
+
 def test_sections_without_the_study_leave_it_out(tmp_path):
     sections = report_sections(tmp_path, _statements(IDS[:-3]))
     assert not any("Threshold" in s["title"] for s in sections)

@@ -175,7 +175,8 @@ def _table(path: Path, columns):
     full = pd.read_csv(path)
     notes = []
     if "warnings" in full.columns:
-        for _, row in full[full["warnings"].fillna("").astype(str).str.strip() != ""].iterrows():
+        texts = full["warnings"].map(lambda v: "" if pd.isna(v) else str(v).strip())  # all-empty reads as float
+        for _, row in full[texts != ""].iterrows():
             who = ", ".join(str(row[c]) for c in ("vehicle", "suspension") if c in full.columns)
             notes.append(f"{path.name}, {who}: {row['warnings']}")
     frame = full[[c for c in columns if c in full.columns]] if columns else full
