@@ -156,6 +156,27 @@ def test_api_page_has_every_flat_name(site):
     assert not missing, missing
 
 
+def test_design_outputs_page_names_every_column_and_key():
+    """The design-study file formats page names each log's columns and each result's JSON keys as the code writes
+    them (a column or key added without the page fails here)."""
+    import numpy as np
+
+    from trikedyn.study.optimise_log import EvaluationLog
+    from trikedyn.study.sample_runs import SampleLog
+    from trikedyn.study.sensitivity import SensitivityResult
+    from trikedyn.study.uncertainty import UncertaintyResult
+
+    text = (DOCS / "reference" / "design-outputs.md").read_text(encoding="utf-8")
+    named = set(re.findall(r"`([\w+.-]+)`", text))
+    columns = SampleLog("x.csv", [], 1).columns + EvaluationLog("x.csv", [], []).columns
+    columns += ["freight_kg", "x_m", "z_m", "threshold_speed_kmh", "safe_speed_kmh", "error"]
+    assert not [c for c in columns if c not in named]
+    empty = (np.zeros((0, 1)), np.zeros(0), [])
+    keys = set(SensitivityResult("v", "dlc", "morris", 0.2, 1, 1, [], {}, *empty, [], 0, 0, None).to_dict())
+    keys |= set(UncertaintyResult("v", "dlc", 0.2, 1, 1, [], {}, *empty, None).to_dict())
+    assert not sorted(keys - named)
+
+
 # ------------------------------------------------------------------------------------------------------------
 # generated from the code
 # ------------------------------------------------------------------------------------------------------------

@@ -92,8 +92,8 @@ def test_named_parameters_and_their_mistakes(reference):
 
 def test_an_invalid_vehicle_is_a_failed_sample_not_an_error(reference):
     (cg,) = sa.select_factors(reference, ["mass.cg_z_m"])
-    y, err = sa.evaluate_sample(reference, (cg,), [-1.0], sa.Search("slc", {}, 5.0))
-    assert y is None and err.startswith("invalid vehicle: ") and "\n" not in err
+    y, err, limit = sa.evaluate_sample(reference, (cg,), [-1.0], sa.Search("slc", {}, 5.0))
+    assert y is None and err.startswith("invalid vehicle: ") and "\n" not in err and limit == ""
 
 
 # ------------------------------------------------------------------------------------------------------------
@@ -176,7 +176,17 @@ def test_morris_on_the_reference_trike(morris_run):
         rows = list(csv.DictReader(fh))
     assert sorted(int(r["sample"]) for r in rows) == list(range(16))
     assert all(r["status"] == "ok" and float(r["threshold_speed_kmh"]) > 30 for r in rows)
+    # what limited each sample's threshold, logged and counted
+    assert {r["limit"] for r in rows} <= {"lift-off", "tracking"}
+    assert data["limits"] == {k: sum(r["limit"] == k for r in rows) for k in ("lift-off", "tracking")}
     assert (out / "sensitivity.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_the_limits_are_said_only_when_both_occur():
+    assert sample_runs.limit_counts(["lift-off", "", "tracking", "lift-off"]) == {"lift-off": 2, "tracking": 1}
+    assert sample_runs.limits_line(["lift-off", "lift-off", ""]) is None
+    line = sample_runs.limits_line(["lift-off", "tracking", "tracking"], ": so what")
+    assert line.startswith("limits: 1 samples lift-off") and "2 tracking" in line and line.endswith(": so what")
 
 
 def test_an_output_folder_is_not_overwritten_without_force(capsys, morris_run):
@@ -201,6 +211,7 @@ def test_resume_runs_only_the_samples_missing(capsys, monkeypatch, morris_run, t
     assert code == 0, err
     assert len(calls) == 6
     assert strict_json(stdout)["indices"] == data["indices"]
+    assert strict_json(stdout)["limits"] == data["limits"]  # the logged samples' limits are read back
     with open(folder / "sensitivity-samples.csv", newline="") as fh:
         rows = [r for r in csv.DictReader(fh) if None not in r.values()]  # the cut row stays, on a line of its own
     assert sorted(int(r["sample"]) for r in rows) == list(range(16))
@@ -245,15 +256,15 @@ class _DyingOnce(sa.Search):
         if not os.path.exists(self.marker):
             open(self.marker, "w").close()
             os._exit(1)
-        return SimpleNamespace(threshold_speed_kmh=100 * pset.params.mass.cg_z_m, detail="")
+        return SimpleNamespace(threshold_speed_kmh=100 * pset.params.mass.cg_z_m, detail="", limit="lift-off")
 
 
 def test_a_dead_worker_costs_a_new_pool_not_the_run(reference, tmp_path):
     factors = sa.select_factors(reference, ["mass.cg_z_m", "steering.trail_m"])
     X = sa.sample(sa.problem(factors), "morris", 2, seed=1)
     seen = []
-    Y, errors = sa.run_samples(reference, factors, X, _DyingOnce(marker=str(tmp_path / "died")), workers=2,
-                               on_result=lambda i, y, err: seen.append(i))
-    assert (tmp_path / "died").exists() and errors == [None] * len(X)
+    Y, errors, limits = sa.run_samples(reference, factors, X, _DyingOnce(marker=str(tmp_path / "died")), workers=2,
+                                       on_result=lambda i, y, err, limit: seen.append(i))
+    assert (tmp_path / "died").exists() and errors == [None] * len(X) and limits == ["lift-off"] * len(X)
     np.testing.assert_allclose(Y, 100 * X[:, 0])
     assert sorted(seen) == list(range(len(X)))  # each sample reported once

@@ -33,6 +33,12 @@ def _table(result) -> str:
     if result.at_search_limit:
         lines.append(f"  {result.at_search_limit} runs reached the top of the search ({result.search.high_kmh:g} km/h; "
                      "raise it with --high)")
+    from ..study.sample_runs import limits_line
+
+    regimes = limits_line(result.limits, ", each with its own sensitivities: the indices mix them, and factors "
+                                         "whose intervals overlap can change places with --seed")
+    if regimes:
+        lines.append(f"  {regimes}")
     width = max(len(r["parameter"]) for r in result.indices) + 2
     by_name = {f.name: f for f in result.factors}
     if result.method == "morris":

@@ -48,6 +48,11 @@ def _text(result) -> str:
         lines.append(f"  uniform: {origins['declared']} over the range declared in the vehicle file, "
                      f"{origins['fraction']} over +/-{result.fraction:.0%} of their value (none declared)"
                      + (f", {origins['narrowed']} narrowed to rigid bodies (the inertias)" if origins["narrowed"] else ""))
+    from ..study.sample_runs import limits_line
+
+    regimes = limits_line(result.limits, ": the distribution has a part of each")
+    if regimes:
+        lines.append(f"  {regimes}")
     for i in normal:
         lines.append(f"  {i.name}: normal, mean {readable(i.factor.value)}, std {readable(i.std)}  "
                      f"[{i.source or '--std'}]")

@@ -17,7 +17,8 @@ from .csv_log import AppendedCsv
 from .factors import Factor, apply_factors
 from .pool_runs import MAX_RESTARTS, ResilientPool, WorkersKeptDying
 
-__all__ = ["MAX_RESTARTS", "SampleLog", "Search", "evaluate_sample", "run_logged_samples", "run_samples"]
+__all__ = ["MAX_RESTARTS", "SampleLog", "Search", "evaluate_sample", "limit_counts", "limits_line", "run_logged_samples",
+           "run_samples"]
 
 
 
@@ -42,9 +43,18 @@ class Search:
                                   dt=self.dt_s if dt_s is None else dt_s)
 
     def threshold(self, pset: ParameterSet) -> tuple[float | None, str | None]:
-        """The threshold velocity [km/h] of ``pset``, or None and why there is none (never raises for a failed
-        search: a sampled study reports it and goes on). A variant whose fastest mode needs a finer time step
-        than :attr:`dt_s` (a stiffer or lighter part) is searched again with half the step."""
+        """The threshold velocity [km/h] of ``pset``, or None and why there is none (see :meth:`outcome`)."""
+        speed, error, _ = self.outcome(pset)
+        return speed, error
+
+    def outcome(self, pset: ParameterSet) -> tuple[float | None, str | None, str]:
+        """The threshold velocity [km/h] of ``pset`` or None, why there is none or None, and what limits it.
+
+        The limit is ``"lift-off"`` (a wheel lifted first), ``"tracking"`` (the driver lost the path first:
+        :mod:`trikedyn.analysis.threshold`) or ``""`` (no threshold). Never raises for a failed search: a
+        sampled study reports it and goes on. A variant whose fastest mode needs a finer time step than
+        :attr:`dt_s` (a stiffer or lighter part) is searched again with half the step.
+        """
         from .executors import one_line
 
         try:
@@ -55,28 +65,45 @@ class Search:
                     raise
                 result = self.run(pset, dt_s=(self.dt_s or DEFAULT_DT_S) / 2)
         except Exception as exc:  # noqa: BLE001 - a vehicle that cannot be searched is reported, the study goes on
-            return None, one_line(exc)
+            return None, one_line(exc), ""
         if result.threshold_speed_kmh is None:
-            return None, f"no threshold: {' '.join(str(result.detail).split())}"
-        return float(result.threshold_speed_kmh), None
+            return None, f"no threshold: {' '.join(str(result.detail).split())}", ""
+        return float(result.threshold_speed_kmh), None, result.limit or ""
 
 
-def evaluate_sample(pset: ParameterSet, factors: tuple[Factor, ...], x, search: Search) -> tuple[float | None, str | None]:
-    """The threshold velocity [km/h] of the vehicle with the factors at ``x``, or None and why it failed.
+def limit_counts(limits) -> dict[str, int]:
+    """Samples per limit (``{"lift-off": n, "tracking": m}``, failed samples left out)."""
+    return {name: sum(limit == name for limit in limits) for name in ("lift-off", "tracking")}
+
+
+def limits_line(limits, consequence: str = "") -> str | None:
+    """The samples' limits in words for a text summary (``consequence`` appended), or None when every sample with
+    a threshold had the same one (nothing to say)."""
+    count = limit_counts(limits)
+    if min(count.values()) == 0:
+        return None
+    return (f"limits: {count['lift-off']} samples lift-off (a wheel lifted first), {count['tracking']} tracking (the "
+            f"driver lost the path before a wheel lifted): two regimes{consequence}")
+
+
+def evaluate_sample(pset: ParameterSet, factors: tuple[Factor, ...], x,
+                    search: Search) -> tuple[float | None, str | None, str]:
+    """The threshold velocity [km/h] of the vehicle with the factors at ``x`` or None, why it failed, and its
+    limit (:meth:`Search.outcome`).
 
     A failed sample (an invalid vehicle, a search with no threshold, a simulation error) is not an error:
-    the sensitivity run goes on and reports it (:meth:`Search.threshold`).
+    the sensitivity run goes on and reports it.
     """
     try:
         varied = apply_factors(pset, factors, x)
     except ParameterError as exc:
-        return None, f"invalid vehicle: {' '.join(str(exc).split())}"
-    return search.threshold(varied)
+        return None, f"invalid vehicle: {' '.join(str(exc).split())}", ""
+    return search.outcome(varied)
 
 
 def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, search: Search, *, workers: int = 2,
                 known: dict | None = None, on_result: Callable | None = None,
-                progress: Callable | None = None) -> tuple[np.ndarray, list[str | None]]:
+                progress: Callable | None = None) -> tuple[np.ndarray, list[str | None], list[str]]:
     """Evaluate every row of ``X`` (:func:`evaluate_sample`) on a process pool.
 
     Parameters
@@ -84,10 +111,10 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
     workers : int
         Processes (0: one row after the other in this process).
     known : dict, optional
-        Row index -> ``(threshold [km/h] or None, error or None)`` already evaluated (a resumed run): not
+        Row index -> ``(threshold [km/h] or None, error or None, limit)`` already evaluated (a resumed run): not
         evaluated again.
     on_result : callable, optional
-        ``on_result(index, threshold, error)``, called in this process as each row finishes.
+        ``on_result(index, threshold, error, limit)``, called in this process as each row finishes.
     progress : callable, optional
         ``progress(done, total)``, called at the start and as each row finishes.
 
@@ -97,6 +124,8 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
         Threshold velocity [km/h] per row, NaN where the row failed.
     errors : list
         Per row: None, or why it failed.
+    limits : list
+        Per row: ``"lift-off"``, ``"tracking"`` or ``""`` (:meth:`Search.outcome`).
 
     Raises
     ------
@@ -108,18 +137,19 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
     n = X.shape[0]
     Y = np.full(n, np.nan)
     errors: list[str | None] = [None] * n
-    for i, (y, err) in (known or {}).items():
+    limits = [""] * n
+    for i, (y, err, limit) in (known or {}).items():
         Y[i] = np.nan if y is None else y
-        errors[i] = err
+        errors[i], limits[i] = err, limit
     done = len(known or {})
 
-    def record(i, y, err):
+    def record(i, y, err, limit=""):
         nonlocal done
         Y[i] = np.nan if y is None else y
-        errors[i] = err
+        errors[i], limits[i] = err, limit
         done += 1
         if on_result is not None:
-            on_result(i, y, err)
+            on_result(i, y, err, limit)
         if progress is not None:
             progress(done, n)
 
@@ -135,12 +165,12 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
         raise SimulationError(f"{exc}; {done} of {n} samples done{kept}") from None
     finally:
         pool.close()
-    return Y, errors
+    return Y, errors, limits
 
 
 def run_logged_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, search: Search, *,
                        workers: int = 2, log: SampleLog | None = None, resume: bool = False,
-                       progress: Callable | None = None) -> tuple[np.ndarray, list[str | None]]:
+                       progress: Callable | None = None) -> tuple[np.ndarray, list[str | None], list[str]]:
     """:func:`run_samples` with each finished sample appended to ``log``; with ``resume`` the samples logged
     already (:meth:`SampleLog.read`, which checks they are this run's) are not evaluated again."""
     if log is None:
@@ -149,7 +179,8 @@ def run_logged_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndar
     log.open(fresh=not resume)
     try:
         return run_samples(pset, factors, X, search, workers=workers, known=known,
-                           on_result=lambda i, y, err: log.append(i, X[i], y, err), progress=progress)
+                           on_result=lambda i, y, err, limit: log.append(i, X[i], y, err, limit),
+                           progress=progress)
     finally:
         log.close()
 
@@ -161,16 +192,17 @@ class SampleLog(AppendedCsv):
     """The samples of a run as a CSV file: one row per evaluated sample, appended (and flushed) as it finishes.
 
     Columns: ``sample`` (row index), ``group`` (Morris trajectory or Sobol block), ``status`` (``ok`` or
-    ``failed``), ``threshold_speed_kmh`` [km/h], ``error``, then each factor's value [its unit].
+    ``failed``), ``threshold_speed_kmh`` [km/h], ``limit`` (``lift-off``, ``tracking`` or empty:
+    :meth:`Search.outcome`), ``error``, then each factor's value [its unit].
     """
 
     def __init__(self, path: str | os.PathLike, factors: Iterable[Factor], group: int):
         self.names = [f.name for f in factors]
         self.group = group
-        super().__init__(path, ["sample", "group", "status", "threshold_speed_kmh", "error", *self.names])
+        super().__init__(path, ["sample", "group", "status", "threshold_speed_kmh", "limit", "error", *self.names])
 
-    def read(self, X: np.ndarray) -> dict[int, tuple[float | None, str | None]]:
-        """The samples logged already: index -> ``(threshold or None, error or None)``.
+    def read(self, X: np.ndarray) -> dict[int, tuple[float | None, str | None, str]]:
+        """The samples logged already: index -> ``(threshold or None, error or None, limit)``.
 
         A row cut short by a kill (the last, without its line end) is skipped: evaluated again. A row whose
         inputs are not those of ``X`` means the file belongs to another run.
@@ -184,18 +216,18 @@ class SampleLog(AppendedCsv):
         for row in self.logged_rows("use another --out or --force (other parameters?)"):
             try:
                 i = int(row[0])
-                inputs = np.array([float(v) for v in row[5:]])
+                inputs = np.array([float(v) for v in row[6:]])
                 y = float(row[3]) if row[2] == "ok" else None
             except ValueError:
                 continue
             if not (0 <= i < X.shape[0]) or not np.allclose(inputs, X[i], rtol=1e-12, atol=0.0):
                 raise InputError(f"sample {i} is not this run's (another seed, method or range?); use another --out "
                                  "or --force", where=str(self.path))
-            known[i] = (y, row[4] or None)
+            known[i] = (y, row[5] or None, row[4])
         return known
 
-    def append(self, index: int, x, threshold: float | None, error: str | None) -> None:
+    def append(self, index: int, x, threshold: float | None, error: str | None, limit: str = "") -> None:
         """Log one finished sample (flushed at once)."""
         status = "ok" if threshold is not None else "failed"
-        self.write([index, index // self.group, status, "" if threshold is None else repr(float(threshold)),
+        self.write([index, index // self.group, status, "" if threshold is None else repr(float(threshold)), limit,
                     " ".join((error or "").split()), *(repr(float(v)) for v in x)])

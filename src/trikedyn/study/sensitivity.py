@@ -58,7 +58,15 @@ from .factors import (  # noqa: F401  (re-exported: the module is the study's en
     problem,
     select_factors,
 )
-from .sample_runs import MAX_RESTARTS, SampleLog, Search, evaluate_sample, run_logged_samples, run_samples  # noqa: F401
+from .sample_runs import (  # noqa: F401
+    MAX_RESTARTS,
+    SampleLog,
+    Search,
+    evaluate_sample,
+    limit_counts,
+    run_logged_samples,
+    run_samples,
+)
 
 __all__ = ["DEFAULT_FRACTION", "DEFAULT_SAMPLES", "METHODS", "Factor", "SampleLog", "Search", "SensitivityResult",
            "analyse", "apply_factors", "candidate_factors", "check_method", "evaluate_sample", "group_size",
@@ -209,6 +217,8 @@ class SensitivityResult:
         The threshold [km/h] of the vehicle as given.
     search : Search
     wall_time_s : float
+    limits : list of str
+        Per sample: ``"lift-off"``, ``"tracking"`` or ``""`` (no threshold), :meth:`Search.outcome`.
     """
 
     vehicle: str
@@ -228,6 +238,7 @@ class SensitivityResult:
     reference_threshold_speed_kmh: float | None
     search: Search = field(default_factory=Search)
     wall_time_s: float = 0.0
+    limits: list = field(default_factory=list)
 
     @property
     def n_runs(self) -> int:
@@ -255,7 +266,7 @@ class SensitivityResult:
             "resolution_kmh": self.search.resolution_kmh, "high_kmh": self.search.high_kmh,
             "reference_threshold_speed_kmh": self.reference_threshold_speed_kmh,
             "n_runs": self.n_runs, "failed": self.failed, "at_search_limit": self.at_search_limit,
-            "groups_used": self.used, "groups_dropped": self.dropped,
+            "groups_used": self.used, "groups_dropped": self.dropped, "limits": limit_counts(self.limits),
             "indices": self.indices,
             "factors": [f.to_dict() for f in self.factors],
             "excluded": [{"parameter": k, "reason": v} for k, v in self.excluded.items()],
@@ -337,10 +348,10 @@ def run_sensitivity(pset: ParameterSet, search: Search, factors: list[Factor], *
     prob = problem(factors)
     X = sample(prob, method, samples, seed)
     reference = search.run(pset).threshold_speed_kmh  # also checks the manoeuvre before any process starts
-    Y, errors = run_logged_samples(pset, factors, X, search, workers=workers, log=log, resume=resume,
-                                   progress=progress)
+    Y, errors, limits = run_logged_samples(pset, factors, X, search, workers=workers, log=log, resume=resume,
+                                           progress=progress)
     indices, used, dropped = analyse(prob, method, X, Y, seed)
     return SensitivityResult(pset.name, search.manoeuvre, method, float(fraction), int(samples), int(seed),
                              list(factors), dict(excluded or {}), X, Y, errors, indices, used, dropped,
                              None if reference is None else float(reference), search,
-                             time.perf_counter() - start)
+                             time.perf_counter() - start, limits)

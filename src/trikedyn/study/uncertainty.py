@@ -33,7 +33,7 @@ import numpy as np
 from ..errors import InputError
 from ..params.io import ParameterSet
 from .factors import DEFAULT_FRACTION, Factor, candidate_factors, select_factors
-from .sample_runs import SampleLog, Search, run_logged_samples
+from .sample_runs import SampleLog, Search, limit_counts, run_logged_samples
 
 __all__ = ["DEFAULT_SAMPLES", "TRUNCATION", "Input", "Measured", "UncertaintyResult", "build_inputs",
            "identification_stds", "measured_stds", "parse_std", "run_uncertainty", "sample", "weighing_stds"]
@@ -348,6 +348,8 @@ class UncertaintyResult:
     """The :class:`Measured` sigmas read from files (those a ``--std`` overrode too)."""
     notes: list = field(default_factory=list)
     """Remarks on the inputs (a vehicle value far from its measurement), one line each."""
+    limits: list = field(default_factory=list)
+    """Per sample: ``"lift-off"``, ``"tracking"`` or ``""`` (no threshold), :meth:`Search.outcome`."""
 
     @property
     def ok(self) -> np.ndarray:
@@ -373,6 +375,8 @@ class UncertaintyResult:
                    "threshold_speed_kmh": float(y) if math.isfinite(y) else None}
             if err is not None:
                 row["error"] = err
+            if k < len(self.limits) and self.limits[k]:
+                row["limit"] = self.limits[k]
             rows.append(row)
         failures: dict[str, int] = {}
         for err in self.errors:
@@ -385,6 +389,7 @@ class UncertaintyResult:
             "reference_threshold_speed_kmh": self.reference_threshold_speed_kmh,
             **self.statistics(),
             "at_search_limit": int(np.sum(self.ok >= self.search.high_kmh - 1e-9)),
+            "limits": limit_counts(self.limits),
             "inputs": [i.to_dict() for i in self.inputs],
             "measured": [m.to_dict() | {"used": any(i.name == m.path and i.source == m.source for i in self.inputs)}
                          for m in self.measured],
@@ -436,8 +441,8 @@ def run_uncertainty(pset: ParameterSet, search: Search, inputs: list[Input], *, 
         raise InputError("no input to vary", where="--parameter")
     X = sample(inputs, samples, seed)
     reference = search.run(pset).threshold_speed_kmh  # also checks the manoeuvre before any process starts
-    Y, errors = run_logged_samples(pset, [i.factor for i in inputs], X, search, workers=workers, log=log,
-                                   resume=resume, progress=progress)
+    Y, errors, limits = run_logged_samples(pset, [i.factor for i in inputs], X, search, workers=workers, log=log,
+                                           resume=resume, progress=progress)
     return UncertaintyResult(pset.name, search.manoeuvre, float(fraction), int(samples), int(seed), list(inputs),
                              dict(excluded or {}), X, Y, errors, None if reference is None else float(reference),
-                             search, time.perf_counter() - start)
+                             search, time.perf_counter() - start, limits=limits)
