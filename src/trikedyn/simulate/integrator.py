@@ -46,12 +46,72 @@ OPEN_LOOP = (OPEN_LOOP_PATH, OPEN_LOOP_SPEED, OPEN_LOOP_DRIVER)
 """Pass ``*OPEN_LOOP`` for the path, speed profile and driver arguments of an open-loop run."""
 
 
+@jit(inline="always")
+def near_a_stop(x, p, n, dt):
+    """Whether a suspension is on a bump or rebound stop, or within reach of one over a step of ``dt`` [s]
+    at twice its present travel rate (a stop is a stiff one-sided spring: its wheel hop is the fastest mode)."""
+    for k in range(p.wheels.shape[0]):
+        w = p.wheels[k]
+        sb = w.spring_body
+        travel = w.motion_ratio * x[5 + sb]
+        reach = 2.0 * abs(w.motion_ratio * x[n + 5 + sb]) * dt + 1e-3
+        if travel + reach > w.bump_travel or travel - reach < -w.rebound_travel:
+            return True
+    return False
+
+
+@jit(inline="always")
+def etd_step(x, t, h, k1, u, p, closed, inputs, wout, ws, xs, k2, k3, k4, scratch, idx, mat, fn, exponential):
+    """One step of ``h`` [s] from ``x`` at ``t`` (``k1 = f(t, x)`` evaluated, ``wout`` and the Cholesky
+    factor in ``ws`` from it), in place; False when the new state is not finite.
+
+    ETDRK4 about ``x`` with the wheels' spin-slip pairs exact (:mod:`trikedyn.simulate.exponential`), on the
+    entries outside the blocks classical RK4 (and everywhere without ``exponential``).
+    """
+    nx = x.shape[0]
+    half = 0.5 * h
+    m = spin_slip_blocks(p, wout, ws.low, scratch, idx, mat) if exponential else 0
+    block_functions(mat, m, h, fn)
+    for i in range(nx):  # a = x + h/2 phi1(hL/2) N_n
+        xs[i] = x[i] + half * k1[i]
+    stage_pairs(fn, idx, m, x, k1, half, xs)
+    if not closed:
+        u[0], u[1], u[2] = interpolate_inputs(t + half, inputs)
+    evaluate_into(t + half, xs, u, p, wout, ws, k2)
+    subtract_blocks(mat, idx, m, xs, x, k2)
+    for i in range(nx):  # b = x + h/2 phi1(hL/2) N_a
+        xs[i] = x[i] + half * k2[i]
+    stage_pairs(fn, idx, m, x, k2, half, xs)
+    evaluate_into(t + half, xs, u, p, wout, ws, k3)
+    subtract_blocks(mat, idx, m, xs, x, k3)
+    for i in range(nx):  # c = x + exp(hL/2) (a - x) + h/2 phi1(hL/2) (2 N_b - N_n)
+        xs[i] = x[i] + h * k3[i]
+    third_stage_pairs(fn, idx, m, x, k1, k3, half, xs)
+    if not closed:
+        u[0], u[1], u[2] = interpolate_inputs(t + h, inputs)
+    evaluate_into(t + h, xs, u, p, wout, ws, k4)
+    subtract_blocks(mat, idx, m, xs, x, k4)
+    # x + h (W1 N_n + W2 (N_a + N_b) + W3 N_c), the weights 1/6, 1/3, 1/6 outside the blocks
+    for i in range(nx):
+        xs[i] = x[i] + h * (k1[i] / 6.0 + (k2[i] + k3[i]) / 3.0 + k4[i] / 6.0)
+    update_pairs(fn, idx, m, x, k1, k2, k3, k4, h, xs)
+    finite = True
+    for i in range(nx):
+        x[i] = xs[i]
+        if not np.isfinite(x[i]):
+            finite = False
+    return finite
+
+
 @jit
-def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv, p, exponential=True):
+def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv, p, exponential=True,
+             stop_dt=0.0):
     """Integrate ``n_steps`` RK4 steps of ``dt`` [s] from ``x0`` at ``t0`` on the plant ``p``.
 
     With ``exponential`` (default) the steps are ETDRK4 steps with the wheels' spin-slip pairs exact
-    (:mod:`trikedyn.simulate.exponential`); without, classical RK4.
+    (:mod:`trikedyn.simulate.exponential`); without, classical RK4. With ``stop_dt`` > 0 [s], a step taken
+    while a suspension is on (or within reach of) a bump or rebound stop is split into substeps of at most
+    ``stop_dt``: the stop's stiff wheel hop then sets the step only while it acts (:func:`near_a_stop`).
 
     Open loop (``drv[0].on == 0``): the inputs come from the ``inputs`` table. Closed loop: the driver
     (:func:`~trikedyn.driver.preview.driver_step`) holds the target speeds of ``speed_profile``
@@ -105,7 +165,6 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
     t = t0
     rec = 0
     status = STATUS_OK
-    half = 0.5 * dt
     step = 0
     while True:
         if closed:
@@ -127,37 +186,21 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
         for k in range(nw):
             if wout[k].deflection > veh.penetration_limit * p.wheels[k].radius:
                 return times, states, derivs, wheels, commands, STATUS_PENETRATION, rec, t
-        m = spin_slip_blocks(p, wout, ws.low, scratch, idx, mat) if exponential else 0
-        block_functions(mat, m, dt, fn)
-        # ETDRK4 about x_n (trikedyn.simulate.exponential); on entries outside the blocks, classical RK4
-        for i in range(nx):  # a = x + h/2 phi1(hL/2) N_n
-            xs[i] = x[i] + half * k1[i]
-        stage_pairs(fn, idx, m, x, k1, half, xs)
-        if not closed:
-            u[0], u[1], u[2] = interpolate_inputs(t + half, inputs)
-        evaluate_into(t + half, xs, u, p, wout, ws, k2)
-        subtract_blocks(mat, idx, m, xs, x, k2)
-        for i in range(nx):  # b = x + h/2 phi1(hL/2) N_a
-            xs[i] = x[i] + half * k2[i]
-        stage_pairs(fn, idx, m, x, k2, half, xs)
-        evaluate_into(t + half, xs, u, p, wout, ws, k3)
-        subtract_blocks(mat, idx, m, xs, x, k3)
-        for i in range(nx):  # c = x + exp(hL/2) (a - x) + h/2 phi1(hL/2) (2 N_b - N_n)
-            xs[i] = x[i] + dt * k3[i]
-        third_stage_pairs(fn, idx, m, x, k1, k3, half, xs)
-        if not closed:
-            u[0], u[1], u[2] = interpolate_inputs(t + dt, inputs)
-        evaluate_into(t + dt, xs, u, p, wout, ws, k4)
-        subtract_blocks(mat, idx, m, xs, x, k4)
-        # x + h (W1 N_n + W2 (N_a + N_b) + W3 N_c), the weights 1/6, 1/3, 1/6 outside the blocks
-        for i in range(nx):
-            xs[i] = x[i] + dt * (k1[i] / 6.0 + (k2[i] + k3[i]) / 3.0 + k4[i] / 6.0)
-        update_pairs(fn, idx, m, x, k1, k2, k3, k4, dt, xs)
+        n_sub = 1
+        if stop_dt > 0.0 and dt > stop_dt and near_a_stop(x, p, n, dt):
+            n_sub = int(np.ceil(dt / stop_dt))
+        h = dt / n_sub
         finite = True
-        for i in range(nx):
-            x[i] = xs[i]
-            if not np.isfinite(x[i]):
-                finite = False
+        for j in range(n_sub):
+            ts = t + j * h
+            if j > 0:  # the substep's first stage (the step's first is k1, recorded above)
+                if not closed:
+                    u[0], u[1], u[2] = interpolate_inputs(ts, inputs)
+                evaluate_into(ts, x, u, p, wout, ws, k1)
+            finite = etd_step(x, ts, h, k1, u, p, closed, inputs, wout, ws, xs, k2, k3, k4, scratch, idx, mat, fn,
+                              exponential)
+            if not finite:
+                break
         step += 1
         t = t0 + step * dt
         if not finite:

@@ -28,7 +28,8 @@ from .integrator import (
 )
 from .result import Result
 
-__all__ = ["INTEGRATORS", "TyreRangeWarning", "automatic_step", "time_step", "simulate", "input_table", "max_stable_step", "run_model"]
+__all__ = ["INTEGRATORS", "TyreRangeWarning", "automatic_step", "input_table", "max_stable_step", "run_model", "simulate",
+           "stop_step", "time_step"]
 
 InputSpec = float | Callable[[np.ndarray], np.ndarray] | tuple
 
@@ -79,12 +80,13 @@ def max_stable_step(model: VehicleModel, state: np.ndarray | None = None, *,
                     exponential: bool = True) -> tuple[float, str]:
     """The largest RK4 step [s] the model's fastest dynamics allow, with the mode that sets it.
 
-    The fastest eigenvalue of the linearisation about ``state`` (static equilibrium by default), and the
-    wheel hop on a bump stop (a one-sided spring not engaged at equilibrium): ``dt <= 2.5 / |lambda|``.
-    With ``exponential`` (the loop's default, :mod:`trikedyn.simulate.exponential`) the wheels' spin-slip
-    pairs, integrated exactly, are left out: their rows and columns of the linearisation are zeroed first.
-    The fastest modes hardly change with speed: the limit is found at the first state asked for and kept in
-    the model's cache.
+    The fastest eigenvalue of the linearisation about ``state`` (static equilibrium by default):
+    ``dt <= 2.5 / |lambda|``. With ``exponential`` (the loop's default, :mod:`trikedyn.simulate.exponential`)
+    the wheels' spin-slip pairs, integrated exactly, are left out: their rows and columns of the
+    linearisation are zeroed first. The bump and rebound stops, one-sided springs not engaged at
+    equilibrium, are not in it: the loop splits a step near a stop into substeps (:func:`stop_step`). The
+    fastest modes hardly change with speed: the limit is found at the first state asked for and kept in the
+    model's cache.
     """
     from ..model.linear import linearise
 
@@ -102,14 +104,28 @@ def max_stable_step(model: VehicleModel, state: np.ndarray | None = None, *,
         a[exact, :] = 0.0
         a[:, exact] = 0.0
     fastest = float(np.abs(np.linalg.eigvals(a)).max())
-    limits = [(RK4_STABILITY / fastest, f"the fastest mode of the linearised model ({fastest:.0f} rad/s)")]
+    model.cache[key] = (RK4_STABILITY / fastest, f"the fastest mode of the linearised model ({fastest:.0f} rad/s)")
+    return model.cache[key]
+
+
+def stop_step(model: VehicleModel) -> tuple[float, str]:
+    """The largest RK4 step [s] while a wheel's suspension is on its bump stop, with the wheel.
+
+    The wheel hop on the stop: the unsprung mass on the tyre's vertical stiffness and the stop's stiffness
+    in parallel (the chassis held), ``omega = sqrt((k_z + k_stop) / m)``, ``dt <= 2.5 / omega``. The loop
+    takes substeps of at most this only while a suspension is on or near a stop
+    (:func:`~trikedyn.simulate.integrator.near_a_stop`).
+    """
+    if "stop_step" in model.cache:
+        return model.cache["stop_step"]
+    limits = []
     for k, w in enumerate(model.tree.wheels):
         unsprung = model.tree.mass[w.wheel_body] + model.tree.mass[w.spring_body] * (1.0 if w.steer_body >= 0 else 0.5)
         kz = float(model.wheels[k]["vertical_stiffness"])
         omega = np.sqrt((kz + w.bump_stop_stiffness) / unsprung)
         limits.append((RK4_STABILITY / omega, f"{w.name} wheel hop on its bump stop ({omega:.0f} rad/s)"))
-    model.cache[key] = min(limits)
-    return model.cache[key]
+    model.cache["stop_step"] = min(limits)
+    return model.cache["stop_step"]
 
 
 def automatic_step(limit_s: float, bumpy: bool = False) -> float:
@@ -165,6 +181,7 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
         driver if closed else OPEN_LOOP_DRIVER,
         model.plant,
         exponential,
+        stop_step(model)[0],
     )
     times, states, derivs, wheels, commands, status, n_rec, t_stop = out
     times, states, derivs, wheels, commands = (a[:n_rec] for a in (times, states, derivs, wheels, commands))
