@@ -268,3 +268,13 @@ def test_a_dead_worker_costs_a_new_pool_not_the_run(reference, tmp_path):
     assert (tmp_path / "died").exists() and errors == [None] * len(X) and limits == ["lift-off"] * len(X)
     np.testing.assert_allclose(Y, 100 * X[:, 0])
     assert sorted(seen) == list(range(len(X)))  # each sample reported once
+
+
+def test_the_figure_says_when_the_indices_mix_two_regimes():
+    empty = (np.zeros((0, 1)), np.zeros(0), [])
+    indices = [{"parameter": "a", "mu_star": 2.0, "mu_star_conf": 0.5, "sigma": 1.0}]
+    result = sa.SensitivityResult("v", "dlc", "morris", 0.2, 1, 1, [], {}, *empty, indices, 1, 0, 43.8,
+                                  limits=["lift-off", "tracking", "tracking"])
+    assert "1 samples lift-off, 2 tracking" in result.plot().axes[0].get_title()
+    result.limits = ["lift-off"] * 3
+    assert "tracking" not in result.plot().axes[0].get_title()

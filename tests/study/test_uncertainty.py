@@ -126,3 +126,18 @@ def test_user_errors_are_one_line(capsys, args, needle):
     code, stdout, err = run(capsys, "uncertainty", "reference-etrike", "--manoeuvre", "dlc", *args, "--json")
     assert code == 2 and err.count("\n") == 1 and needle in err, err
     assert json.loads(stdout)["error"]
+
+
+def test_two_regimes_are_stacked_in_the_histogram():
+    """Samples limited by lift-off and by a lost path are drawn as two stacked parts, each counted; with one
+    regime, one histogram."""
+    y = np.array([40.0, 41.0, 42.5, 44.0, 47.0, 50.0, np.nan])
+    limits = ["lift-off", "lift-off", "lift-off", "tracking", "tracking", "tracking", ""]
+    result = ua.UncertaintyResult("v", "dlc", 0.2, 7, 1, [], {}, np.zeros((7, 0)), y, [None] * 6 + ["failed"], 43.8,
+                                  limits=limits)
+    labels = result.plot().axes[0].get_legend_handles_labels()[1]
+    assert "lift-off first (n=3)" in labels and "path lost first (n=3); 1 failed" in labels
+    result.limits = ["lift-off"] * 6 + [""]
+    labels = result.plot().axes[0].get_legend_handles_labels()[1]
+    assert any(label.startswith("samples (n=6, 1 failed)") for label in labels)
+    assert result.to_dict()["limits"] == {"lift-off": 6, "tracking": 0}

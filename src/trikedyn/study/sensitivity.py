@@ -301,8 +301,11 @@ class SensitivityResult:
         ax.set_yticks(y, names, fontsize=8)
         ax.axvline(0.0, color="k", lw=0.8)
         ref = self.reference_threshold_speed_kmh
+        count = limit_counts(self.limits)
+        regimes = (f"\nlimits: {count['lift-off']} samples lift-off, {count['tracking']} tracking (the driver lost "
+                   "the path first): two regimes, mixed in the indices") if min(count.values()) > 0 else ""
         ax.set_title(f"{self.vehicle}, {self.manoeuvre}: threshold {'-' if ref is None else f'{ref:.1f}'} km/h; "
-                     f"factors +/-{self.fraction:.0%} ({self.method}, {self.n_runs} runs)", fontsize=9)
+                     f"factors +/-{self.fraction:.0%} ({self.method}, {self.n_runs} runs){regimes}", fontsize=9)
         ax.legend(loc="lower right", fontsize=8)
         ax.grid(axis="x", alpha=0.3)
         fig.tight_layout()

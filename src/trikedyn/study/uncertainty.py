@@ -410,8 +410,17 @@ class UncertaintyResult:
         ax = fig.subplots()
         y = self.ok
         if y.size:
-            ax.hist(y, bins=max(5, min(30, int(np.sqrt(y.size)) * 2)), color="tab:blue", alpha=0.75,
-                    label=f"samples (n={y.size}, {self.failed} failed)")
+            bins = np.histogram_bin_edges(y, bins=max(5, min(30, int(np.sqrt(y.size)) * 2)))
+            limits = np.array(self.limits if len(self.limits) == len(self.Y) else [""] * len(self.Y))[np.isfinite(self.Y)]
+            count = limit_counts(limits)
+            if min(count.values()) > 0:  # two regimes: stacked, so the mix shows
+                parts = [y[limits == name] for name in ("lift-off", "tracking")]
+                ax.hist(parts, bins=bins, stacked=True, color=["tab:blue", "tab:purple"], alpha=0.75,
+                        label=[f"lift-off first (n={count['lift-off']})",
+                               f"path lost first (n={count['tracking']})"
+                               + (f"; {self.failed} failed" if self.failed else "")])
+            else:
+                ax.hist(y, bins=bins, color="tab:blue", alpha=0.75, label=f"samples (n={y.size}, {self.failed} failed)")
             ax.axvspan(s["p05_kmh"], s["p95_kmh"], color="tab:orange", alpha=0.2, zorder=0, label="5-95 %")
             ax.axvline(s["median_kmh"], color="tab:orange", lw=2, label=f"median {s['median_kmh']:.1f} km/h")
         ref = self.reference_threshold_speed_kmh
