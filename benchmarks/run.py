@@ -23,7 +23,7 @@ from trikedyn.model.vehicle import build_model  # noqa: E402
 from trikedyn.params import load_vehicle  # noqa: E402
 from trikedyn.simulate import DEFAULT_DT_S  # noqa: E402
 from trikedyn.simulate.integrator import OPEN_LOOP, rk4_loop  # noqa: E402
-from trikedyn.simulate.run import input_table, simulate  # noqa: E402
+from trikedyn.simulate.run import input_table, simulate, stop_step  # noqa: E402
 
 REPEATS = 7
 
@@ -57,7 +57,8 @@ def bench_sine_steer() -> dict:
     x0 = rolling_state(model, eq, 30 / 3.6)
     dt = DEFAULT_DT_S  # the default step (exponential RK4, trikedyn.simulate.exponential)
     inputs = input_table(duration, dt, sine_steer, 50.0)
-    loop = best_of(lambda: rk4_loop(x0, 0.0, dt, int(duration / dt), 2, inputs, *OPEN_LOOP, model.plant))
+    loop = best_of(lambda: rk4_loop(x0, 0.0, dt, int(duration / dt), 2, inputs, *OPEN_LOOP, model.plant, True,
+                                    stop_step(model)[0]))
     per_eval = loop / (4 * int(duration / dt))  # four stages a step, with the step's other work shared out
     return {
         "sine_steer_10s_30kmh": {

@@ -30,12 +30,12 @@ def test_rk4_wheel_loads_match_dop853(reference, dt, exponential):
     u = inputs[0, 1:].copy()
 
     def loads(x):
-        return f_with_outputs(0.0, x, u, model.plant)[1]["fz"].copy()
+        return f_with_outputs(0.0, np.ascontiguousarray(x), u, model.plant)[1]["fz"].copy()  # one numba type
 
     duration = 5.0
     record = int(round(0.01 / dt))
     times, states, _, _, _, status, rec, _ = rk4_loop(x0, 0.0, dt, int(round(duration / dt)), record, inputs, *OPEN_LOOP,
-                                                      model.plant, exponential)
+                                                      model.plant, exponential, 0.0)
     assert status == STATUS_OK
     reference_run = solve_ivp(f, (0.0, duration), x0, args=(u, model.plant), method="DOP853", rtol=1e-10, atol=1e-12,
                               t_eval=times[:rec])
@@ -81,7 +81,7 @@ def lane_change_reference(reference):
     exact_loads, exact_ay = [], []
     for tk, x in zip(times, exact.y.T, strict=True):
         u = np.array(interpolate_inputs(tk, table))
-        xdot, wout = f_with_outputs(tk, x, u, model.plant)
+        xdot, wout = f_with_outputs(tk, np.ascontiguousarray(x), u, model.plant)  # one numba type
         exact_loads.append(wout["fz"])
         exact_ay.append(xdot[n + 4] + x[n + 2] * x[n + 3])  # dv_y/dt + w_z v_x, chassis axes
     static = np.array(list(static_equilibrium(model).wheel_loads_N.values()))
@@ -93,7 +93,7 @@ def _replay_errors(lane_change_reference, dt, exponential):
     model, table, x0, duration, exact_loads, exact_ay, static = lane_change_reference
     n_steps = int(round(duration / dt))
     times, states, derivs, wheels, _, status, rec, _ = rk4_loop(x0, 0.0, dt, n_steps, int(round(0.01 / dt)), table,
-                                                                *OPEN_LOOP, model.plant, exponential)
+                                                                *OPEN_LOOP, model.plant, exponential, 0.0)
     assert status == STATUS_OK
     states, derivs, wheels = states[:rec], derivs[:rec], wheels[:rec]
     n = model.n_dof

@@ -27,7 +27,8 @@ def test_energy_conserved_bouncing_and_rolling(conservative):
     x0[n + 5 + 1] = 0.3  # steer rate
     energy0 = kinetic_energy(model, x0) + potential_energy(model, x0)
     scale = kinetic_energy(model, x0)
-    times, states, _, _, _, status, rec, _ = rk4_loop(x0, 0.0, 2.5e-4, 40000, 400, np.zeros((1, 4)), *OPEN_LOOP, model.plant)
+    times, states, _, _, _, status, rec, _ = rk4_loop(x0, 0.0, 2.5e-4, 40000, 400, np.zeros((1, 4)), *OPEN_LOOP, model.plant,
+                                                       True, 0.0)
     assert status == STATUS_OK and times[rec - 1] == pytest.approx(10.0)
     energy = np.array([kinetic_energy(model, x) + potential_energy(model, x) for x in states[:rec]])
     drift = np.abs(energy - energy0).max() / scale
@@ -47,7 +48,8 @@ def test_momentum_conserved_in_free_flight(conservative):
     x0[6:n] = rng.uniform(-0.03, 0.03, n - 6)
     x0[n : 2 * n] = rng.normal(0.0, 1.0, n)
     lin0, ang0 = momenta(model, x0)
-    times, states, _, _, _, status, rec, _ = rk4_loop(x0, 0.0, 2.5e-4, 8000, 400, np.zeros((1, 4)), *OPEN_LOOP, model.plant)
+    times, states, _, _, _, status, rec, _ = rk4_loop(x0, 0.0, 2.5e-4, 8000, 400, np.zeros((1, 4)), *OPEN_LOOP, model.plant,
+                                                       True, 0.0)
     assert status == STATUS_OK
     for x in states[:rec]:
         lin, ang = momenta(model, x)

@@ -80,7 +80,7 @@ def test_energy_conserved_on_the_tir_vertical_springs(model):
     energy0 = kinetic_energy(conservative, x0) + potential_energy(conservative, x0)
     scale = kinetic_energy(conservative, x0)
     times, states, _, _, _, status, rec, _ = rk4_loop(x0, 0.0, 2.5e-4, 8000, 400, np.zeros((1, 4)), *OPEN_LOOP,
-                                                     conservative.plant)
+                                                     conservative.plant, True, 0.0)
     assert status == STATUS_OK
     energy = np.array([kinetic_energy(conservative, x) + potential_energy(conservative, x) for x in states[:rec]])
     assert np.abs(energy - energy0).max() / scale < 1e-6

@@ -25,7 +25,9 @@ def state_derivative(model: VehicleModel, x: np.ndarray, t: float = 0.0, inputs:
     ``inputs``: the inputs ``(steer [rad], drive [N m], brake [N m])``; zero by default.
     """
     u = np.zeros(3) if inputs is None else np.array(inputs, dtype=float).reshape(3)
-    return f_with_outputs(t, np.ascontiguousarray(x, dtype=float), u, model.plant)
+    # a writable C-contiguous copy: a read-only or strided state would be another type to numba, so another
+    # compilation of the whole right-hand side
+    return f_with_outputs(t, np.array(x, dtype=float, order="C"), u, model.plant)
 
 
 def _free_joints(model: VehicleModel) -> list[int]:

@@ -104,14 +104,15 @@ def etd_step(x, t, h, k1, u, p, closed, inputs, wout, ws, xs, k2, k3, k4, scratc
 
 
 @jit
-def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv, p, exponential=True,
-             stop_dt=0.0):
+def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv, p, exponential, stop_dt):
     """Integrate ``n_steps`` RK4 steps of ``dt`` [s] from ``x0`` at ``t0`` on the plant ``p``.
 
-    With ``exponential`` (default) the steps are ETDRK4 steps with the wheels' spin-slip pairs exact
+    With ``exponential`` the steps are ETDRK4 steps with the wheels' spin-slip pairs exact
     (:mod:`trikedyn.simulate.exponential`); without, classical RK4. With ``stop_dt`` > 0 [s], a step taken
     while a suspension is on (or within reach of) a bump or rebound stop is split into substeps of at most
     ``stop_dt``: the stop's stiff wheel hop then sets the step only while it acts (:func:`near_a_stop`).
+    Both are required (no defaults): an omitted argument is another type to numba, so another compilation
+    of the whole loop.
 
     Open loop (``drv[0].on == 0``): the inputs come from the ``inputs`` table. Closed loop: the driver
     (:func:`~trikedyn.driver.preview.driver_step`) holds the target speeds of ``speed_profile``
