@@ -278,3 +278,18 @@ def test_the_figure_says_when_the_indices_mix_two_regimes():
     assert "1 samples lift-off, 2 tracking" in result.plot().axes[0].get_title()
     result.limits = ["lift-off"] * 3
     assert "tracking" not in result.plot().axes[0].get_title()
+
+
+def test_places_whose_intervals_overlap_are_reported_as_unsettled():
+    def rows(*pairs):
+        return [{"parameter": f"p{k}", "mu_star": m, "mu_star_conf": c, "sigma": 0.0} for k, (m, c) in enumerate(pairs)]
+
+    # 1 stands out; 2-4 chain (2 overlaps 3, 3 overlaps 4); 5 apart; 6-7 overlap
+    ranked = rows((12.0, 1.0), (3.5, 1.0), (2.5, 0.5), (2.2, 0.3), (1.0, 0.1), (0.5, 0.2), (0.4, 0.2))
+    assert sa.unsettled_places(ranked) == [(2, 4), (6, 7)]
+    assert sa.unsettled_places(ranked, top=5) == [(2, 4)]
+    assert sa.unsettled_places(rows((3.0, 0.1), (2.0, 0.1), (1.0, 0.1))) == []
+    assert sa.unsettled_places(rows((3.0, float("nan")), (2.9, 0.1))) == []
+    sobol = [{"parameter": "a", "ST": 0.6, "ST_conf": 0.1, "S1": 0.5, "S1_conf": 0.1},
+             {"parameter": "b", "ST": 0.55, "ST_conf": 0.1, "S1": 0.4, "S1_conf": 0.1}]
+    assert sa.unsettled_places(sobol) == [(1, 2)]

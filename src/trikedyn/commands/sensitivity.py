@@ -53,6 +53,11 @@ def _table(result) -> str:
                         for k in keys)
         origin = {"declared": "declared", "narrowed": "narrowed"}.get(f.range_from, f"+/-{result.fraction:.0%}")
         lines.append(f"{rank:<5}{row['parameter']:<{width}}{cells}   {readable(f.low)} .. {readable(f.high)} ({origin})")
+    from ..study.sensitivity import unsettled_places
+
+    for first, last in unsettled_places(result.indices):
+        lines.append(f"places {first}-{last}: their 95 % intervals overlap, so their order is not settled by these "
+                     "samples (more --samples, or compare another --seed)")
     if result.excluded:
         lines.append(f"left out: {len(result.excluded)} assumed values (see --json 'excluded')")
     return "\n".join(lines)

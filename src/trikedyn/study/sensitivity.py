@@ -70,7 +70,8 @@ from .sample_runs import (  # noqa: F401
 
 __all__ = ["DEFAULT_FRACTION", "DEFAULT_SAMPLES", "METHODS", "Factor", "SampleLog", "Search", "SensitivityResult",
            "analyse", "apply_factors", "candidate_factors", "check_method", "evaluate_sample", "group_size",
-           "numeric_parameters", "problem", "run_samples", "run_sensitivity", "sample", "select_factors"]
+           "numeric_parameters", "problem", "run_samples", "run_sensitivity", "sample", "select_factors",
+           "unsettled_places"]
 
 METHODS = ("morris", "sobol")
 DEFAULT_SAMPLES = {"morris": 10, "sobol": 64}
@@ -123,6 +124,31 @@ def sample(prob: dict, method: str, samples: int, seed: int = 1) -> np.ndarray:
     from SALib.sample import sobol
 
     return sobol.sample(prob, samples, calc_second_order=False, scramble=True, seed=seed)
+
+
+def unsettled_places(indices: list[dict], top: int = 10) -> list[tuple[int, int]]:
+    """Runs of places, among the first ``top``, whose order the samples do not settle: ``(first, last)``
+    places (1-based) of each chain of neighbours whose 95 % intervals overlap.
+
+    ``indices`` are ranked, most important first (:func:`analyse`): Morris rows overlap when
+    ``mu_star +/- mu_star_conf`` do, Sobol rows when ``ST +/- ST_conf`` do. A chain may run past ``top``; a
+    row whose interval is not finite ends one.
+    """
+    key = "mu_star" if indices and "mu_star" in indices[0] else "ST"
+    rows = indices[: top + 1]
+    runs, start = [], None
+    for k in range(len(rows) - 1):
+        a, b = rows[k], rows[k + 1]
+        ends = (a[key] - a[f"{key}_conf"], b[key] + b[f"{key}_conf"])
+        overlap = all(math.isfinite(v) for v in ends) and ends[0] <= ends[1]
+        if overlap and start is None:
+            start = k + 1
+        if not overlap and start is not None:
+            runs.append((start, k + 1))
+            start = None
+    if start is not None:
+        runs.append((start, len(rows)))
+    return [r for r in runs if r[0] <= top]
 
 
 def analyse(prob: dict, method: str, X: np.ndarray, Y: np.ndarray, seed: int = 1) -> tuple[list[dict], int, int]:
