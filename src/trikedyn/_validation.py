@@ -6,9 +6,9 @@ expected, and for an unknown key suggests the closest known one.
 
 from __future__ import annotations
 
-from difflib import get_close_matches
-
 from pydantic import BaseModel, ValidationError
+
+from .errors import did_you_mean
 
 __all__ = ["describe_validation_error"]
 
@@ -64,8 +64,7 @@ def describe_validation_error(exc: ValidationError, raw: dict, root: type[BaseMo
     kind = err["type"]
     if kind == "extra_forbidden":
         section = _loc_text(loc[:-1], raw) if len(loc) > 1 else "the top level"
-        hint = get_close_matches(str(loc[-1]), _fields_at(root, loc), n=1, cutoff=0.5)
-        tip = f"; did you mean '{hint[0]}'?" if hint else ""
+        tip = did_you_mean(str(loc[-1]), _fields_at(root, loc), 0.5)
         return f"unknown key '{loc[-1]}' in {section}{tip}"
     where = _loc_text(loc, raw)
     if kind == "missing":

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 __all__ = [
     "InputError",
+    "did_you_mean",
     "LogFormatError",
     "ParameterError",
     "SimulationError",
@@ -62,3 +63,12 @@ class SimulationError(TrikedynError):
         self.reason = message
         text = f"at t = {time_s:.4f} s: {message}" if time_s is not None else message
         super().__init__(text)
+
+
+def did_you_mean(name: str, choices, cutoff: float = 0.6) -> str:
+    """``"; did you mean 'X'?"`` for the closest of ``choices`` to a mistyped ``name``, or ``""`` (for the end
+    of an error message; :func:`difflib.get_close_matches` with ``cutoff``)."""
+    from difflib import get_close_matches
+
+    hint = get_close_matches(str(name), [str(c) for c in choices], n=1, cutoff=cutoff)
+    return f"; did you mean '{hint[0]}'?" if hint else ""

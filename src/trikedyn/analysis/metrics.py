@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 from ..simulate.result import load_transfer_ratio, rollover_index
 
 __all__ = ["Lift", "MetricType", "cone_strikes", "evaluate", "first_lift", "judged_mask", "load_transfer_ratio",
@@ -56,10 +56,7 @@ def metrics() -> list[MetricType]:
 def evaluate(result, name: str):
     """The metric ``name`` of a run."""
     if name not in _METRICS:
-        from difflib import get_close_matches
-
-        hint = get_close_matches(name, list(_METRICS), n=1)
-        raise InputError(f"unknown metric '{name}'" + (f"; did you mean '{hint[0]}'?" if hint else ""), where="metric")
+        raise InputError(f"unknown metric '{name}'" + did_you_mean(name, list(_METRICS)), where="metric")
     return _METRICS[name].fn(result)
 
 

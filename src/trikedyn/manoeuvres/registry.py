@@ -23,7 +23,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from difflib import get_close_matches
 
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 
 __all__ = ["ManoeuvreType", "Option", "available", "build", "get", "register", "parse_options"]
 
@@ -137,8 +137,7 @@ def get(name: str) -> ManoeuvreType:
     _load_builtins()
     if name in _REGISTRY:
         return _REGISTRY[name]
-    hint = get_close_matches(name, list(_REGISTRY), n=1)
-    raise InputError(f"unknown manoeuvre '{name}'" + (f"; did you mean '{hint[0]}'?" if hint else "")
+    raise InputError(f"unknown manoeuvre '{name}'" + did_you_mean(name, list(_REGISTRY))
                      + f" (known: {', '.join(_REGISTRY)}, or a path .csv)", where="manoeuvre")
 
 

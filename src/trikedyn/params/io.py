@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field, replace
-from difflib import get_close_matches
 from importlib import resources
 from pathlib import Path, PurePosixPath
 
@@ -27,9 +26,9 @@ import tomli_w
 from pydantic import ValidationError
 
 from .._validation import describe_validation_error
-from ..errors import ParameterError
+from ..errors import ParameterError, did_you_mean
 from .schema import VehicleParameters
-from .tomlfile import MAX_FILE_BYTES, is_file, parse_toml, read_text
+from .tomlfile import MAX_FILE_BYTES, builtin_names, is_file, parse_toml, read_text
 
 __all__ = ["MAX_EXTENDS", "NOTE_KEYS", "ParameterSet", "list_presets", "load_vehicle", "parse_vehicle", "save_vehicle"]
 
@@ -92,7 +91,7 @@ def _preset_dir():
 
 def list_presets() -> list[str]:
     """Names of the parameter sets shipped with trikedyn."""
-    return sorted(p.name[:-5] for p in _preset_dir().iterdir() if p.name.endswith(".toml"))
+    return builtin_names(_preset_dir())
 
 
 def load_vehicle(name_or_path: str | Path) -> ParameterSet:
@@ -116,8 +115,7 @@ def load_vehicle(name_or_path: str | Path) -> ParameterSet:
         return _parse(read_text(path, _shown(text), error=ParameterError), text, real.parent, (("file", str(real)),))
     presets = list_presets()
     if text not in presets:
-        hint = get_close_matches(text, presets, n=1)
-        tip = f"; did you mean '{hint[0]}'?" if hint else ""
+        tip = did_you_mean(text, presets)
         raise ParameterError(
             f"unknown vehicle '{_shown(text)}'{tip} (presets: {', '.join(presets)}; or give a .toml file)",
             where="vehicle",
@@ -305,8 +303,7 @@ def _extended(name, where: str, folder: Path | None) -> tuple[str, str, Path | N
     if name in presets:
         return _preset_text(name), name, None, ("preset", name)
     if folder is None:
-        hint = get_close_matches(name, presets, n=1)
-        tip = f"; did you mean '{hint[0]}'?" if hint else ""
+        tip = did_you_mean(name, presets)
         raise ParameterError(f"extends: no preset '{shown}'{tip} (a preset extends presets only)", where=where)
     rel = PurePosixPath(name)
     refused = (
@@ -318,8 +315,7 @@ def _extended(name, where: str, folder: Path | None) -> tuple[str, str, Path | N
     if refused:
         raise ParameterError(f"extends: '{shown}' is {refused}; {usage}", where=where)
     if not name.endswith(".toml"):
-        hint = get_close_matches(name, presets, n=1)
-        tip = f"; did you mean '{hint[0]}'?" if hint else ""
+        tip = did_you_mean(name, presets)
         raise ParameterError(f"extends: no preset '{shown}'{tip} ({usage})", where=where)
     try:
         target = (folder / rel).resolve()

@@ -52,7 +52,7 @@ from difflib import get_close_matches
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import ParameterError, did_you_mean
 from ..mechanics import Box, MassProperties
 from .io import ParameterSet
 from .schema import VehicleParameters
@@ -246,8 +246,7 @@ def _resolve(params: VehicleParameters, name: str) -> tuple[str, str | None] | s
 
 def _unknown(params: VehicleParameters, name: str) -> str:
     """An unknown knob (or, from :func:`~trikedyn.params.ops.override`, an unknown top-level parameter)."""
-    hint = get_close_matches(name, knob_names(params) + list(VehicleParameters.model_fields), n=1)
-    tip = f"; did you mean '{hint[0]}'?" if hint else ""
+    tip = did_you_mean(name, knob_names(params) + list(VehicleParameters.model_fields))
     fixed = ", ".join(n for n in KNOBS if _PLACEHOLDER not in n and not n.startswith("freight."))
     return (f"no design knob or parameter '{name}'{tip} "
             f"(knobs: {fixed}, component.NAME.x_m|y_m|z_m|mass_kg, freight.x_m|y_m|z_m)")

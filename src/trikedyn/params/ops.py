@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 from pydantic import ValidationError
 
-from ..errors import ParameterError
+from ..errors import ParameterError, did_you_mean
 from ..mechanics import Box, MassProperties, Payload, PointMass, wheel_loads_from_cg
 from ..units import STANDARD_GRAVITY
 from .io import ParameterSet, _describe
@@ -136,10 +136,7 @@ def override(pset: ParameterSet, values: dict) -> ParameterSet:
             if node is None:
                 raise ParameterError(f"no parameter '{dotted}' (no '{key}')", where="override")
         if not isinstance(node, dict) or keys[-1] not in node:
-            from difflib import get_close_matches
-
-            hint = get_close_matches(keys[-1], list(node) if isinstance(node, dict) else [], n=1)
-            tip = f"; did you mean '{hint[0]}'?" if hint else ""
+            tip = did_you_mean(keys[-1], list(node) if isinstance(node, dict) else [])
             raise ParameterError(f"no parameter '{dotted}'{tip}", where="override")
         node[keys[-1]] = value
     new = _revalidate(pset, data, "override") if paths or not knobs else pset

@@ -12,13 +12,12 @@ from __future__ import annotations
 import os
 import stat
 import tomllib
-from difflib import get_close_matches
 from pathlib import Path
 
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 
-__all__ = ["MAX_FILE_BYTES", "MAX_KEY_CHARS", "MAX_NESTING", "MAX_TEXT_CHARS", "builtin_or_file", "is_file",
-           "parse_toml", "read_text"]
+__all__ = ["MAX_FILE_BYTES", "MAX_KEY_CHARS", "MAX_NESTING", "MAX_TEXT_CHARS", "builtin_names", "builtin_or_file",
+           "is_file", "parse_toml", "read_text"]
 
 MAX_FILE_BYTES = 1 << 20
 """Largest TOML file read [bytes] (1 MiB: the reference vehicle, with every note, is 14 KiB)."""
@@ -43,6 +42,11 @@ def is_file(path: Path) -> bool:
         return False
 
 
+def builtin_names(folder) -> list[str]:
+    """Names of the built-in ``.toml`` files in the package resource ``folder`` (without the suffix), sorted."""
+    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+
+
 def builtin_or_file(name_or_path: str | Path, folder, kind: str, where: str) -> tuple[str, Path | None]:
     """The TOML text of a built-in file (a name of a ``.toml`` in the package resource ``folder``) or of a
     file (a ``.toml`` name, a path with a folder, or an existing file), and that file's path (None for a
@@ -59,10 +63,9 @@ def builtin_or_file(name_or_path: str | Path, folder, kind: str, where: str) -> 
         if not is_file(path):
             raise InputError(f"no such {kind} file", where=text)
         return read_text(path, text), path
-    names = sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+    names = builtin_names(folder)
     if text not in names:
-        hint = get_close_matches(text, names, n=1)
-        tip = f"; did you mean '{hint[0]}'?" if hint else ""
+        tip = did_you_mean(text, names)
         raise InputError(f"unknown {kind} '{text}'{tip} (built in: {', '.join(names)}; or give a .toml file)",
                          where=where)
     return (folder / f"{text}.toml").read_text(encoding="utf-8"), None

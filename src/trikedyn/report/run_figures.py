@@ -22,7 +22,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 
 __all__ = ["KINDS", "figure", "figure_gg", "figure_plan", "figure_roll", "figure_time", "figure_wheel_loads",
            "lift_spans", "title_of"]
@@ -176,10 +176,7 @@ def figure_time(source, meta=None, channels: list[str] | None = None):
     names = list(channels) if channels else [c for c in TIME_CHANNELS if c in data]
     for name in names:
         if name not in data:
-            from difflib import get_close_matches
-
-            hint = get_close_matches(name, list(data), n=1)
-            raise InputError(f"no channel '{name}'" + (f"; did you mean '{hint[0]}'?" if hint else ""), where="run")
+            raise InputError(f"no channel '{name}'" + did_you_mean(name, list(data)), where="run")
     if not names:
         raise InputError("the run holds none of the channels to plot", where="run")
     t, window = _need(data, "time_s"), _window(data)

@@ -7,6 +7,7 @@ from types import MappingProxyType
 
 import numpy as np
 
+from ..errors import InputError, did_you_mean
 from .channels import BASE_CHANNELS, IMU_CHANNELS, WHEEL_CHANNELS
 
 __all__ = ["Result", "rollover_index", "load_transfer_ratio", "state_names"]
@@ -92,12 +93,7 @@ class Result:
         try:
             return self.states[:, self.state_names.index(name)]
         except ValueError:
-            from difflib import get_close_matches
-
-            from ..errors import InputError
-
-            hint = get_close_matches(name, list(self.state_names), n=1)
-            raise InputError(f"no state '{name}'" + (f"; did you mean '{hint[0]}'?" if hint else ""),
+            raise InputError(f"no state '{name}'" + did_you_mean(name, list(self.state_names)),
                              where="state") from None
 
     @classmethod
@@ -131,12 +127,7 @@ class Result:
         if name == "time_s":
             return self.time_s
         if name not in self.channels:
-            from difflib import get_close_matches
-
-            from ..errors import InputError
-
-            hint = get_close_matches(name, list(self.channels), n=1)
-            raise InputError(f"no channel '{name}'" + (f"; did you mean '{hint[0]}'?" if hint else ""), where="channel")
+            raise InputError(f"no channel '{name}'" + did_you_mean(name, list(self.channels)), where="channel")
         return self.channels[name]
 
     def imu_log(self, rate_hz: float | None = None, *, noise_std: float = 0.0, gyro_noise_std: float = 0.0,

@@ -11,9 +11,8 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
-from difflib import get_close_matches
 
-from ..errors import InputError, ParameterError
+from ..errors import InputError, ParameterError, did_you_mean
 from ..params.io import ParameterSet
 
 __all__ = ["DEFAULT_FRACTION", "EXCLUDED_GROUPS", "Factor", "apply_factors", "candidate_factors", "declared_ranges",
@@ -176,8 +175,7 @@ def declared_ranges(pset: ParameterSet) -> dict[str, tuple[float, float]]:
         value = _range_key_value(pset, key, values)
         if value is None:
             known = [*values, *(_knobs().knob_names(pset) if _knobs() is not None else ())]
-            hint = get_close_matches(key, known, n=1, cutoff=0.6)
-            tip = f"; did you mean '{hint[0]}'?" if hint else " (a dotted path of a number, or a design knob)"
+            tip = did_you_mean(key, known) or " (a dotted path of a number, or a design knob)"
             raise ParameterError(f"no number of the vehicle is called '{key}'{tip}", where=where)
         rel = getattr(spec, "rel", None)
         if rel is not None:
@@ -430,8 +428,7 @@ def select_factors(pset: ParameterSet, names: Iterable[str], fraction: float = D
             if name not in every:
                 if name in all_paths:
                     raise InputError(f"'{name}' is not a number; it cannot be varied", where="--parameter")
-                hint = get_close_matches(name, [*every, *refused], n=1, cutoff=0.6)
-                tip = f"; did you mean '{hint[0]}'?" if hint else " (see `trikedyn vehicle show`)"
+                tip = did_you_mean(name, [*every, *refused]) or " (see `trikedyn vehicle show`)"
                 raise InputError(f"unknown parameter '{name}'{tip}", where="--parameter")
             if all(f.name != name for f in chosen):
                 chosen.append(every[name])

@@ -20,7 +20,6 @@ The knobs are :mod:`trikedyn.params.knobs`' (``component.NAME.x_m|y_m|z_m``, ``t
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -161,7 +160,9 @@ def _spec_dir():
 
 def list_optimise_specs() -> list[str]:
     """Names of the optimise specs shipped with trikedyn (``battery-layout``)."""
-    return sorted(p.name[:-5] for p in _spec_dir().iterdir() if p.name.endswith(".toml"))
+    from ..params.tomlfile import builtin_names
+
+    return builtin_names(_spec_dir())
 
 
 def load_optimise_spec(name_or_path: str | Path | OptimiseSpec) -> OptimiseSpec:
@@ -183,13 +184,9 @@ def load_optimise_spec(name_or_path: str | Path | OptimiseSpec) -> OptimiseSpec:
 
 def parse_optimise_spec(source: str | dict, origin: str = "<string>") -> OptimiseSpec:
     """Validate an optimise spec given as TOML text or as the dict it parses to (see the module docstring)."""
-    if isinstance(source, str):
-        try:
-            raw = tomllib.loads(source)
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError(f"invalid TOML: {' '.join(str(exc).split())}", where=origin) from None
-    else:
-        raw = dict(source)
+    from ..params.tomlfile import parse_toml
+
+    raw = parse_toml(source, origin) if isinstance(source, str) else dict(source)
     try:
         model = _File.model_validate(raw)
     except ValidationError as exc:

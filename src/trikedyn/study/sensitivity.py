@@ -42,11 +42,10 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from difflib import get_close_matches
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 from ..params.io import ParameterSet
 from .factors import (  # noqa: F401  (re-exported: the module is the study's entry point)
     DEFAULT_FRACTION,
@@ -82,8 +81,7 @@ NUM_LEVELS = 4
 
 def check_method(method: str) -> str:
     if method not in METHODS:
-        hint = get_close_matches(str(method), METHODS, n=1)
-        tip = f"; did you mean '{hint[0]}'?" if hint else ""
+        tip = did_you_mean(str(method), METHODS)
         raise InputError(f"unknown method '{method}'{tip} (expected morris or sobol)", where="--method")
     return method
 

@@ -54,9 +54,7 @@ from __future__ import annotations
 
 import hashlib
 import math
-import tomllib
 from dataclasses import dataclass
-from difflib import get_close_matches
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -64,7 +62,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from .._validation import describe_validation_error
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 from .scenarios import expand, norm
 
 __all__ = [
@@ -232,7 +230,9 @@ def _spec_dir():
 
 def list_specs() -> list[str]:
     """Names of the study specs shipped with trikedyn (``paper``: the paper's Fig. 10)."""
-    return sorted(p.name[:-5] for p in _spec_dir().iterdir() if p.name.endswith(".toml"))
+    from ..params.tomlfile import builtin_names
+
+    return builtin_names(_spec_dir())
 
 
 def load_spec(name_or_path: str | Path | StudySpec) -> StudySpec:
@@ -264,13 +264,9 @@ def parse_spec(source: str | dict, origin: str = "<string>", base_dir: str | Pat
     base_dir : path, optional
         Folder that a relative vehicle path is relative to (the spec file's; the working folder if None).
     """
-    if isinstance(source, str):
-        try:
-            raw = tomllib.loads(source)
-        except tomllib.TOMLDecodeError as exc:
-            raise InputError(f"invalid TOML: {exc}", where=origin) from None
-    else:
-        raw = dict(source)
+    from ..params.tomlfile import parse_toml
+
+    raw = parse_toml(source, origin) if isinstance(source, str) else dict(source)
     try:
         model = _Spec.model_validate(raw)
     except ValidationError as exc:
@@ -387,8 +383,7 @@ def _check_path(plain: dict, dotted: str) -> str | None:
         else:
             return f"no parameter '{dotted}' ('{'.'.join(keys[:i])}' is a value)"
         if nxt is None:
-            hint = get_close_matches(key, [str(n) for n in names], n=1)
-            tip = f"; did you mean '{hint[0]}'?" if hint else ""
+            tip = did_you_mean(key, [str(n) for n in names])
             return f"no parameter '{dotted}' (no '{key}'){tip}"
         node = nxt
     if isinstance(node, dict | list):

@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 from ..params.io import ParameterSet
 from .factors import DEFAULT_FRACTION, Factor, candidate_factors, select_factors
 from .sample_runs import SampleLog, Search, limit_counts, run_logged_samples
@@ -287,10 +287,8 @@ def _suspension_of(pset: ParameterSet, item: str) -> tuple[str, str]:
     if sep and name.strip() in names:
         return name.strip(), file.strip()
     if sep and "/" not in name and "." not in name:  # NAME=FILE with an unknown NAME
-        from difflib import get_close_matches
 
-        hint = get_close_matches(name.strip(), names, n=1)
-        tip = f"; did you mean '{hint[0]}'?" if hint else ""
+        tip = did_you_mean(name.strip(), names)
         raise InputError(f"no suspension '{name.strip()}' on this vehicle{tip} (it has {', '.join(names)})",
                          where="--identification")
     if len(names) == 1:
