@@ -16,8 +16,8 @@ $(STAMP): pyproject.toml
 run: $(STAMP)
 	$(BIN)/trikedyn reproduce --out $(OUT) --force
 
-test: $(STAMP)
-	$(BIN)/python -m pytest -q
+test: $(STAMP)  # one test process per core (pytest-xdist); a test file's tests stay in one process
+	$(BIN)/python -m pytest -q -n auto --dist loadfile
 
 fuzz: $(STAMP)
 	TRIKEDYN_FUZZ_EXAMPLES=$${FUZZ_EXAMPLES:-12500} $(BIN)/python -m pytest -q -p no:cacheprovider tests/fuzz

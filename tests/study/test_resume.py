@@ -3,6 +3,7 @@ stored, then run again: every scenario stored exactly once, and none stored befo
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
@@ -36,11 +37,17 @@ def _launch(spec: Path, out: Path) -> subprocess.Popen:
 
 
 def _stored(db: Path) -> dict[str, tuple]:
-    """scenario_id -> (run_token, finished_at), read-only."""
+    """scenario_id -> (run_token, finished_at), read-only.
+
+    The connection is closed here, not left to the garbage collector (a sqlite3 connection sits in a reference
+    cycle with its statement cache): while one is open in this process, a new connection to the file shares its
+    WAL index, and after the writer is killed between writing a commit and publishing it in that index, the
+    new one reads the store without that commit. A resume (another process) sees it.
+    """
     if not db.is_file():
         return {}
     try:
-        with sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=5) as conn:
+        with contextlib.closing(sqlite3.connect(f"file:{db}?mode=ro", uri=True, timeout=5)) as conn:
             return {r[0]: (r[1], r[2]) for r in conn.execute("SELECT scenario_id, run_token, finished_at FROM results")}
     except sqlite3.OperationalError:  # the table is not created yet
         return {}
@@ -130,7 +137,7 @@ def test_sigkill_leaves_a_consistent_store_and_rerun_resumes(tmp_path, warm):
         except ProcessLookupError:
             pass
     db = out / "study.sqlite"
-    with sqlite3.connect(db) as conn:
+    with contextlib.closing(sqlite3.connect(db)) as conn:
         assert conn.execute("PRAGMA integrity_check").fetchone()[0] == "ok"
     before = _stored(db)
     with StudyStore(out) as store:

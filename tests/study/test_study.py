@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import signal
@@ -195,7 +196,7 @@ def test_store_row_is_all_or_nothing_when_killed_mid_transaction(tmp_path):
     code = CRASH.format(tests=str(os.path.dirname(os.path.dirname(__file__))), spec=str(spec), out=str(out))
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert proc.returncode == -signal.SIGKILL, proc.stderr
-    with sqlite3.connect(out / "study.sqlite") as conn:
+    with contextlib.closing(sqlite3.connect(out / "study.sqlite")) as conn:
         assert conn.execute("PRAGMA integrity_check").fetchone()[0] == "ok"
     with StudyStore(out, "small", lock=True) as store:  # the lock died with the process
         assert store.done_ids() == {scenarios[0]["scenario_id"]}
