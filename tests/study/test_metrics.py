@@ -135,7 +135,7 @@ def test_a_metric_registered_elsewhere_needs_no_runner_edit(tmp_path):
 # one executor interface
 # ------------------------------------------------------------------------------------------------
 def test_every_executor_is_a_concurrent_futures_executor():
-    from trikedyn.study.executors import InlineExecutor, SpawnPool, make_executor
+    from trikedyn.study.executors import InlineExecutor, ProcessPool, make_executor
 
     inline = make_executor(0, None, None, 3)
     assert isinstance(inline, InlineExecutor) and isinstance(inline, cf.Executor)
@@ -146,7 +146,7 @@ def test_every_executor_is_a_concurrent_futures_executor():
     inline.shutdown()
     pool = make_executor(1, None, None, 3)
     try:
-        assert isinstance(pool, SpawnPool) and isinstance(pool, cf.ProcessPoolExecutor)
+        assert isinstance(pool, ProcessPool) and isinstance(pool, cf.ProcessPoolExecutor)
         futures = [pool.submit(math.sqrt, v) for v in (1.0, 9.0)]
         done, _ = cf.wait(futures, timeout=60, return_when=cf.ALL_COMPLETED)
         assert [f.result() for f in futures] == [1.0, 3.0] and pool.window == 2

@@ -2,9 +2,12 @@
 
 - :class:`InlineExecutor`: one call after the other in this process, at ``submit`` (``workers=0``:
   debugging; a study whose scenarios are all stored);
-- :class:`SpawnPool`: a :class:`~concurrent.futures.ProcessPoolExecutor` with the spawn context (safe with
-  numba) whose workers ignore SIGINT (the main process decides) and exit on their own when the main process
-  dies; ``shutdown(wait=False, cancel_futures=True)`` also stops the workers in flight (a second Ctrl-C);
+- :class:`ProcessPool`: a :class:`~concurrent.futures.ProcessPoolExecutor` whose workers ignore SIGINT (the
+  main process decides) and exit on their own when the main process dies;
+  ``shutdown(wait=False, cancel_futures=True)`` also stops the workers in flight (a second Ctrl-C). Its
+  workers fork from a fork server that imported the simulation once (:data:`PRELOAD`), where the platform
+  has one (Linux, macOS), so that a worker starts in milliseconds, not the second an import takes; else
+  they are spawned. Neither forks a process that has threads (numba's LLVM, the main's import thread);
 - :class:`DaskExecutor`: the executor of a ``dask.distributed`` client (``Client.get_executor()``), on a new
   ``LocalCluster`` (``dask_local=N``) or on an existing scheduler (``scheduler="tcp://host:port"``);
   shutting it down closes the client (and the cluster it started).
@@ -29,7 +32,12 @@ from concurrent.futures import Executor, Future, ProcessPoolExecutor
 
 from ..errors import InputError
 
-__all__ = ["DaskExecutor", "InlineExecutor", "SpawnPool", "check_executor", "make_executor", "one_line"]
+__all__ = ["PRELOAD", "DaskExecutor", "InlineExecutor", "ProcessPool", "check_executor", "make_executor", "one_line",
+           "start_pool_server"]
+
+PRELOAD = ("trikedyn.analysis.threshold", "trikedyn.study.runner", "trikedyn.study.metrics")
+"""What the fork server imports before it forks the pool's workers: the simulation (numba, scipy, the model)
+and the study's worker functions."""
 
 
 def one_line(exc: BaseException) -> str:
@@ -37,17 +45,45 @@ def one_line(exc: BaseException) -> str:
     return f"{type(exc).__name__}: {' '.join(str(exc).split())}"
 
 
-def _watch_parent(parent: int) -> None:
-    while True:
-        time.sleep(0.5)
-        if os.getppid() != parent:  # the main process died (SIGKILL): nobody will collect our work
-            os._exit(1)
+def _wait_for_exit(pid: int) -> None:
+    """Return when process ``pid`` has ended.
+
+    A spawned worker's parent is the main process: orphaned, it is adopted by another. A worker from the
+    fork server is the server's child, and the server outlives the main process while a worker does (each
+    worker holds the server's "alive" pipe): it waits on a pidfd of the main process (Linux), else polls its
+    pid every 0.5 s.
+    """
+    if os.getppid() == pid:
+        while os.getppid() == pid:
+            time.sleep(0.5)
+        return
+    try:
+        handle = os.pidfd_open(pid)
+    except ProcessLookupError:
+        return
+    except (AttributeError, OSError):  # no pidfd (macOS, an old kernel)
+        while True:
+            time.sleep(0.5)
+            try:
+                os.kill(pid, 0)
+            except ProcessLookupError:
+                return
+            except PermissionError:  # alive, or its pid taken by another user's process
+                pass
+    import select
+
+    select.select([handle], [], [])  # readable once the process has ended
 
 
-def _pool_worker_init() -> None:
+def _watch_main(main_pid: int) -> None:
+    _wait_for_exit(main_pid)
+    os._exit(1)  # the main process died (SIGKILL): nobody will collect our work
+
+
+def _pool_worker_init(main_pid: int) -> None:
     """Pool worker start-up: ignore SIGINT (the main process decides), exit when the main process dies."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    threading.Thread(target=_watch_parent, args=(os.getppid(),), daemon=True).start()
+    threading.Thread(target=_watch_main, args=(main_pid,), daemon=True).start()
 
 
 class InlineExecutor(Executor):
@@ -76,14 +112,42 @@ class InlineExecutor(Executor):
         self._shutdown = True
 
 
-class SpawnPool(ProcessPoolExecutor):
-    """A local process pool: spawn context, workers that ignore SIGINT and die with the main process."""
+_fork_server_failed = False
+
+
+def pool_context():
+    """The start method of the pool's workers: the fork server where the platform has one, started now if it
+    is not running (it imports :data:`PRELOAD`, about a second, in its own process); else, or when it cannot
+    start (no socket for it in the temporary folder), spawn."""
+    global _fork_server_failed
+    import multiprocessing
+
+    if not _fork_server_failed and "forkserver" in multiprocessing.get_all_start_methods():
+        from multiprocessing import forkserver
+
+        context = multiprocessing.get_context("forkserver")
+        context.set_forkserver_preload(list(PRELOAD))  # read when the server starts
+        try:
+            forkserver.ensure_running()
+            return context
+        except OSError:
+            _fork_server_failed = True
+    return multiprocessing.get_context("spawn")
+
+
+def start_pool_server() -> None:
+    """Start the pool's fork server now, so that its imports overlap the caller's set-up (reading the spec
+    and the vehicle) rather than follow the pool's first call."""
+    pool_context()
+
+
+class ProcessPool(ProcessPoolExecutor):
+    """A local process pool: workers from the fork server (or spawned), that ignore SIGINT and die with the
+    main process."""
 
     def __init__(self, workers: int):
-        import multiprocessing
-
-        super().__init__(max_workers=workers, mp_context=multiprocessing.get_context("spawn"),
-                         initializer=_pool_worker_init)
+        super().__init__(max_workers=workers, mp_context=pool_context(), initializer=_pool_worker_init,
+                         initargs=(os.getpid(),))
         self.workers = workers
         self.label = f"process pool ({workers} worker{'s' if workers != 1 else ''})"
         self.window = workers + 1
@@ -157,7 +221,7 @@ def check_executor(workers, dask_local, scheduler) -> None:
 
 def make_executor(workers, dask_local, scheduler, n_todo: int) -> Executor:
     """The executor for a run's options (at most one of ``workers``, ``dask_local``, ``scheduler``) and
-    ``n_todo`` calls: in this process when there is nothing to do or ``workers=0``; a :class:`SpawnPool` of
+    ``n_todo`` calls: in this process when there is nothing to do or ``workers=0``; a :class:`ProcessPool` of
     ``workers`` (all cores by default, no more than ``n_todo``); or a :class:`DaskExecutor`."""
     check_executor(workers, dask_local, scheduler)
     if n_todo == 0:
@@ -170,4 +234,4 @@ def make_executor(workers, dask_local, scheduler, n_todo: int) -> Executor:
         workers = os.cpu_count() or 1
     if workers == 0:
         return InlineExecutor()
-    return SpawnPool(min(int(workers), n_todo))
+    return ProcessPool(min(int(workers), n_todo))

@@ -25,7 +25,7 @@ Adding a metric is registering a function in any module (no edit of the runner):
 
 A spec names metrics by name, or as a table with options: ``metrics = ["threshold", "tilt_angle",
 { name = "peak_ri", speed_kmh = 40 }]``. Worker processes find a metric by importing the module that
-registers it: register in an importable module (the spawned pool also re-imports a script's ``__main__``),
+registers it: register in an importable module (the pool's workers also re-import a script's ``__main__``),
 not interactively, when the study runs on Dask.
 """
 

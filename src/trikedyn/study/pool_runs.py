@@ -33,9 +33,13 @@ class ResilientPool:
     :meth:`close` it when done."""
 
     def __init__(self, workers: int | None):
+        from .executors import start_pool_server
+
         self.workers = workers
         self.executor = None
         self.restarts = 0
+        if workers != 0:
+            start_pool_server()  # its imports overlap the caller's set-up
 
     def run(self, fn: Callable, tasks: Iterable[tuple[Hashable, tuple]], on_result: Callable,
             on_death: Callable) -> None:

@@ -6,7 +6,8 @@ Executors (:mod:`trikedyn.study.executors`, each a :class:`concurrent.futures.Ex
 ``submit``, ``wait(FIRST_COMPLETED)``, ``cancel`` and ``shutdown`` only; the same function, the same results,
 to the last digit):
 
-- a local process pool (default; ``workers`` processes, spawn context, which is safe with numba);
+- a local process pool (default; ``workers`` processes, from a preloaded fork server where the platform
+  has one, else spawned: neither forks a process with threads, which is what makes it safe with numba);
 - ``workers=0``: one scenario after the other in this process (debugging);
 - ``dask_local=N``: a ``dask.distributed.LocalCluster`` of N single-threaded worker processes, through
   ``Client.get_executor()``;
@@ -56,7 +57,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError, TrikedynError
-from .executors import check_executor, make_executor
+from .executors import check_executor, make_executor, start_pool_server
 from .executors import one_line as _one_line
 from .scenarios import SCENARIO_KEYS, count_scenarios, expand
 from .spec import StudySpec, load_spec
@@ -252,6 +253,8 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
 
     started = time.perf_counter()
     check_executor(workers, dask_local, scheduler)
+    if workers != 0 and dask_local is None and scheduler is None:
+        start_pool_server()
     _check_limit(max_scenarios)
     spec = load_spec(spec)
     _check_size(spec, max_scenarios)
@@ -327,8 +330,10 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
         finally:
             if report is not None and hasattr(report, "close"):
                 report.close()
-            if not abandoned:
+            if not abandoned and running:
                 executor.shutdown(wait=True, cancel_futures=True)
+            elif not abandoned:  # every call collected: the idle workers exit while the results are exported
+                executor.shutdown(wait=False)
         if stop.requested:
             outcome = "interrupted"
         elif lost and outcome != "interrupted":
@@ -405,8 +410,8 @@ def run_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers: int
     -------
     pandas.DataFrame
         The spec's stored scenarios in spec order (see :meth:`StudyStore.to_pandas`); identical, value for
-        value, whichever executor ran them. Use a ``if __name__ == "__main__":`` guard in scripts: the
-        process pool spawns fresh interpreters.
+        value, whichever executor ran them. Use a ``if __name__ == "__main__":`` guard in scripts: each
+        worker of the process pool imports the script again.
 
     Raises
     ------

@@ -1,0 +1,92 @@
+"""trikedyn.study.executors: where the process pool's workers come from, and how they end.
+
+That the workers exit when the main process is killed is shown by the kill tests of ``test_resume`` and
+``test_acceptance`` (the whole process group gone); the executor interface by ``test_metrics``.
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import multiprocessing
+import os
+import subprocess
+import sys
+import time
+
+import pytest
+
+from trikedyn.study import executors
+from trikedyn.study.executors import PRELOAD, ProcessPool, pool_context
+
+HAS_FORK_SERVER = "forkserver" in multiprocessing.get_all_start_methods()
+LOADED = "[m in __import__('sys').modules for m in {names!r}]"
+
+
+def _run(pool: ProcessPool, fn, *args):
+    fut = pool.submit(fn, *args)
+    cf.wait([fut], timeout=60)
+    return fut.result()
+
+
+@pytest.mark.skipif(not HAS_FORK_SERVER, reason="this platform has no fork server: the workers are spawned")
+def test_workers_fork_from_a_server_that_imported_the_simulation():
+    pool = ProcessPool(1)
+    try:
+        assert pool_context().get_start_method() == "forkserver"
+        assert _run(pool, os.getppid) != os.getpid()  # the fork server's child, not ours
+        # eval is a builtin: the call itself imports nothing, so what is loaded came from the server
+        assert _run(pool, eval, LOADED.format(names=list(PRELOAD))) == [True] * len(PRELOAD)
+    finally:
+        pool.shutdown()
+
+
+def test_workers_are_spawned_when_the_fork_server_cannot_start(monkeypatch):
+    from multiprocessing import forkserver
+
+    def no_socket():
+        raise OSError(30, "Read-only file system")
+
+    monkeypatch.setattr(forkserver, "ensure_running", no_socket)
+    monkeypatch.setattr(executors, "_fork_server_failed", False)
+    pool = ProcessPool(1)
+    try:
+        assert pool_context().get_start_method() == "spawn"
+        assert _run(pool, os.getppid) == os.getpid()
+        assert _run(pool, eval, "1 + 1") == 2
+    finally:
+        pool.shutdown()
+
+
+def test_a_killed_main_process_takes_its_fork_server_and_workers_with_it(tmp_path):
+    """SIGKILL the main process while its workers compute: nothing of its process group is left."""
+    script = tmp_path / "main.py"
+    script.write_text(
+        "import os, time\n"
+        "from trikedyn.study.executors import ProcessPool\n"
+        "if __name__ == '__main__':\n"
+        "    pool = ProcessPool(2)\n"
+        "    futures = [pool.submit(time.sleep, 600) for _ in range(2)]\n"
+        "    while len(pool._processes) < 2 or not all(f.running() for f in futures):\n"
+        "        time.sleep(0.05)\n"
+        "    print(os.getpid(), flush=True)\n"
+        "    time.sleep(600)\n", encoding="utf-8")
+    proc = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    try:
+        assert proc.stdout.readline().strip() == str(proc.pid)  # both workers in time.sleep(600)
+        proc.kill()
+        proc.wait(timeout=30)
+        deadline = time.monotonic() + 15
+        while time.monotonic() < deadline:
+            try:
+                os.killpg(proc.pid, 0)
+            except ProcessLookupError:
+                break
+            time.sleep(0.1)
+        else:
+            pytest.fail("the fork server or a worker outlived the killed main process")
+    finally:
+        try:
+            os.killpg(proc.pid, 9)
+        except ProcessLookupError:
+            pass
