@@ -11,12 +11,13 @@ import multiprocessing
 import os
 import subprocess
 import sys
-import time
 
 import pytest
 
 from trikedyn.study import executors
 from trikedyn.study.executors import PRELOAD, ProcessPool, pool_context
+
+from .test_resume import _group_gone
 
 HAS_FORK_SERVER = "forkserver" in multiprocessing.get_all_start_methods()
 LOADED = "[m in __import__('sys').modules for m in {names!r}]"
@@ -76,15 +77,7 @@ def test_a_killed_main_process_takes_its_fork_server_and_workers_with_it(tmp_pat
         assert proc.stdout.readline().strip() == str(proc.pid)  # both workers in time.sleep(600)
         proc.kill()
         proc.wait(timeout=30)
-        deadline = time.monotonic() + 15
-        while time.monotonic() < deadline:
-            try:
-                os.killpg(proc.pid, 0)
-            except ProcessLookupError:
-                break
-            time.sleep(0.1)
-        else:
-            pytest.fail("the fork server or a worker outlived the killed main process")
+        assert _group_gone(proc.pid, timeout_s=15.0), "the fork server or a worker outlived the killed main process"
     finally:
         try:
             os.killpg(proc.pid, 9)

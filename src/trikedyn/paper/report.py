@@ -141,7 +141,7 @@ class Animations:
             pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("spawn"))
             self._futures = {key: pool.submit(_animate, scene, self.paths[key]) for key, scene in scenes.items()}
             pool.shutdown(wait=False)
-        except (OSError, RuntimeError):  # no process to be had (NotImplementedError is a RuntimeError): drawn in wait()
+        except (OSError, RuntimeError):  # a platform or sandbox that starts no process: wait() draws them here
             self._futures = {}
 
     def wait(self) -> dict[str, Path]:

@@ -135,10 +135,17 @@ def pool_context():
     return multiprocessing.get_context("spawn")
 
 
-def start_pool_server() -> None:
-    """Start the pool's fork server now, so that its imports overlap the caller's set-up (reading the spec
-    and the vehicle) rather than follow the pool's first call."""
-    pool_context()
+def _chooses_pool(workers, dask_local, scheduler) -> bool:
+    """Whether a run's options ask for the local process pool (when it has anything to do)."""
+    return workers != 0 and dask_local is None and scheduler is None
+
+
+def start_pool_server(workers=None, dask_local=None, scheduler=None) -> None:
+    """Start the pool's fork server now if the run's options ask for the pool (:func:`make_executor`), so
+    that its imports overlap the caller's set-up (reading the spec and the vehicle) rather than follow the
+    pool's first call."""
+    if _chooses_pool(workers, dask_local, scheduler):
+        pool_context()
 
 
 class ProcessPool(ProcessPoolExecutor):
@@ -226,12 +233,10 @@ def make_executor(workers, dask_local, scheduler, n_todo: int) -> Executor:
     check_executor(workers, dask_local, scheduler)
     if n_todo == 0:
         return InlineExecutor("none (every scenario stored already)")
-    if scheduler is not None:
-        return DaskExecutor(scheduler=scheduler)
-    if dask_local is not None:
-        return DaskExecutor(n_workers=int(dask_local))
-    if workers is None:
-        workers = os.cpu_count() or 1
-    if workers == 0:
+    if not _chooses_pool(workers, dask_local, scheduler):
+        if scheduler is not None:
+            return DaskExecutor(scheduler=scheduler)
+        if dask_local is not None:
+            return DaskExecutor(n_workers=int(dask_local))
         return InlineExecutor()
-    return ProcessPool(min(int(workers), n_todo))
+    return ProcessPool(min(int(workers or os.cpu_count() or 1), n_todo))

@@ -38,8 +38,7 @@ class ResilientPool:
         self.workers = workers
         self.executor = None
         self.restarts = 0
-        if workers != 0:
-            start_pool_server()  # its imports overlap the caller's set-up
+        start_pool_server(workers)  # its imports overlap the caller's set-up
 
     def run(self, fn: Callable, tasks: Iterable[tuple[Hashable, tuple]], on_result: Callable,
             on_death: Callable) -> None:

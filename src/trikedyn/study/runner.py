@@ -253,8 +253,7 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
 
     started = time.perf_counter()
     check_executor(workers, dask_local, scheduler)
-    if workers != 0 and dask_local is None and scheduler is None:
-        start_pool_server()
+    start_pool_server(workers, dask_local, scheduler)
     _check_limit(max_scenarios)
     spec = load_spec(spec)
     _check_size(spec, max_scenarios)

@@ -287,7 +287,6 @@ def _suspension_of(pset: ParameterSet, item: str) -> tuple[str, str]:
     if sep and name.strip() in names:
         return name.strip(), file.strip()
     if sep and "/" not in name and "." not in name:  # NAME=FILE with an unknown NAME
-
         tip = did_you_mean(name.strip(), names)
         raise InputError(f"no suspension '{name.strip()}' on this vehicle{tip} (it has {', '.join(names)})",
                          where="--identification")
