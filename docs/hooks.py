@@ -529,7 +529,7 @@ API_MODULES = (
                     "trikedyn.simulate.channels", "trikedyn.simulate.exponential")),
     ("Judging", ("trikedyn.analysis.metrics", "trikedyn.analysis.threshold", "trikedyn.analysis.compare",
                  "trikedyn.analysis.alignment", "trikedyn.analysis.scoring", "trikedyn.analysis.tilt",
-                 "trikedyn.analysis.handling_tests")),
+                 "trikedyn.analysis.handling_tests", "trikedyn.analysis.performance")),
     ("Studies", ("trikedyn.study.spec", "trikedyn.study.scenarios", "trikedyn.study.runner", "trikedyn.study.store",
                  "trikedyn.study.metrics",
                  "trikedyn.study.figures", "trikedyn.study.sensitivity", "trikedyn.study.uncertainty",

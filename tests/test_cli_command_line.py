@@ -37,7 +37,7 @@ def _options(command) -> dict[str, object]:
 
 
 FREIGHT_COMMANDS = {("simulate",), ("threshold",), ("handling",), ("tilt",), ("compare-layouts",), ("cg", "payload"),
-                    ("modes",)}
+                    ("modes",), ("performance",)}
 
 
 # ------------------------------------------------------------------------------------------------------------
@@ -73,6 +73,7 @@ STAND_INS = {
     ("tilt",): ("trikedyn.analysis.tilt", "tilt_table"),
     ("compare-layouts",): ("trikedyn.analysis.layouts", "compare_layouts"),
     ("modes",): ("trikedyn.model.vehicle", "build_model"),
+    ("performance",): ("trikedyn.analysis.performance", "performance"),
 }
 
 

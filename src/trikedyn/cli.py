@@ -51,6 +51,7 @@ from .commands import (  # noqa: E402
     loading,
     logs,
     optimise,
+    performance,
     sensitivity,
     stability,
     studies,
@@ -74,6 +75,7 @@ app.command("compare")(drive.compare_cmd)
 app.command("threshold")(stability.threshold_cmd)
 app.command("handling")(stability.handling_cmd)
 app.command("tilt")(stability.tilt_cmd)
+app.command("performance")(performance.performance_cmd)
 app.command("compare-layouts")(layouts.compare_layouts_cmd)
 app.command("sensitivity")(sensitivity.sensitivity_cmd)
 app.command("study")(studies.study_cmd)
