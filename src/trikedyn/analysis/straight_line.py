@@ -1,0 +1,493 @@
+"""The model's straight running: its own tyre, drive, brake and resistance terms evaluated in steady straight
+running, quasi-static.
+
+The forces the compiled right-hand side (:func:`trikedyn.model.rhs.evaluate_into`) applies, taken in balance at
+one speed, with no simulation. :class:`StraightRunning` (one per model: :func:`straight_running`) gives the
+quasi-static :class:`State` at a speed under a drive command and a brake torque, on a grade;
+:func:`full_drive_balance` finds the speed at which the full drive balances the resistances, and
+:func:`power_takeover` the speed at which the power limit takes over from the torque limit. The straight-line
+performance (:mod:`trikedyn.analysis.performance`: top speed, acceleration, braking) is built on these.
+
+The model, as the simulation drives it
+--------------------------------------
+* **Drive.** The command is clamped to ``drive.max_drive_torque_Nm`` (the total at the driven wheels), then
+  to ``max_power_W / omega_mean`` (``omega_mean`` the mean spin rate of the driven wheels), and split equally
+  over the driven wheels (open differential). ``power = T omega_mean`` is the power at the wheels.
+* **Wheels.** Each wheel ``i`` spins under ``I_i omega_i' = tau_drive,i - tau_brake,i tanh(omega_i / w_low)
+  - F_x,i R_i + M_y,i``: the tyre's longitudinal force ``F_x`` acts at the contact point, a moment arm of the
+  *unloaded* radius ``R``; the rolling-resistance moment ``M_y = -f_r F_z R_e tanh(omega / w_low)`` has the
+  effective rolling radius ``R_e = R - d / 3`` (``d = F_z / k_z`` the tyre deflection), which is also the
+  radius of the slip, ``kappa = (omega R_e - v) / v_ref`` with ``v_ref = (v^4 + v_low^4)^(1/4)``. Both
+  come from the wheel's own tyre function (:func:`trikedyn.tyre.interface.tyre_forces`): the ``[tyre]``
+  section's similarity Magic Formula, or a ``.tir`` file's full Magic Formula (its ``F_x`` with offsets, its
+  rolling resistance ``M_y``), with zero slip angle and camber.
+* **Vehicle.** ``M a = sum F_x,i - 0.5 rho C_d A v^2 - M g sin(theta)``, ``tan(theta) = grade / 100``; ``M``
+  the whole vehicle (payload and wheels). In quasi-static running each wheel keeps its slip, so
+  ``omega_i' = a (1 + kappa_i v^3 / v_ref^3) / R_e,i``: the wheels' spin inertia is part of the balance.
+* **Wheel loads.** The static equilibrium's loads (``model.cache``), times ``cos(theta)``, plus the
+  longitudinal load transfer of a rigid vehicle on its contact points: the pitch moment of the drag at its
+  point's height (the chassis CG, as in the model), of the inertia and grade force at the CG height, of the
+  wheels' rolling-resistance moments and of their spin inertia, shared by the vertical, pitch and roll
+  balances of the contacts (exact for three wheels).
+* **Braked wheels.** A braked wheel rolls while its tyre can carry the brake torque; when it cannot (the
+  rolling balance has no root short of the tyre's peak force) it locks, and stays locked (hysteresis),
+  sliding with the force of its own tyre at the slip where ``tau_brake tanh(omega / w_low)`` balances that
+  force (a spin of about half ``w_low``): the tyre model's value near full lock, as in the simulation.
+* **Traction.** When a driven wheel's tyre cannot carry its share of the torque, the open differential gives
+  each driven wheel at most what the weaker one carries (its tyre at its peak force).
+
+The pitch and bounce of the suspension, and the slips' relaxation, are left out (quasi-static).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq, minimize_scalar
+
+from ..errors import InputError
+from ..model.statics import static_equilibrium
+from ..model.vehicle import VehicleModel, build_model
+from ..params.io import ParameterSet
+from ..params.ops import mass_properties
+from ..params.schema import VehicleParameters
+from ..tyre.interface import tyre_forces
+
+__all__ = ["State", "StraightRunning", "cache_key", "full_drive_balance", "power_takeover", "straight_running",
+           "vehicle_model"]
+
+_DRIVING_SLIPS = (1e-5, 1e-4, 3e-4, 1e-3, 3e-3, 0.01, 0.02, 0.035, 0.05, 0.07, 0.1, 0.13, 0.17, 0.22, 0.3, 0.4,
+                  0.55, 0.75, 1.0)
+"""Slips scanned, from zero outwards, for the root of a wheel's spin balance [1]."""
+_LOCKED_SPINS = (0.0, 0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 5.0, 8.0, 13.0, 20.0, 35.0, 60.0)
+"""Spin rates scanned, in ``w_low``, from a locked wheel upwards for its sliding root [1]."""
+
+
+@dataclass
+class _Wheel:
+    """One wheel's packed records: its tyre function and coefficients, radius [m], vertical stiffness [N/m],
+    spin inertia [kg m^2], whether it is driven and braked, and its static load [N]."""
+
+    name: str
+    model: int
+    coeffs: np.ndarray
+    radius: float
+    kz: float
+    inertia: float
+    driven: bool
+    braked: bool
+    static_load: float
+
+
+@dataclass
+class State:
+    """One quasi-static state of straight running (:meth:`StraightRunning.state`).
+
+    Attributes
+    ----------
+    a : float
+        Acceleration [m/s^2], negative braking.
+    torque : float
+        Total drive torque at the driven wheels, as the model clamps the command [N m].
+    limit : str
+        What sets the drive torque: ``"command"``, ``"torque"``, ``"power"`` or ``"traction"``.
+    fz, fx : numpy.ndarray
+        Vertical load and longitudinal tyre force per wheel [N].
+    my : numpy.ndarray
+        Rolling-resistance moment per wheel [N m].
+    kappa : numpy.ndarray
+        Longitudinal slip per wheel [1].
+    spin : numpy.ndarray
+        Spin rate per wheel [rad/s].
+    locked : numpy.ndarray
+        Per wheel, True when it is locked (sliding).
+    """
+
+    a: float
+    torque: float
+    limit: str
+    fz: np.ndarray
+    fx: np.ndarray
+    my: np.ndarray
+    kappa: np.ndarray
+    spin: np.ndarray
+    locked: np.ndarray
+
+
+class StraightRunning:
+    """The model's straight running, per wheel, quasi-static (see the module docstring).
+
+    Built once per model by :func:`straight_running`, from the packed records and the static equilibrium.
+
+    Attributes
+    ----------
+    mass : float
+        The whole vehicle [kg].
+    cg_z : float
+        Height of the CG [m].
+    g : float
+        [m/s^2].
+    drag : float
+        ``0.5 rho C_d A`` [N s^2/m^2].
+    drag_z : float
+        Height at which the drag acts (the chassis CG) [m].
+    max_torque, max_power : float
+        The drive's limits: total torque at the driven wheels [N m], power at the wheels [W].
+    max_brake : float
+        Brake torque on each braked wheel [N m].
+    n_driven : float
+        Number of driven wheels.
+    v_low, w_low : float
+        The model's low-speed regularisation of the slip [m/s] and of the brake and rolling resistance [rad/s].
+    wheels : list
+        Per wheel (in the model's order) its name (``.name``) and packed records.
+    static, x : numpy.ndarray
+        Static load on the flat [N] and x position [m] per wheel.
+    transfer : numpy.ndarray
+        Change of the loads per unit pitch moment [N / (N m)].
+    driven : numpy.ndarray
+        Per wheel, True when it is driven.
+    radius, kz, inertia : numpy.ndarray
+        Unloaded radius [m], vertical stiffness [N/m] and spin inertia [kg m^2] per wheel.
+    """
+
+    def __init__(self, model: VehicleModel):
+        params = model.params
+        veh = model.vehicle
+        eq = static_equilibrium(model)
+        self.mass = float(model.tree.total_mass())
+        self.cg_z = float(mass_properties(params).cg_m[2])
+        self.g = float(veh["g"])
+        self.drag = float(veh["aero"])
+        self.drag_z = float(veh["aero_z"])
+        self.max_torque = float(veh["max_torque"])
+        self.max_power = float(veh["max_power"])
+        self.max_brake = float(veh["max_brake"])
+        self.n_driven = float(veh["n_driven"])
+        self.v_low = float(veh["v_low"])
+        self.w_low = float(veh["w_low"])
+        self.wheels = []
+        xs, ys = [], []
+        for k, w in enumerate(model.tree.wheels):
+            spec = params.wheel(w.name)
+            rec = model.plant.wheels[k]
+            self.wheels.append(_Wheel(w.name, int(rec["tyre_model"]), np.ascontiguousarray(model.plant.tyres[k]),
+                                      float(rec["radius"]), float(rec["vertical_stiffness"]),
+                                      float(spec.spin_inertia_kgm2), bool(rec["driven"]), bool(rec["braked"]),
+                                      float(eq.wheel_loads_N[w.name])))
+            xs.append(spec.x_m)
+            ys.append(spec.y_m)
+        n = len(self.wheels)
+        self.static = np.array([w.static_load for w in self.wheels])
+        self.x = np.array(xs)
+        # loads' change for a pitch moment: vertical, pitch and roll balances of the contacts (least norm)
+        support = np.vstack([np.ones(n), self.x, np.array(ys)])
+        self.transfer = np.linalg.pinv(support)[:, 1]
+        self.driven = np.array([w.driven for w in self.wheels])
+        self.radius = np.array([w.radius for w in self.wheels])
+        self.kz = np.array([w.kz for w in self.wheels])
+        self.inertia = np.array([w.inertia for w in self.wheels])
+
+    # -- one wheel ------------------------------------------------------------------------------------------
+    def _wheel(self, w: _Wheel, kappa, v, v_ref, fz, a, tau_drive, tau_brake):
+        """Residual of the spin balance ``I omega' - (...)`` with its sign flipped, and the tyre's values."""
+        r_eff = w.radius - fz / w.kz / 3.0
+        spin = (v + kappa * v_ref) / r_eff
+        if fz > 0.0:
+            fx, _, _, _, my, _ = tyre_forces(w.model, w.coeffs, kappa, 0.0, 0.0, fz, v, v_ref, spin, r_eff,
+                                             self.v_low, self.w_low)
+        else:
+            fx, my = 0.0, 0.0
+        spin_rate = a * (1.0 + kappa * (v / v_ref) ** 3) / r_eff
+        g = tau_drive - tau_brake * math.tanh(spin / self.w_low) - fx * w.radius + my - w.inertia * spin_rate
+        return g, fx, my, spin
+
+    def _root(self, w, lo, hi, args):
+        return brentq(lambda k: self._wheel(w, k, *args)[0], lo, hi, xtol=1e-13, rtol=1e-12)
+
+    def _solve_wheel(self, w, v, v_ref, fz, a, tau_drive, tau_brake, locked, guess):
+        """The wheel's slip: the root of its spin balance it reaches from rolling (or, locked, from lock).
+
+        Returns the slip and whether the wheel is locked; None when no root exists (a driven wheel whose
+        tyre cannot carry the torque).
+        """
+        args = (v, v_ref, fz, a, tau_drive, tau_brake)
+        lock = -v / v_ref  # slip of a wheel that does not turn
+        if locked:
+            prev, g_prev = lock, self._wheel(w, lock, *args)[0]
+            for s in _LOCKED_SPINS[1:]:
+                k = lock + s * self.w_low * (w.radius - fz / w.kz / 3.0) / v_ref
+                if k >= 0.0:
+                    k = 0.0
+                g = self._wheel(w, k, *args)[0]
+                if g_prev > 0.0 >= g:
+                    return self._root(w, prev, k, args), True
+                if k == 0.0:
+                    break
+                prev, g_prev = k, g
+            locked = False  # no sliding root: the wheel rolls again
+        # warm start: secant steps from the previous slip, kept when they settle on a stable root nearby
+        if guess is not None and guess != 0.0:
+            found = self._secant(w, guess, args)
+            if found is not None:
+                return found, False
+        g0 = self._wheel(w, 0.0, *args)[0]
+        if g0 == 0.0:
+            return 0.0, False
+        sign = 1.0 if g0 > 0.0 else -1.0  # the slip moves toward the side the balance pushes it
+        prev = 0.0
+        for s in _DRIVING_SLIPS:
+            k = sign * s
+            if sign < 0.0 and tau_brake > 0.0 and k <= lock:  # a braked wheel stops turning, it does not reverse
+                k = lock
+            g = self._wheel(w, k, *args)[0]
+            if g * g0 <= 0.0:
+                root = self._root(w, min(prev, k), max(prev, k), args)
+                return root, self._beyond_peak(w, root, args)
+            if k == lock:
+                break
+            prev = k
+        return None, False
+
+    def _secant(self, w, guess, args):
+        """The root of the spin balance near ``guess`` by secant steps, or None (not settled, too far, or an
+        unstable root: the balance must fall with the slip there)."""
+        k0, k1 = guess, guess * (1.0 + 1e-4)
+        g0, g1 = self._wheel(w, k0, *args)[0], self._wheel(w, k1, *args)[0]
+        reach = 0.2 * abs(guess) + 1e-6
+        for _ in range(10):
+            if g1 == g0:
+                return None
+            slope = (g1 - g0) / (k1 - k0)
+            if not slope < 0.0:
+                return None
+            k2 = k1 - g1 / slope
+            if abs(k2 - guess) > reach or k2 * guess <= 0.0:
+                return None
+            if abs(k2 - k1) <= 1e-13 + 1e-10 * abs(k2):
+                return k2
+            k0, g0, k1, g1 = k1, g1, k2, self._wheel(w, k2, *args)[0]
+        return None
+
+    def _beyond_peak(self, w, kappa, args):
+        """True when the tyre's force falls with more slip at ``kappa`` (the wheel slides: locked)."""
+        if kappa >= 0.0:
+            return False
+        d = max(1e-7, 1e-4 * abs(kappa))
+        return abs(self._wheel(w, kappa - d, *args)[1]) < abs(self._wheel(w, kappa, *args)[1])
+
+    def _capacity(self, w, v, v_ref, fz, a):
+        """Largest torque a driven wheel's tyre carries in rolling, and the slip there."""
+        def carried(k):
+            """Drive torque [N m] the wheel carries in rolling at slip ``k``: ``F_x R - M_y + I omega'``."""
+            return -self._wheel(w, k, v, v_ref, fz, a, 0.0, 0.0)[0]
+
+        values = [carried(s) for s in _DRIVING_SLIPS]
+        i = int(np.argmax(values))
+        lo = _DRIVING_SLIPS[max(i - 1, 0)]
+        hi = _DRIVING_SLIPS[min(i + 1, len(_DRIVING_SLIPS) - 1)]
+        best = minimize_scalar(lambda k: -carried(k), bounds=(lo, hi), method="bounded", options={"xatol": 1e-9})
+        k = float(best.x) if -best.fun > values[i] else _DRIVING_SLIPS[i]
+        return max(-best.fun, values[i]), k
+
+    # -- the vehicle --------------------------------------------------------------------------------------
+    def state(self, v, drive, brake, sin_t, cos_t, locked=None, start=None) -> State:
+        """The quasi-static state at speed ``v`` [m/s] under a drive command [N m] and a brake torque per
+        braked wheel [N m], on a grade ``(sin, cos)``; ``locked`` per wheel (kept from a previous state),
+        ``start`` a nearby state to start the iteration from."""
+        n = len(self.wheels)
+        v_ref = (v**4 + self.v_low**4) ** 0.25
+        locked = np.zeros(n, bool) if locked is None else locked.copy()
+        kappa = np.zeros(n) if start is None else start.kappa.copy()
+        fz = self.static * cos_t if start is None else start.fz.copy()
+        my = np.zeros(n) if start is None else start.my.copy()
+        a = 0.0 if start is None else start.a
+        fx, spin = np.zeros(n), np.zeros(n)
+        aero = self.drag * v * v
+        torque, limit = 0.0, ""
+        previous = None
+        for _ in range(200):
+            r_eff = self.radius - fz / self.kz / 3.0
+            spin_rate = a * (1.0 + kappa * (v / v_ref) ** 3) / r_eff
+            pitch = (-aero * self.drag_z - self.mass * (a + self.g * sin_t) * self.cg_z + my.sum()
+                     - (self.inertia * spin_rate).sum())
+            fz = np.maximum(self.static * cos_t + self.transfer * pitch, 0.0)
+            r_eff = self.radius - fz / self.kz / 3.0
+            # the drive command, clamped as the model clamps it
+            torque = min(max(drive, -self.max_torque), self.max_torque)
+            limit = "torque" if torque >= self.max_torque else "command"
+            if self.driven.any():
+                mean_spin = float(np.abs((v + kappa * v_ref) / r_eff)[self.driven].mean())
+                if abs(torque) * mean_spin > self.max_power:
+                    torque = math.copysign(self.max_power / mean_spin, torque)
+                    limit = "power"
+            new_kappa = np.zeros(n)
+            peak = None
+            for k, w in enumerate(self.wheels):
+                tau_d = torque / self.n_driven if w.driven else 0.0
+                tau_b = brake if w.braked else 0.0
+                root, lock = self._solve_wheel(w, v, v_ref, fz[k], a, tau_d, tau_b, locked[k], kappa[k])
+                if root is None:  # a driven wheel's tyre cannot carry the torque
+                    if not tau_d > 0.0:
+                        raise RuntimeError(f"no rolling balance for the {w.name} wheel at {v:g} m/s")  # a bug
+                    most, at = self._capacity(w, v, v_ref, fz[k], a)
+                    peak = most if peak is None else min(peak, most)
+                    root = at
+                locked[k] = lock
+                new_kappa[k] = root
+            if peak is not None:
+                # traction: the open differential gives each driven wheel the same torque, at most what the
+                # weaker one carries (its tyre at the peak); the other one rolls with that torque
+                torque = min(torque, peak * self.n_driven)
+                limit = "traction"
+                for k, w in enumerate(self.wheels):
+                    if w.driven:
+                        root, _ = self._solve_wheel(w, v, v_ref, fz[k], a, torque / self.n_driven, 0.0, False,
+                                                    kappa[k])
+                        if root is not None:
+                            new_kappa[k] = root
+            for k, w in enumerate(self.wheels):
+                tau_d = torque / self.n_driven if w.driven else 0.0
+                tau_b = brake if w.braked else 0.0
+                _, fx[k], my[k], spin[k] = self._wheel(w, new_kappa[k], v, v_ref, fz[k], a, tau_d, tau_b)
+            a_new = (fx.sum() - aero - self.mass * self.g * sin_t) / self.mass
+            done = abs(a_new - a) < 1e-9 * (1.0 + abs(a_new)) and np.allclose(new_kappa, kappa, rtol=1e-8,
+                                                                           atol=1e-11)
+            # the acceleration is a fixed point a = A(a) (the wheels' inertia and the load transfer): secant steps
+            residual = a - a_new
+            if previous is not None and residual != previous[1]:
+                a_next = a - residual * (a - previous[0]) / (residual - previous[1])
+            else:
+                a_next = a_new
+            previous = (a, residual)
+            a, kappa = (a_new if done else a_next), new_kappa
+            if done:
+                break
+        return State(a, torque, limit, fz, fx.copy(), my.copy(), kappa, spin.copy(), locked)
+
+
+def vehicle_model(vehicle) -> VehicleModel:
+    """The vehicle as a model on a flat road.
+
+    Parameters
+    ----------
+    vehicle : ParameterSet, VehicleParameters or VehicleModel
+        A model (its flat-road variant is taken) or a parameter set (a model is built from it).
+
+    Returns
+    -------
+    VehicleModel
+
+    Raises
+    ------
+    InputError
+        For anything else.
+    """
+    if isinstance(vehicle, VehicleModel):
+        return vehicle.on_flat_road()
+    if isinstance(vehicle, ParameterSet | VehicleParameters):
+        return build_model(vehicle)
+    raise InputError(f"expected a ParameterSet, VehicleParameters or VehicleModel, got {type(vehicle).__name__}",
+                     where="vehicle")
+
+
+def cache_key(model: VehicleModel, *what) -> tuple:
+    """A cache key of the straight-line results (in ``model.cache``), ``what`` naming the result: they depend
+    on the drive's limits, which variants of a model that share its cache (``with_ideal_drive``) change, so
+    the packed records are part of the key."""
+    plant = model.plant
+    return ("performance", plant.vehicle.tobytes(), plant.wheels.tobytes(), plant.tyres.tobytes(), *what)
+
+
+def straight_running(model: VehicleModel) -> StraightRunning:
+    """The model's :class:`StraightRunning`, built once and kept in ``model.cache``."""
+    key = cache_key(model)
+    if key not in model.cache:
+        model.cache[key] = StraightRunning(model)
+    return model.cache[key]
+
+
+# ------------------------------------------------------------------------------------------------------------
+# balances over speed
+# ------------------------------------------------------------------------------------------------------------
+def _closed_form_speed(straight: StraightRunning, crawling: State, sin_t: float, fastest: float) -> float:
+    """Top speed [m/s] of ``min(T_max, P / omega) / R = F_rolling + M g sin + k v^2`` with the rolling
+    resistance at crawling speed, no slip and ``omega = v / R``: the search's first guess."""
+    radius = float(np.mean(straight.radius[straight.driven])) if straight.driven.any() else float(
+        np.mean(straight.radius))
+    resist = float(np.sum(-crawling.my / straight.radius)) + straight.mass * straight.g * sin_t
+
+    def net(v):
+        """Drive less resistance [N] at ``v`` [m/s]."""
+        return min(straight.max_torque / radius, straight.max_power / v) - resist - straight.drag * v * v
+
+    if net(fastest) > 0.0:
+        return fastest
+    low = 1e-3
+    return brentq(net, low, fastest) if net(low) > 0.0 else low
+
+
+def full_drive_balance(straight: StraightRunning, sin_t: float, cos_t: float, slowest: float,
+                       fastest: float) -> tuple[float | None, State]:
+    """The speed at which the acceleration at full drive is zero, between ``slowest`` and ``fastest``.
+
+    Brent's method on the quasi-static acceleration, bracketed around a closed-form first guess (the drive
+    limits against the rolling resistance at ``slowest``, the grade and the drag, without slip).
+
+    Parameters
+    ----------
+    straight : StraightRunning
+    sin_t, cos_t : float
+        Sine and cosine of the road's slope angle, ``tan(theta) = grade / 100``.
+    slowest, fastest : float
+        The speeds searched [m/s].
+
+    Returns
+    -------
+    speed : float or None
+        The balance [m/s]; 0 when the full drive does not accelerate the vehicle at ``slowest``, None when it
+        still does at ``fastest``.
+    state : State
+        The state at full drive at that speed (at ``slowest`` for 0, at ``fastest`` for None).
+    """
+    full = straight.max_torque
+    states = {}  # speed [m/s] -> quasi-static state at full drive
+
+    def accel(v):
+        """Acceleration [m/s^2] at full drive at ``v`` [m/s], from the nearest state found so far."""
+        if v not in states:
+            near = min(states, key=lambda u: abs(u - v)) if states else None
+            states[v] = straight.state(v, full, 0.0, sin_t, cos_t, start=None if near is None else states[near])
+        return states[v].a
+
+    if accel(slowest) <= 0.0:
+        v_top, at = 0.0, slowest
+    else:
+        # a first guess from the closed form with the rolling resistance at the slowest speed, then a bracket
+        guess = _closed_form_speed(straight, states[slowest], sin_t, fastest)
+        lo, hi = max(slowest, 0.99 * guess), min(fastest, 1.01 * guess)
+        while accel(lo) <= 0.0 and lo > slowest:
+            lo, hi = max(slowest, lo - 2.0 * (hi - lo)), lo
+        while accel(hi) > 0.0 and hi < fastest:
+            lo, hi = hi, min(fastest, hi + 2.0 * (hi - lo))
+        if accel(hi) > 0.0:
+            v_top, at = None, hi
+        else:
+            v_top = brentq(accel, lo, hi, xtol=1e-8, rtol=1e-11)
+            at = v_top
+    accel(at)
+    return v_top, states[at]
+
+
+def power_takeover(straight: StraightRunning, below: float, above: float, sin_t: float, cos_t: float) -> float:
+    """The speed [m/s] between ``below`` (torque-limited) and ``above`` (power-limited) at which the power
+    takes over at full drive, to 1 mm/s (bisection), on a grade ``(sin, cos)``."""
+    while above - below > 1e-3:
+        middle = 0.5 * (below + above)
+        if straight.state(middle, straight.max_torque, 0.0, sin_t, cos_t).limit == "power":
+            above = middle
+        else:
+            below = middle
+    return 0.5 * (below + above)
