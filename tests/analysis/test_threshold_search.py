@@ -113,9 +113,9 @@ def test_margin_table_is_signed_across_the_threshold(reference):
     from trikedyn.analysis.threshold import judge_run
 
     signed = {}
-    for v in (80.0, 85.5, 85.8, 87.0):
-        result = run(reference, "slc", speed_kmh=v)
-        verdict = judge_run(result, speed_kmh=v)
+    for v in (70.0, 74.7, 74.8, 76.0):  # ideal speed control: the speed asked for is driven
+        result = run(reference, "slc", speed_kmh=v, speed_control="ideal")
+        verdict = judge_run(result, speed_kmh=v, criterion="lift-off")
         table, static = margin_table(result, fail_time_s=verdict.time_s, lift_wheel=verdict.wheel)
         assert table.shape == (3, 25) and np.all(static > 1000.0)
         if verdict.passed:
@@ -124,7 +124,29 @@ def test_margin_table_is_signed_across_the_threshold(reference):
         else:
             assert np.isnan(table).any() and np.nanmin(table) < 0
         signed[v] = float(np.nanmin(table))
-    assert signed[80.0] > signed[85.5] > 0 > signed[85.8] > signed[87.0] > -1500.0
+    assert signed[70.0] > signed[74.7] > 0 > signed[74.8] > signed[76.0] > -1500.0
+
+
+def test_criterion_rows_cross_zero_where_their_reason_fails(reference):
+    """The course rows of the margin: the speed's band, the path corridor, the spin limit and the cone clearance,
+    each positive while held and negative beyond its failure, with their values at v = 0 as anchors."""
+    from trikedyn.analysis.margins import criterion_rows, run_margins
+    from trikedyn.analysis.verdict import Judging, judge
+
+    rules = Judging()
+    clean = run(reference, "dlc", speed_kmh=35.0)
+    rows, anchors = criterion_rows(clean, judge(clean, rules), "course", rules)
+    assert rows.shape == (4, 25) and np.all(np.nan_to_num(rows, nan=1.0) > 0)
+    assert anchors[:3].tolist() == [rules.speed_band_kmh, rules.lost_m, rules.spin_deg] and np.isnan(anchors[3])
+    struck = run(reference, "dlc", speed_kmh=45.0)
+    verdict = judge(struck, rules)
+    assert verdict.reason("cone strike") is not None
+    rows, _ = criterion_rows(struck, verdict, "course", rules)
+    assert np.nanmin(rows[3]) < 0 < np.nanmin(rows[0])
+    assert criterion_rows(struck, verdict, "lift-off", rules)[0].shape == (3, 25)  # no cone row
+    fast = run(reference, "slc", speed_kmh=70.0)  # beyond the drive's top speed
+    table, anchors, margin = run_margins(fast, judge(fast, rules), "lift-off", rules)
+    assert table.shape == (6, 25) and np.nanmin(table[3]) < 0 < margin
 
 
 def test_seed_is_the_static_tip_over_speed_in_the_tightest_curve(reference):
@@ -140,7 +162,9 @@ def test_result_reports_its_runs(reference):
     data = result.to_dict(runs=True)
     assert data["method"] == "margin" and data["speeds_kmh"] == list(result.speeds_kmh)
     assert set(result.to_dict()) == {"threshold_speed_kmh", "limit", "limiting_wheel", "lift_time_s",
-                                     "first_failure_kmh", "first_cone_strike_kmh", "detail", "n_runs"}
+                                     "first_failure_kmh", "first_cone_strike_kmh", "detail", "n_runs", "criterion",
+                                     "speed_control", "top_speed_kmh", "entry_speed_kmh", "window_speed_kmh",
+                                     "course_speed_kmh", "lift_off_speed_kmh"}
     with pytest.raises(Exception, match="method"):
         threshold_velocity(reference, "slc", method="golden")
 
@@ -161,24 +185,48 @@ def _paper_vehicles():
 
 
 @pytest.mark.slow
-def test_margin_search_equals_bisection_on_the_paper_study():
-    """Every scenario of ``trikedyn study paper`` (50): the same threshold, limit, wheel and lift time as
-    bisection, certified by runs at the threshold and 0.1 km/h above it; a median of <= 5 runs (from 12)."""
-    from trikedyn.model.vehicle import build_model
-
+@pytest.mark.parametrize("criterion", ["lift-off", "course"])
+def test_margin_search_equals_bisection_on_the_paper_study(criterion, paper_searches):
+    """Every scenario of ``trikedyn study paper`` (50, ideal speed control as the spec says), under each
+    criterion: the same threshold, limit, wheel and lift time as bisection, certified by runs at the threshold
+    and 0.1 km/h above it; a median of <= 6 runs under the course criterion (measured: 5.0), <= 7 under lift-off
+    (6.5: the single lane change at the speeds imposed takes 7, its margin beyond a lift being erratic; bisection
+    takes 12)."""
     runs, mismatches = [], []
-    for s, pset in _paper_vehicles():
-        model = build_model(pset)
-        search = dict(low_kmh=s["low_kmh"], high_kmh=s["high_kmh"], step_kmh=s["step_kmh"],
-                      resolution_kmh=s["resolution_kmh"])
-        new = threshold_velocity(model, s["manoeuvre"], **search)
-        old = threshold_velocity(model, s["manoeuvre"], method="bisection", **search)
+    for s, (new, old) in paper_searches[criterion].items():
         fields = ("threshold_speed_kmh", "first_failure_kmh", "limit", "limiting_wheel", "lift_time_s")
         if any(getattr(new, f) != getattr(old, f) for f in fields):
-            mismatches.append((s["manoeuvre"], s["stiffness_scale"], s["damping_scale"], s["freight_kg"],
-                               new.threshold_speed_kmh, old.threshold_speed_kmh))
+            mismatches.append((s, new.threshold_speed_kmh, old.threshold_speed_kmh))
         assert new.threshold_speed_kmh in new.speeds_kmh and new.first_failure_kmh in new.speeds_kmh
         assert math.isclose(new.first_failure_kmh - new.threshold_speed_kmh, 0.1, abs_tol=1e-9)
         runs.append(new.n_runs)
     assert not mismatches
-    assert len(runs) == 50 and statistics.median(runs) <= 5
+    assert len(runs) == 50 and statistics.median(runs) <= (6 if criterion == "course" else 7)
+
+
+@pytest.mark.slow
+def test_the_course_threshold_is_at_most_the_lift_off_one_on_the_paper_study(paper_searches):
+    """On every paper scenario: course <= lift-off, and the course threshold's passing run struck no cone."""
+    for s, (course, _) in paper_searches["course"].items():
+        lift = paper_searches["lift-off"][s][0]
+        assert course.threshold_speed_kmh <= lift.threshold_speed_kmh, s
+        passing = next(r for r in course.runs if r.speed_kmh == course.threshold_speed_kmh)
+        assert passing.passed and passing.cone_strikes == 0 and passing.verdict == "pass", s
+
+
+@pytest.fixture(scope="module")
+def paper_searches():
+    """Margin search and bisection on every paper scenario, under each criterion."""
+    from trikedyn.model.vehicle import build_model
+
+    out = {"lift-off": {}, "course": {}}
+    for s, pset in _paper_vehicles():
+        model = build_model(pset)
+        search = dict(low_kmh=s["low_kmh"], high_kmh=s["high_kmh"], step_kmh=s["step_kmh"],
+                      resolution_kmh=s["resolution_kmh"], speed_control=s["speed_control"])
+        key = (s["manoeuvre"], s["stiffness_scale"], s["damping_scale"], s["freight_kg"])
+        for criterion in out:
+            out[criterion][key] = (threshold_velocity(model, s["manoeuvre"], criterion=criterion, **search),
+                                   threshold_velocity(model, s["manoeuvre"], method="bisection", criterion=criterion,
+                                                      **search))
+    return out

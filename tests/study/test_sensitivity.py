@@ -20,7 +20,7 @@ from ..conftest import strict_json
 from . import warm_numba_cache
 
 THREE = "mass.cg_z_m,wheels.front.x_m,steering.trail_m"
-QUICK = ["--manoeuvre", "dlc", "--parameter", THREE, "--samples", "4", "--resolution", "0.5"]
+QUICK = ["--manoeuvre", "dlc", "--parameter", THREE, "--samples", "4", "--resolution", "0.5", "--criterion", "lift-off"]
 
 
 def run(capsys, *args):
@@ -177,16 +177,23 @@ def test_morris_on_the_reference_trike(morris_run):
     assert sorted(int(r["sample"]) for r in rows) == list(range(16))
     assert all(r["status"] == "ok" and float(r["threshold_speed_kmh"]) > 30 for r in rows)
     # what limited each sample's threshold, logged and counted
-    assert {r["limit"] for r in rows} <= {"lift-off", "tracking"}
-    assert data["limits"] == {k: sum(r["limit"] == k for r in rows) for k in ("lift-off", "tracking")}
+    assert {r["limit"] for r in rows} <= {"lift-off", "tracking", "speed not held"}
+    assert data["limits"] == sample_runs.limit_counts(r["limit"] for r in rows)
+    assert data["criterion"] == "lift-off" and data["speed_control"] == "driver"
     assert (out / "sensitivity.png").read_bytes()[:4] == b"\x89PNG"
 
 
 def test_the_limits_are_said_only_when_both_occur():
     assert sample_runs.limit_counts(["lift-off", "", "tracking", "lift-off"]) == {"lift-off": 2, "tracking": 1}
+    assert sample_runs.limit_counts(["cone strike", "lift-off", "top speed"]) == {
+        "lift-off": 1, "tracking": 0, "cone strike": 1, "top speed": 1}
     assert sample_runs.limits_line(["lift-off", "lift-off", ""]) is None
+    assert sample_runs.limits_line(["cone strike", "cone strike"]) is None
     line = sample_runs.limits_line(["lift-off", "tracking", "tracking"], ": so what")
-    assert line.startswith("limits: 1 samples lift-off") and "2 tracking" in line and line.endswith(": so what")
+    assert line.startswith("limits: 1 lift-off (a wheel lifted first), 2 tracking") and "two regimes" in line
+    assert line.endswith(": so what")
+    line = sample_runs.limits_line(["lift-off", "cone strike", "cone strike"])
+    assert "2 cone strike (a cone was struck first)" in line and "tracking" not in line
 
 
 def test_an_output_folder_is_not_overwritten_without_force(capsys, morris_run):
@@ -275,7 +282,7 @@ def test_the_figure_says_when_the_indices_mix_two_regimes():
     indices = [{"parameter": "a", "mu_star": 2.0, "mu_star_conf": 0.5, "sigma": 1.0}]
     result = sa.SensitivityResult("v", "dlc", "morris", 0.2, 1, 1, [], {}, *empty, indices, 1, 0, 43.8,
                                   limits=["lift-off", "tracking", "tracking"])
-    assert "1 samples lift-off, 2 tracking" in result.plot().axes[0].get_title()
+    assert "1 lift-off, 2 tracking" in result.plot().axes[0].get_title()
     result.limits = ["lift-off"] * 3
     assert "tracking" not in result.plot().axes[0].get_title()
 

@@ -136,7 +136,7 @@ def test_two_regimes_are_stacked_in_the_histogram():
     result = ua.UncertaintyResult("v", "dlc", 0.2, 7, 1, [], {}, np.zeros((7, 0)), y, [None] * 6 + ["failed"], 43.8,
                                   limits=limits)
     labels = result.plot().axes[0].get_legend_handles_labels()[1]
-    assert "lift-off first (n=3)" in labels and "path lost first (n=3); 1 failed" in labels
+    assert "lift-off (n=3)" in labels and "tracking (n=3); 1 failed" in labels
     result.limits = ["lift-off"] * 6 + [""]
     labels = result.plot().axes[0].get_legend_handles_labels()[1]
     assert any(label.startswith("samples (n=6, 1 failed)") for label in labels)

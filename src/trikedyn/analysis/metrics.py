@@ -20,6 +20,8 @@ import numpy as np
 
 from ..errors import InputError, did_you_mean
 from ..simulate.result import load_transfer_ratio, rollover_index
+from .window import Lift, cone_strikes, first_lift, judged_mask, until_exit
+from .window import wheel_loads as _wheel_loads
 
 __all__ = ["Lift", "MetricType", "cone_strikes", "evaluate", "first_lift", "judged_mask", "load_transfer_ratio",
            "metric", "metrics", "rollover_index", "summary", "until_exit"]
@@ -60,73 +62,13 @@ def evaluate(result, name: str):
     return _METRICS[name].fn(result)
 
 
-# ------------------------------------------------------------------------------------------------------------
-# the window
-# ------------------------------------------------------------------------------------------------------------
-def judged_mask(result) -> np.ndarray:
-    """Boolean mask of the samples inside the judged window (all samples when the run has no window)."""
-    if "judged" in result.channels:
-        return np.asarray(result["judged"]) > 0.5
-    return np.ones(result.time_s.size, dtype=bool)
-
-
 def _judged(result, channel: str) -> np.ndarray:
     return np.asarray(result[channel])[judged_mask(result)]
-
-
-def _wheel_loads(result) -> np.ndarray:
-    return np.column_stack([result[f"{w}_fz_N"] for w in result.meta["wheels"]])
 
 
 def _max_abs(values: np.ndarray) -> float | None:
     values = values[np.isfinite(values)]
     return float(np.abs(values).max()) if values.size else None
-
-
-# ------------------------------------------------------------------------------------------------------------
-# lift and cones
-# ------------------------------------------------------------------------------------------------------------
-@dataclass(frozen=True)
-class Lift:
-    """The first wheel lift inside the window: the wheel, the time [s]."""
-
-    wheel: str
-    time_s: float
-
-
-def until_exit(result) -> np.ndarray:
-    """Mask of the samples up to the exit gate: the run-in and the window, not the run-out."""
-    mask = judged_mask(result)
-    if not mask.any():
-        return mask
-    out = np.zeros_like(mask)
-    out[: int(np.nonzero(mask)[0][-1]) + 1] = True
-    return out
-
-
-def first_lift(result, *, from_start: bool = False) -> Lift | None:
-    """The first sample inside the window (or, with ``from_start``, from the start of the run up to the exit
-    gate) at which a wheel's vertical force is zero, or None."""
-    fz = _wheel_loads(result)
-    lifted = np.nonzero((fz <= 0.0).any(axis=1) & (until_exit(result) if from_start else judged_mask(result)))[0]
-    if not lifted.size:
-        return None
-    i = int(lifted[0])
-    return Lift(result.meta["wheels"][int(np.argmin(fz[i]))], float(result.time_s[i]))
-
-
-def cone_strikes(result) -> list[dict]:
-    """Cones the vehicle's plan-view footprint struck inside the window (time, cone, position)."""
-    man = result.manoeuvre
-    if man is None or man.path is None or not len(man.path.cones):
-        return []
-    from ..manoeuvres.paths import cone_strikes as strikes
-
-    mask = judged_mask(result)
-    if not mask.any():
-        return []
-    return strikes(man.path, result.time_s[mask], result["x_m"][mask], result["y_m"][mask], result["yaw_rad"][mask],
-                   tuple(result.meta["footprint_m"]))
 
 
 # ------------------------------------------------------------------------------------------------------------
@@ -221,12 +163,22 @@ def _window_complete(result):
     return bool(reached >= w.end - 1e-9)
 
 
-def summary(result) -> dict:
-    """Every metric of a run, with the manoeuvre, status and judged window (``trikedyn simulate --json``)."""
+def summary(result, judging=None) -> dict:
+    """Every metric of a run, with its verdict, the speed it drove, the manoeuvre, status and judged window
+    (``trikedyn simulate --json``).
+
+    ``passed`` and ``verdict`` say how the vehicle did (:func:`trikedyn.analysis.verdict.judge`, with
+    ``judging``'s speed band and limits), ``reasons`` everything that went wrong; ``success`` only that the
+    simulation ran to its end.
+    """
+    from .verdict import judge
+
     mask = judged_mask(result)
     times = result.time_s[mask]
+    verdict = judge(result, judging)
     out = {
         "manoeuvre": result.meta.get("manoeuvre", "open loop"),
+        **verdict.to_dict(),
         "status": result.status,
         "success": result.success,
         "duration_s": float(result.time_s[-1]),

@@ -45,11 +45,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .margins import BINS, margin_table
+
 __all__ = ["BINS", "SEED_FRACTION", "Grid", "Probe", "SearchOutcome", "margin_search", "margin_table",
            "predicted_crossing", "seed_speed"]
-
-BINS = 24
-"""Stretches of the judged window the margin is tracked over (plus the run-in)."""
 
 SEED_FRACTION = 0.7
 """First speed tried, as a fraction of the static tip-over speed in the manoeuvre's tightest curve [-]
@@ -125,92 +124,6 @@ class SearchOutcome:
     passed: int | None
     failed: int | None
     estimates: tuple[float | None, ...]
-
-
-# ------------------------------------------------------------------------------------------------------------
-# the margin of one run
-# ------------------------------------------------------------------------------------------------------------
-def margin_table(result, *, fail_time_s: float | None = None, lift_wheel: str | None = None,
-                 bins: int = BINS) -> tuple[np.ndarray, np.ndarray]:
-    """The margin table of a run and its wheels' static loads.
-
-    Parameters
-    ----------
-    result : Result
-        A run of :func:`trikedyn.simulate.closed_loop.run`.
-    fail_time_s : float, optional
-        Time of its first failure [s] (lift or lost path): later samples are not used.
-    lift_wheel : str, optional
-        The wheel that lifted at ``fail_time_s``: its stretch gets the negative extension.
-    bins : int
-        Stretches of the judged window.
-
-    Returns
-    -------
-    margins : ndarray (wheels, bins + 1)
-        Minimum vertical force [N] per wheel and stretch (column 0: the run-in), NaN where unknown.
-    static : ndarray (wheels,)
-        Vertical force of each wheel at the start of the run [N] (the margin at ``v = 0``).
-    """
-    from .metrics import judged_mask, until_exit
-
-    wheels = result.meta["wheels"]
-    fz = np.column_stack([np.asarray(result[f"{w}_fz_N"], dtype=float) for w in wheels])
-    static = fz[0].copy()
-    judged = judged_mask(result)
-    scope = until_exit(result) if judged.any() else np.ones(fz.shape[0], dtype=bool)
-    coord, start, end = _coordinate(result, judged)
-    width = (end - start) / bins
-    column = np.clip(np.floor((coord - start) / width).astype(int) + 1, 0, bins) if width > 0 \
-        else np.zeros(fz.shape[0], dtype=int)
-    time = np.asarray(result.time_s)
-    before = scope & (time < fail_time_s) if fail_time_s is not None else scope
-    out = np.full((len(wheels), bins + 1), np.nan)
-    for b in np.unique(column[before]):
-        rows = before & (column == b)
-        out[:, b] = fz[rows].min(axis=0)
-    if lift_wheel is not None and fail_time_s is not None and lift_wheel in wheels:
-        w = wheels.index(lift_wheel)
-        after = np.nonzero(scope & (time >= fail_time_s))[0]
-        if after.size:
-            i = int(after[0])
-            out[w, column[i]] = max(_virtual_dip(time, fz[:, w], i, int(after[-1])), -static[w])
-    return out, static
-
-
-def _virtual_dip(time: np.ndarray, load: np.ndarray, i: int, end: int) -> float:
-    """How deep below zero a wheel's load would have dipped [N], from the lift at sample ``i``.
-
-    Near its minimum a dip is a parabola, ``F(t) = F_min + F'' (t - t_min)^2 / 2``: it stays below zero for
-    ``T = 2 sqrt(-2 F_min / F'')`` and falls through zero at the rate ``F' = -F'' T / 2``, so
-    ``F_min = F' T / 4``. ``F'`` is the load's rate of fall before the lift [N/s], ``T`` the time the wheel
-    stayed up (to ``end`` if it did not come down). Zero at the threshold, it grows smoothly beyond it.
-    """
-    if i < 2:
-        return 0.0
-    rate = (load[i - 1] - load[i - 2]) / (time[i - 1] - time[i - 2])
-    if not rate < 0:
-        return 0.0
-    down = min(time[i - 1] + load[i - 1] / -rate, time[i])
-    landed = np.nonzero(load[i:end + 1] > 0)[0]
-    up = 0.5 * (time[i + landed[0] - 1] + time[i + landed[0]]) if landed.size else time[end]
-    return float(rate * max(up - down, 0.0) / 4)
-
-
-def _coordinate(result, judged: np.ndarray) -> tuple[np.ndarray, float, float]:
-    """Where along the manoeuvre each sample is (distance along the path [m] or time [s]), and the gates."""
-    man = result.manoeuvre
-    time = np.asarray(result.time_s, dtype=float)
-    if man is not None:
-        w = man.window
-        if w.kind == "distance" and "path_s_m" in result.channels:
-            return np.asarray(result["path_s_m"], dtype=float), float(w.start), float(w.end)
-        if w.kind == "time":
-            return time, float(w.start), float(w.end)
-    if judged.any():
-        inside = time[judged]
-        return time, float(inside[0]), float(inside[-1])
-    return time, float(time[0]), float(time[-1])
 
 
 # ------------------------------------------------------------------------------------------------------------

@@ -1,47 +1,65 @@
-"""Threshold velocity: the highest speed at which every wheel stays on the ground through a manoeuvre.
+"""Threshold velocity: the highest speed at which the vehicle passes a manoeuvre, by criterion.
 
 The paper (section 3.2) defines it as "the velocity just below a velocity in which one of the wheels lost
 its grip off the road, i.e. vertical force reach zero". Here: the highest constant *target* speed, to
-``resolution_kmh`` (0.1 km/h), at which no wheel's vertical force reaches zero during the manoeuvre.
+``resolution_kmh`` (0.1 km/h), at which a run passes under a **criterion**
+(:mod:`trikedyn.analysis.verdict`):
 
-Two searches, both assuming a single crossing and both certifying their answer by a passing run at the
-threshold and a failing run one resolution above it (so they agree wherever the crossing is single):
+- ``"course"`` (the default): ISO 3888-1's validity: every wheel down, no cone struck, path kept, no spin,
+  speed held. What an engineer can sign: a run with a cone struck is not a valid lane change, whatever
+  the wheels did;
+- ``"lift-off"``: the paper's definition: no wheel lifts (nor does the driver lose the vehicle, nor is the
+  speed not held); cone strikes are reported, not failed;
+- ``"both"``: the course threshold, and the lift-off threshold above it (``course_speed_kmh``,
+  ``lift_off_speed_kmh``), from one set of runs where they overlap.
 
-- ``method="margin"`` (default, :mod:`trikedyn.analysis.search`): the runs are chosen by a continuous
-  margin (the minimum wheel load, per wheel and stretch of the window, extended below zero beyond a lift),
-  extrapolated to its zero by secant and regula-falsi steps in ``v^2``; the first run is placed from the
-  static tip-over speed in the manoeuvre's tightest curve. About 5 runs a search (the paper's study: a
-  median of 5, from 12).
+**The speed driven.** Every run is judged against the speed it actually drove: a run whose speed leaves its
+band (3 % or 1 km/h) is ``speed not held``, neither a pass nor a lift, and a threshold is certified by a
+run that held it (``entry_speed_kmh``, ``window_speed_kmh`` of that run beside the target). With the
+driver's own speed control (``speed_control="driver"``) a search never asks for more than the vehicle can
+drive: it stops at its top speed on the flat (:func:`trikedyn.analysis.performance.top_speed`); a vehicle
+that passes there gets ``limit = "top speed"``. ``speed_control="ideal"`` drives with unlimited torque
+(the speed a multibody package's kinematic drive imposes).
+
+Two searches, both certifying their answer by a passing run at the threshold and a failing run one
+resolution above it (so they agree wherever the crossing is single):
+
+- ``method="margin"`` (default, :mod:`trikedyn.analysis.search`): the runs are chosen by continuous
+  margins (:mod:`trikedyn.analysis.margins`: each wheel's load and, per criterion, the speed band, the path
+  corridor, the spin limit and the cone clearance), extrapolated to their zero; about 5 runs a search;
 - ``method="bisection"``: bracketing (rising from ``low_kmh`` in ``step_kmh`` steps until a run fails),
   then bisection to the resolution.
 
-A run fails when a wheel lifts, or when the driver loses control without any lift (a spin: the path error
-grows beyond ``lost_m``, or the run diverges). Cone strikes do not define the threshold (the paper's
-definition is lift-off) but are judged: ``limit`` is ``"lift-off"`` when the first failing speed lifts a
-wheel with the driver still on the path, and ``"tracking"`` when the driver had already lost the path
-(a cone strike or a spin) before the first lift. The speed of the first cone strike is reported too.
+``limit`` names what fails one resolution above the threshold: under ``lift-off``, ``"lift-off"``,
+``"tracking"`` (the driver had lost the path, struck a cone or spun before the lift) or
+``"speed not held"``; under ``course``, the failing run's verdict (``"lift-off"``, ``"cone strike"``,
+``"path lost"``, ``"spin"``, ``"speed not held"``); ``"top speed"`` when nothing fails up to the top speed.
 
 Any registered manoeuvre can be searched (closed-loop paths and open-loop steer inputs alike) and a path
-from a CSV file; each run is judged up to the manoeuvre's exit gate (:mod:`trikedyn.analysis.metrics`),
-never in the run-out beyond it, where the driver is no longer being tested.
+from a CSV file; each run is judged up to the manoeuvre's exit gate, never in the run-out beyond it.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, replace
-
-import numpy as np
+from dataclasses import asdict, dataclass, field, replace
 
 from ..driver.preview import DriverSettings
 from ..errors import InputError
 from ..model.vehicle import VehicleModel, build_model
 from ..params.io import ParameterSet
-from .search import Grid, Probe, margin_search, margin_table, seed_speed
+from .search import Grid, Probe, margin_search, seed_speed
+from .verdict import CONE_STRIKE, LIFT_OFF, PATH_LOST, SPEED_NOT_HELD, SPIN, STOPPED, Judging, Verdict, judge
 
-__all__ = ["RunVerdict", "ThresholdResult", "judge_run", "threshold_velocity", "manoeuvre_builder"]
+__all__ = ["CRITERIA", "DEFAULT_CRITERION", "METHODS", "RunVerdict", "ThresholdResult", "judge_run",
+           "manoeuvre_builder", "threshold_velocity"]
 
-LIFT_OFF, TRACKING = "lift-off", "tracking"
+TRACKING, TOP_SPEED = "tracking", "top speed"
+CRITERIA = ("course", "lift-off", "both")
+"""What a search judges its runs by (see the module docstring)."""
+DEFAULT_CRITERION = "course"
+"""The default criterion: a threshold an engineer can sign is a speed at which the run is a valid test."""
+METHODS = ("margin", "bisection")
 
 
 def manoeuvre_builder(manoeuvre, options: dict | None = None):
@@ -68,65 +86,93 @@ def manoeuvre_builder(manoeuvre, options: dict | None = None):
 
 @dataclass(frozen=True)
 class RunVerdict:
-    """How one run at one speed went.
+    """How one run at one target speed went, under the search's criterion.
 
-    ``speed_kmh`` [km/h]; ``limit`` is ``"lift-off"`` or ``"tracking"`` when it failed, with the wheel and
-    time [s] of the first lift (or of the lost path); ``min_wheel_load_N`` [N] is the smallest wheel load
-    up to the exit gate; ``margin_N`` [N] the signed margin the search steers by (the smallest entry of
-    :func:`trikedyn.analysis.search.margin_table`: negative when a wheel lifted, None when unknown).
+    ``speed_kmh`` [km/h] is the target; ``passed`` under ``criterion``; ``limit`` what failed (see the module
+    docstring) with the wheel and time [s] of the first lift (or of the failure); ``min_wheel_load_N`` [N]
+    the smallest wheel load up to the exit gate; ``margin_N`` [N] the smallest wheel entry of the margin
+    table (negative when a wheel lifted). ``verdict`` is the run's own verdict (the earliest reason of all,
+    :mod:`trikedyn.analysis.verdict`); ``entry_speed_kmh`` and ``window_speed_kmh`` (min, mean, max) the
+    speed it drove [km/h].
     """
 
     speed_kmh: float
     passed: bool
-    limit: str | None  # "lift-off" or "tracking" when failed
+    limit: str | None
     wheel: str | None
     time_s: float | None
     detail: str
     cone_strikes: int = 0
     min_wheel_load_N: float | None = None
     margin_N: float | None = None
+    verdict: str = "pass"
+    entry_speed_kmh: float | None = None
+    window_speed_kmh: dict | None = None
+    criterion: str = DEFAULT_CRITERION
 
     def to_dict(self) -> dict:
         return asdict(self)
 
 
-def judge_run(result, lost_m: float = 2.5, speed_kmh: float | None = None) -> RunVerdict:
-    """Pass or fail of a run (see the module docstring), and what went wrong first.
+def _check_criterion(criterion: str, allowed=CRITERIA) -> None:
+    if criterion not in allowed:
+        raise InputError(f"unknown criterion {criterion!r}; expected one of {', '.join(allowed)}", where="criterion")
+
+
+def classify(verdict: Verdict, criterion: str, speed_kmh: float, cone_strikes: int = 0,
+             min_wheel_load_N: float | None = None) -> RunVerdict:
+    """A run's :class:`~trikedyn.analysis.verdict.Verdict` seen by a search under ``criterion``
+    (``"lift-off"`` or ``"course"``)."""
+    _check_criterion(criterion, ("lift-off", "course"))
+    speeds = {"verdict": verdict.verdict, "entry_speed_kmh": verdict.entry_speed_kmh,
+              "window_speed_kmh": verdict.window_speed_kmh, "criterion": criterion}
+    first = verdict.first(criterion)
+    lift = verdict.reason(LIFT_OFF)
+    if first is None:
+        note = f", {cone_strikes} cone strike(s) from {verdict.reason(CONE_STRIKE).time_s:.2f} s" if cone_strikes else ""
+        return RunVerdict(speed_kmh, True, None, None, None, f"every wheel down{note}; {verdict.speed_text}",
+                          cone_strikes, min_wheel_load_N, **speeds)
+    if criterion == "course":
+        wheel = lift.wheel if first.reason == LIFT_OFF else None
+        return RunVerdict(speed_kmh, False, first.reason, wheel, first.time_s, first.detail, cone_strikes,
+                          min_wheel_load_N, **speeds)
+    if lift is not None and first.reason in (LIFT_OFF, PATH_LOST, SPIN, STOPPED):
+        earlier = [r for r in verdict.reasons if r.reason in (CONE_STRIKE, PATH_LOST, SPIN) and r.time_s < lift.time_s]
+        if earlier:
+            lead = "cone strike" if earlier[0].reason == CONE_STRIKE else earlier[0].reason
+            detail = f"{lead} at {earlier[0].time_s:.2f} s, then {lift.wheel} lifted at {lift.time_s:.2f} s"
+            return RunVerdict(speed_kmh, False, TRACKING, lift.wheel, lift.time_s, detail, cone_strikes,
+                              min_wheel_load_N, **speeds)
+        if first.reason == LIFT_OFF:
+            return RunVerdict(speed_kmh, False, LIFT_OFF, lift.wheel, lift.time_s,
+                              f"{lift.wheel} lifted at {lift.time_s:.2f} s", cone_strikes, min_wheel_load_N, **speeds)
+    limit = SPEED_NOT_HELD if first.reason == SPEED_NOT_HELD else TRACKING
+    return RunVerdict(speed_kmh, False, limit, None, first.time_s, first.detail, cone_strikes, min_wheel_load_N,
+                      **speeds)
+
+
+def judge_run(result, lost_m: float = 2.5, speed_kmh: float | None = None, *, criterion: str = DEFAULT_CRITERION,
+              judging: Judging | None = None) -> RunVerdict:
+    """Pass or fail of a run under ``criterion`` (see the module docstring), and what went wrong first.
 
     Judged up to the exit gate: a lift in the run-in counts, nothing in the run-out does. A run that
-    stopped early (rollover, divergence) fails.
+    stopped early (rollover, divergence) fails. ``lost_m`` [m] is used when ``judging`` is not given.
     """
-    from .metrics import cone_strikes, first_lift, judged_mask, until_exit
-
+    verdict = judge(result, judging or Judging(lost_m=lost_m))
     speed_kmh = float(result.meta.get("target_speed_kmh", float("nan")) if speed_kmh is None else speed_kmh)
-    lift = first_lift(result, from_start=True)
-    t_lift = lift.time_s if lift is not None else math.inf
-    strikes = cone_strikes(result)
-    t_strike = min((float(s["time_s"]) for s in strikes), default=math.inf)
-    scope = until_exit(result) if judged_mask(result).any() else np.ones(result.time_s.size, dtype=bool)
-    if "path_error_m" in result.channels and result.manoeuvre is not None and result.manoeuvre.closed_loop:
-        lost = np.nonzero((np.abs(result["path_error_m"]) > lost_m) & scope)[0]
-    else:
-        lost = np.zeros(0, dtype=int)
-    t_lost = float(result.time_s[lost[0]]) if lost.size else math.inf
-    if result.status != "ok" and math.isinf(t_lift):
-        t_lost = min(t_lost, float(result.time_s[-1]))
-    fz = np.column_stack([result[f"{w}_fz_N"] for w in result.meta["wheels"]])[scope]
-    min_load = float(fz.min()) if fz.size else None
-    t_track = min(t_strike, t_lost)
-    n = len(strikes)
-    if math.isinf(t_lift) and math.isinf(t_lost):
-        note = f", {n} cone strike(s) from {t_strike:.2f} s" if n else ""
-        return RunVerdict(speed_kmh, True, None, None, None, "every wheel down" + note, n, min_load)
-    if not math.isinf(t_lift):
-        limit = TRACKING if t_track < t_lift else LIFT_OFF
-        lead = ""
-        if limit == TRACKING:
-            lead = (f"cone strike at {t_strike:.2f} s, then " if t_strike <= t_lost else f"path lost at {t_lost:.2f} s, then ")
-        return RunVerdict(speed_kmh, False, limit, lift.wheel, t_lift, f"{lead}{lift.wheel} lifted at {t_lift:.2f} s", n,
-                          min_load)
-    why = result.status if result.status != "ok" else f"path lost (error > {lost_m:g} m) at {t_lost:.2f} s"
-    return RunVerdict(speed_kmh, False, TRACKING, None, t_lost, why, n, min_load)
+    return classify(verdict, criterion, speed_kmh, *_strikes_and_load(result))
+
+
+def _strikes_and_load(result) -> tuple[int, float | None]:
+    """Cones struck in the window, and the smallest wheel load up to the exit gate [N]."""
+    import numpy as np
+
+    from .window import cone_strikes, until_exit
+
+    scope = until_exit(result)
+    fz = np.column_stack([result[f"{w}_fz_N"] for w in result.meta["wheels"]])
+    fz = fz[scope] if scope.any() else fz
+    return len(cone_strikes(result)), (float(fz.min()) if fz.size else None)
 
 
 @dataclass(frozen=True)
@@ -136,11 +182,12 @@ class ThresholdResult:
     Attributes
     ----------
     threshold_speed_kmh : float or None
-        The highest grid speed [km/h] with every wheel down (certified by a run), None when ``low_kmh``
-        fails already.
+        The highest target speed [km/h] of the grid at which a run passes (certified by that run), None when
+        ``low_kmh`` fails already.
     limit, limiting_wheel, lift_time_s
-        At ``first_failure_kmh`` (one resolution above the threshold): ``"lift-off"`` or ``"tracking"``,
-        the wheel that lifted first and when [s].
+        At ``first_failure_kmh`` (one resolution above the threshold): what failed (see the module
+        docstring), the wheel that lifted first and when [s] (the time of the failure when no wheel lifted);
+        ``limit`` is ``"top speed"`` when nothing fails up to the vehicle's top speed.
     first_failure_kmh : float or None
         The failing speed [km/h] that certifies the threshold.
     first_cone_strike_kmh : float or None
@@ -148,9 +195,23 @@ class ThresholdResult:
         the search tried).
     detail : str
     runs : tuple of RunVerdict
-        Every run, in the order made.
+        Every run, in the order made (each judged under its ``criterion``).
     method : str
         ``"margin"`` or ``"bisection"``.
+    criterion : str
+        ``"course"``, ``"lift-off"`` or ``"both"`` (:data:`CRITERIA`).
+    speed_control : str
+        ``"driver"`` or ``"ideal"`` (:data:`~trikedyn.simulate.closed_loop.SPEED_CONTROLS`).
+    top_speed_kmh : float or None
+        The vehicle's top speed on the flat [km/h]; the driver's searches stop there.
+    entry_speed_kmh : float or None
+        The speed the threshold's passing run drove at the entry gate [km/h].
+    window_speed_kmh : dict or None
+        Its speed over the window [km/h]: ``min``, ``mean``, ``max``.
+    course_speed_kmh, lift_off_speed_kmh : float or None
+        The threshold under each criterion searched (the other None).
+    lift_off : ThresholdResult or None
+        Under ``"both"``: the lift-off search (this result is the course one).
     """
 
     threshold_speed_kmh: float | None
@@ -162,10 +223,18 @@ class ThresholdResult:
     detail: str
     runs: tuple[RunVerdict, ...]
     method: str = "margin"
+    criterion: str = DEFAULT_CRITERION
+    speed_control: str = "driver"
+    top_speed_kmh: float | None = None
+    entry_speed_kmh: float | None = None
+    window_speed_kmh: dict | None = None
+    course_speed_kmh: float | None = None
+    lift_off_speed_kmh: float | None = None
+    lift_off: ThresholdResult | None = field(default=None, repr=False)
 
     @property
     def n_runs(self) -> int:
-        """Runs made by the search."""
+        """Simulations made by the search."""
         return len(self.runs)
 
     @property
@@ -173,9 +242,26 @@ class ThresholdResult:
         """The speeds tried [km/h], in order."""
         return tuple(r.speed_kmh for r in self.runs)
 
+    @property
+    def headline(self) -> str:
+        """The result in one line: ``threshold 43.2 km/h (course; driven 42.9-43.6 km/h): cone strike``."""
+        if self.threshold_speed_kmh is None:
+            return f"no threshold ({self.criterion}): {self.detail}"
+        driven = ""
+        if self.window_speed_kmh is not None:
+            w = self.window_speed_kmh
+            driven = f"; driven {w['min']:.1f}-{w['max']:.1f} km/h"
+        line = (f"threshold {self.threshold_speed_kmh:.1f} km/h target ({self.criterion}, {self.speed_control} "
+                f"speed control{driven}): {self.limit or 'no limit found'}")
+        if self.lift_off is not None and self.lift_off_speed_kmh is not None:
+            line += f"; lift-off {self.lift_off_speed_kmh:.1f} km/h ({self.lift_off.limit or 'no limit found'})"
+        return line
+
     def to_dict(self, runs: bool = False) -> dict:
         """The result's fields and ``n_runs``; with ``runs``, also ``method``, ``speeds_kmh`` and every run."""
-        out = {k: v for k, v in asdict(self).items() if k not in ("runs", "method")}
+        out = {k: v for k, v in asdict(self).items() if k not in ("runs", "method", "lift_off")}
+        if self.lift_off is not None:
+            out["lift_off"] = self.lift_off.to_dict()
         if runs:
             out["method"] = self.method
             out["speeds_kmh"] = list(self.speeds_kmh)
@@ -184,24 +270,43 @@ class ThresholdResult:
         return out
 
 
-def _measure(model, build, speed_kmh, driver, dt):
-    """Run the manoeuvre at ``speed_kmh`` [km/h]: the verdict, and the run as the margin search sees it."""
-    from ..simulate.closed_loop import run
+class _Runs:
+    """The runs of one search (or of both criteria's searches): simulated once per target speed."""
 
-    result = run(model, build(model.params, speed_kmh), driver=driver, dt=dt)
-    verdict = judge_run(result, speed_kmh=speed_kmh)
-    margins, static = margin_table(result, fail_time_s=verdict.time_s, lift_wheel=verdict.wheel)
-    probe = Probe(speed_kmh, verdict.passed, margins, static)
-    return replace(verdict, margin_N=probe.margin_N), probe
+    def __init__(self, model, build, driver, dt, speed_control, judging):
+        self.model, self.build, self.driver, self.dt = model, build, driver, dt
+        self.speed_control, self.judging = speed_control, judging
+        self.done: dict[float, tuple] = {}
+        self.order: list[RunVerdict] = []
 
+    def measure(self, speed_kmh: float, criterion: str) -> tuple[RunVerdict, Probe]:
+        """The verdict under ``criterion`` of the run at ``speed_kmh`` [km/h], and its probe for the search."""
+        from .margins import run_margins
 
-METHODS = ("margin", "bisection")
+        speed_kmh = round(speed_kmh, 6)
+        fresh = speed_kmh not in self.done
+        if fresh:
+            from ..simulate.closed_loop import run
+
+            result = run(self.model, self.build(self.model.params, speed_kmh), driver=self.driver, dt=self.dt,
+                         speed_control=self.speed_control)
+            self.done[speed_kmh] = (result, judge(result, self.judging), *_strikes_and_load(result), {})
+        result, verdict, strikes, min_load, probes = self.done[speed_kmh]
+        if criterion not in probes:
+            table, anchors, margin = run_margins(result, verdict, criterion, self.judging)
+            seen = replace(classify(verdict, criterion, speed_kmh, strikes, min_load), margin_N=margin)
+            probes[criterion] = (seen, Probe(speed_kmh, seen.passed, table, anchors))
+        seen, probe = probes[criterion]
+        if fresh:
+            self.order.append(seen)
+        return seen, probe
 
 
 def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *, options: dict | None = None,
                        low_kmh: float = 10.0, high_kmh: float = 90.0, step_kmh: float = 10.0,
                        resolution_kmh: float = 0.1, driver: DriverSettings | None = None,
-                       dt: float | None = None, method: str = "margin") -> ThresholdResult:
+                       dt: float | None = None, method: str = "margin", criterion: str = DEFAULT_CRITERION,
+                       speed_control: str = "driver", judging: Judging | None = None) -> ThresholdResult:
     """The threshold velocity of a vehicle in a manoeuvre.
 
     Parameters
@@ -213,28 +318,35 @@ def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *,
     options : dict, optional
         The manoeuvre's options.
     low_kmh, high_kmh : float
-        Search range [km/h]; ``low_kmh`` should pass.
+        Search range [km/h]; ``low_kmh`` should pass. With ``speed_control="driver"`` the range ends at the
+        vehicle's top speed on the flat when that is lower.
     step_kmh : float
         Bracketing step [km/h] (``"bisection"``; the margin search rises by it only when the margin gives
         no estimate).
     resolution_kmh : float
-        Resolution [km/h]: the threshold is ``low_kmh`` plus a whole number of it (or ``high_kmh``).
+        Resolution [km/h]: the threshold is ``low_kmh`` plus a whole number of it (or the range's end).
     driver : DriverSettings, optional
         The driver's parameters; defaults otherwise.
     dt : float, optional
         Time step [s]; by default the loop's automatic step (:func:`~trikedyn.simulate.run.automatic_step`),
-        the same for every run of the search (the stability limit is found once per model).
+        the same for every run of the search.
     method : {"margin", "bisection"}
-        ``"margin"`` (default): runs chosen by the continuous margin (:mod:`trikedyn.analysis.search`);
-        ``"bisection"``: bracketing from ``low_kmh`` in ``step_kmh`` steps, then bisection. Both certify
-        the answer by a pass at the threshold and a fail one resolution above it.
+        How the runs are chosen; both certify the answer by a pass at the threshold and a fail one
+        resolution above it.
+    criterion : {"course", "lift-off", "both"}
+        What a run must do to pass (see the module docstring); ``"course"`` by default.
+    speed_control : {"driver", "ideal"}
+        The vehicle's own drive and brakes, or unlimited ones (:func:`trikedyn.simulate.closed_loop.run`).
+    judging : Judging, optional
+        The speed band and the path and spin limits (:class:`~trikedyn.analysis.verdict.Judging`).
 
     Returns
     -------
     ThresholdResult
-        ``threshold_speed_kmh`` is None when even ``low_kmh`` fails, and ``high_kmh`` when nothing fails;
-        ``runs`` in the order they were made (``n_runs``, ``speeds_kmh``).
+        ``threshold_speed_kmh`` is None when even ``low_kmh`` fails; ``runs`` in the order they were made.
     """
+    from ..simulate.closed_loop import SPEED_CONTROLS
+
     model = vehicle if isinstance(vehicle, VehicleModel) else build_model(vehicle)
     build = manoeuvre_builder(manoeuvre, options)
     values = (low_kmh, high_kmh, step_kmh, resolution_kmh)
@@ -244,71 +356,116 @@ def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *,
                          where="threshold search")
     if method not in METHODS:
         raise InputError(f"unknown method {method!r}; expected one of {', '.join(METHODS)}", where="threshold search")
-    runs: list[RunVerdict] = []
+    _check_criterion(criterion)
+    if speed_control not in SPEED_CONTROLS:
+        raise InputError(f"unknown speed control {speed_control!r}; expected one of {', '.join(SPEED_CONTROLS)}",
+                         where="speed_control")
+    from .performance import top_speed
+
+    top = top_speed(model).top_speed_kmh
+    runs = _Runs(model, build, driver, dt, speed_control, judging or Judging())
+    context = {"criterion": criterion, "speed_control": speed_control, "top_speed_kmh": top}
+    high = high_kmh
+    if speed_control == "driver" and top is not None and top < high_kmh:
+        if top < low_kmh + resolution_kmh:
+            return ThresholdResult(None, TOP_SPEED, None, None, None, None,
+                                   f"its top speed ({top:.1f} km/h) is below the speeds searched (from {low_kmh:g} km/h)",
+                                   (), method, **context)
+        high = round(low_kmh + math.floor((top - low_kmh) / resolution_kmh + 1e-9) * resolution_kmh, 6)
+    capped = high < high_kmh
+    title = _title(manoeuvre)
+    grid = Grid(low_kmh, high, resolution_kmh)
+    if criterion != "both":
+        return _search(runs, criterion, grid, method, step_kmh, capped, title, context)
+    course = _search(runs, "course", grid, method, step_kmh, capped, title, context)
+    base = course.threshold_speed_kmh
+    if base is None:
+        lift = _search(runs, "lift-off", grid, method, step_kmh, capped, title, context)
+    elif course.first_failure_kmh is None:  # clean up to the end of the range: no lift either
+        lift = replace(course, criterion="lift-off", runs=(), course_speed_kmh=None, lift_off_speed_kmh=base)
+    else:  # the course threshold passes lift-off too: search above it
+        lift = _search(runs, "lift-off", Grid(base, high, resolution_kmh), method, step_kmh, capped, title, context)
+    return replace(course, criterion="both", runs=tuple(runs.order), course_speed_kmh=base,
+                   lift_off_speed_kmh=lift.threshold_speed_kmh, lift_off=lift)
+
+
+def _title(manoeuvre) -> str:
+    """The manoeuvre in words for a sentence: ``the ISO 14791 single lane change``."""
+    from ..manoeuvres import registry
+
+    name = str(getattr(manoeuvre, "name", manoeuvre))
+    if name.lower().endswith(".csv") or not isinstance(manoeuvre, str):
+        return "the path"
+    try:
+        return f"the {registry.get(name).title}"
+    except InputError:
+        return f"the {name}"
+
+
+def _search(runs: _Runs, criterion: str, grid: Grid, method: str, step_kmh: float, capped: bool, title: str,
+            context: dict) -> ThresholdResult:
+    """One criterion's search on ``grid``; the runs it makes are kept in ``runs``."""
+    made: list[RunVerdict] = []
 
     def measure(v):
-        verdict, probe = _measure(model, build, round(v, 6), driver, dt)
-        runs.append(verdict)
+        verdict, probe = runs.measure(v, criterion)
+        made.append(verdict)
         return verdict, probe
 
     if method == "bisection":
-        return _bisection(lambda v: measure(v)[0], runs, low_kmh, high_kmh, step_kmh, resolution_kmh)
-    grid = Grid(low_kmh, high_kmh, resolution_kmh)
-    try:
-        seed = seed_speed(model.params, build(model.params, 0.5 * (low_kmh + high_kmh)))
-    except InputError:
-        seed = None
-    outcome = margin_search(lambda v: measure(v)[1], grid, seed_kmh=seed, step_kmh=step_kmh)
-    by_speed = {r.speed_kmh: r for r in runs}
-    if outcome.passed is None:
+        passed, failed = _bisection(lambda v: measure(v)[0], grid, step_kmh)
+    else:
+        try:
+            seed = seed_speed(runs.model.params, runs.build(runs.model.params, 0.5 * (grid.low_kmh + grid.high_kmh)))
+        except InputError:
+            seed = None
+        outcome = margin_search(lambda v: measure(v)[1], grid, seed_kmh=seed, step_kmh=step_kmh)
+        passed, failed = outcome.passed, outcome.failed
+    by_speed = {r.speed_kmh: r for r in made}
+    strike = min((r.speed_kmh for r in made if r.cone_strikes), default=None)
+    common = {"method": method, **context, "criterion": criterion, "runs": tuple(made),
+              f"{criterion.replace('-', '_')}_speed_kmh": None}
+    if passed is None:
         failing = by_speed[grid.speed(0)]
-        return ThresholdResult(None, failing.limit, failing.wheel, failing.time_s, failing.speed_kmh,
-                               _first_strike(runs), f"fails already at {failing.speed_kmh:g} km/h: {failing.detail}",
-                               tuple(runs), method)
-    threshold = grid.speed(outcome.passed)
-    if outcome.failed is None:
-        return ThresholdResult(threshold, None, None, None, None, _first_strike(runs),
-                               f"no wheel lifts up to {threshold:g} km/h", tuple(runs), method)
-    failing = by_speed[grid.speed(outcome.failed)]
-    return ThresholdResult(threshold, failing.limit, failing.wheel, failing.time_s, failing.speed_kmh,
-                           _first_strike(runs), f"at {failing.speed_kmh:.1f} km/h: {failing.detail}", tuple(runs),
-                           method)
+        return ThresholdResult(None, failing.limit, failing.wheel, failing.time_s, failing.speed_kmh, strike,
+                               f"fails already at {failing.speed_kmh:g} km/h: {failing.detail}", **common)
+    threshold = grid.speed(passed)
+    held = by_speed[threshold]
+    common.update(entry_speed_kmh=held.entry_speed_kmh, window_speed_kmh=held.window_speed_kmh)
+    common[f"{criterion.replace('-', '_')}_speed_kmh"] = threshold
+    if failed is None:
+        top = context["top_speed_kmh"]
+        if capped:
+            what = "no wheel lifts in" if criterion == "lift-off" else "it drives cleanly through"
+            detail = f"{what} {title} at any speed it can reach (top speed {top:.0f} km/h)"
+            return ThresholdResult(threshold, TOP_SPEED, None, None, None, strike, detail, **common)
+        what = "no wheel lifts" if criterion == "lift-off" else "it drives the course cleanly"
+        return ThresholdResult(threshold, None, None, None, None, strike, f"{what} up to {threshold:g} km/h", **common)
+    failing = by_speed[grid.speed(failed)]
+    return ThresholdResult(threshold, failing.limit, failing.wheel, failing.time_s, failing.speed_kmh, strike,
+                           f"at {failing.speed_kmh:.1f} km/h: {failing.detail}", **common)
 
 
-def _first_strike(runs) -> float | None:
-    struck = [r.speed_kmh for r in runs if r.cone_strikes]
-    return min(struck) if struck else None
-
-
-def _bisection(attempt, runs, low_kmh, high_kmh, step_kmh, resolution_kmh) -> ThresholdResult:
-    """The search before the margin: bracketing from ``low_kmh`` in ``step_kmh`` steps, then bisection."""
-    first = attempt(low_kmh)
-    if not first.passed:
-        return ThresholdResult(None, first.limit, first.wheel, first.time_s, low_kmh, _first_strike(runs),
-                               f"fails already at {low_kmh:g} km/h: {first.detail}", tuple(runs), "bisection")
-    lo, hi, failing = low_kmh, None, None
-    v = low_kmh
-    while v < high_kmh:
-        v = min(v + step_kmh, high_kmh)
-        verdict = attempt(v)
-        if verdict.passed:
-            lo = v
+def _bisection(attempt, grid: Grid, step_kmh: float) -> tuple[int | None, int | None]:
+    """The search before the margin, on ``grid``: bracketing from its first speed in ``step_kmh`` steps, then
+    bisection. Returns the grid indices of the certified pass and fail (None: none)."""
+    if not attempt(grid.speed(0)).passed:
+        return None, 0
+    step = max(1, round(step_kmh / grid.resolution_kmh))
+    lo, hi = 0, None
+    while lo < grid.last:
+        k = min(lo + step, grid.last)
+        if attempt(grid.speed(k)).passed:
+            lo = k
         else:
-            hi, failing = v, verdict
+            hi = k
             break
     if hi is None:
-        return ThresholdResult(high_kmh, None, None, None, None, _first_strike(runs),
-                               f"no wheel lifts up to {high_kmh:g} km/h", tuple(runs), "bisection")
-    n_lo = round(lo / resolution_kmh)
-    n_hi = round(hi / resolution_kmh)
-    while n_hi - n_lo > 1:
-        mid = (n_lo + n_hi) // 2
-        verdict = attempt(mid * resolution_kmh)
-        if verdict.passed:
-            n_lo = mid
+        return lo, None
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if attempt(grid.speed(mid)).passed:
+            lo = mid
         else:
-            n_hi, failing = mid, verdict
-    threshold = round(n_lo * resolution_kmh, 6)
-    return ThresholdResult(threshold, failing.limit, failing.wheel, failing.time_s, round(n_hi * resolution_kmh, 6),
-                           _first_strike(runs), f"at {n_hi * resolution_kmh:.1f} km/h: {failing.detail}", tuple(runs),
-                           "bisection")
+            hi = mid
+    return lo, hi

@@ -12,8 +12,9 @@ import typer
 
 from ..errors import InputError
 
-__all__ = ["ForceOpt", "FreightAliasOpt", "JsonOpt", "ManoeuvreOpt", "OptionOpt", "PayloadOpt", "VehicleArg", "WARNINGS",
-           "emit", "finite", "json_default", "key_values", "manoeuvre_options", "payload_kg", "readable", "round_text",
+__all__ = ["BandKmhOpt", "BandPercentOpt", "CriterionOpt", "ForceOpt", "FreightAliasOpt", "JsonOpt", "ManoeuvreOpt",
+           "OptionOpt", "PayloadOpt", "SpeedControlOpt", "VehicleArg", "WARNINGS", "choice", "emit", "finite",
+           "json_default", "judging", "key_values", "manoeuvre_options", "payload_kg", "readable", "round_text",
            "save_figure", "within"]
 
 
@@ -205,6 +206,48 @@ ManoeuvreOpt = Annotated[
     str, typer.Option("--manoeuvre", help="A registered manoeuvre (see `trikedyn manoeuvres`: dlc, slc, circle, step, "
                       "fishhook, ...) or a path .csv file.")
 ]
+
+
+def choice(*allowed: str):
+    """Typer callback: the option's value must be one of ``allowed`` (a close match is suggested)."""
+
+    def check(ctx: typer.Context, param: typer.CallbackParam, value):
+        if value is None or ctx.resilient_parsing or value in allowed:
+            return value
+        from ..errors import did_you_mean
+
+        name = max(param.opts, key=len) if param.opts else param.name
+        raise InputError(f"expected one of {', '.join(allowed)}, got {value!r}" + did_you_mean(str(value), allowed),
+                         where=name)
+
+    return check
+
+
+CriterionOpt = Annotated[str, typer.Option(
+    "--criterion", callback=choice("course", "lift-off", "both"),
+    help="What a run must do to pass: course (ISO 3888-1 validity: every wheel down, no cone struck, path kept, "
+         "speed held; the default), lift-off (the paper's: no wheel lifts) or both (each threshold).")]
+SpeedControlOpt = Annotated[str, typer.Option(
+    "--speed-control", callback=choice("driver", "ideal"),
+    help="driver: the vehicle's own drive and brakes hold the speed, within their limits (a search stops at the "
+         "top speed); ideal: unlimited drive and brakes, the speed imposed as a multibody package's kinematic "
+         "drive would.")]
+BandPercentOpt = Annotated[float, typer.Option(
+    "--speed-band-percent", callback=within(0, 100, "%"),
+    help="Half-width of the band the speed must stay in through the judged window [% of the target].")]
+BandKmhOpt = Annotated[float, typer.Option(
+    "--speed-band-kmh", callback=within(0, 100, "km/h"),
+    help="Smallest half-width of the speed band [km/h]; the band is the larger of the two.")]
+
+
+def judging(band_percent: float, band_kmh: float):
+    """The :class:`~trikedyn.analysis.verdict.Judging` of the speed-band options."""
+    from ..analysis.verdict import Judging
+
+    try:
+        return Judging(speed_band_percent=band_percent, speed_band_kmh=band_kmh)
+    except InputError as exc:
+        raise InputError(exc.reason, where="--speed-band-kmh") from None
 
 
 def manoeuvre_options(manoeuvre: str, pairs: list[str], **legacy) -> dict:

@@ -10,16 +10,20 @@ import typer
 
 from ..errors import InputError
 from ._common import (
+    BandKmhOpt,
+    BandPercentOpt,
     ForceOpt,
     FreightAliasOpt,
     JsonOpt,
     ManoeuvreOpt,
     OptionOpt,
     PayloadOpt,
+    SpeedControlOpt,
     VehicleArg,
     emit,
     finite,
     json_default,
+    judging,
     key_values,
     manoeuvre_options,
     payload_kg,
@@ -120,10 +124,14 @@ def simulate_cmd(
                                                     "(same as -o steer_deg=...).")] = None,
     duration: Annotated[float | None, typer.Option("--duration", callback=within(0, 3600, "s", above=True), help="Simulated time [s] (default: the manoeuvre's).")] = None,
     out: Annotated[Path | None, typer.Option("--out", help="Write the run (.parquet or .csv; a .json summary beside it).")] = None,
+    speed_control: SpeedControlOpt = "driver",
+    band_percent: BandPercentOpt = 3.0,
+    band_kmh: BandKmhOpt = 1.0,
     force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
-    """Drive a manoeuvre and report how it went over its judged window (cone strikes, RI, wheel loads, ...)."""
+    """Drive a manoeuvre and say how the vehicle did: the verdict (pass, lift-off, cone strike, path lost, spin,
+    speed not held), the speed actually driven, and the figures over the judged window (RI, wheel loads, ...)."""
     payload = payload_kg(payload, freight)
     import numpy as np
 
@@ -138,9 +146,11 @@ def simulate_cmd(
     options = manoeuvre_options(manoeuvre, option, radius_m=radius, steer_deg=steer_deg)
     if out is not None:
         _check_run_file(out, force, reads=[vehicle, manoeuvre, options.get("file")])
+    rules = judging(band_percent, band_kmh)
     pset = with_freight(load_vehicle(vehicle), payload)
-    result = run(pset, manoeuvre, speed_kmh=speed, duration_s=duration, **options)
-    data = summary(result) | {"vehicle": pset.name, "payload_kg": payload, "speed_kmh": speed}
+    result = run(pset, manoeuvre, speed_kmh=speed, duration_s=duration, speed_control=speed_control, **options)
+    data = summary(result, rules) | {"vehicle": pset.name, "payload_kg": payload, "speed_kmh": speed,
+                                     "speed_control": speed_control}
     if not result.success:
         data["failure"] = result.message
     elif duration is None:
@@ -156,7 +166,21 @@ def simulate_cmd(
     if out is not None:
         _write_run(result, out, data)
         data["out"] = str(out)
-    emit(data, as_json, lambda: "\n".join(key_values(data)))
+    emit(data, as_json, lambda: "\n".join(_verdict_lines(data) + key_values(
+        {k: v for k, v in data.items() if k not in ("passed", "verdict", "reasons")})))
+
+
+def _verdict_lines(data: dict) -> list[str]:
+    """The verdict first, in words: what went wrong and when, and the speed driven against the target."""
+    head = "PASS" if data["passed"] else f"FAIL: {data['verdict']}"
+    lines = [f"{head}  ({data['manoeuvre']}, target {data['speed_kmh']:g} km/h, {data['speed_control']} speed control)"]
+    lines += [f"  {r['detail']}" for r in data["reasons"]]
+    w = data.get("window_speed_kmh")
+    if w is not None and data.get("entry_speed_kmh") is not None:
+        band = f" (band +/- {data['speed_band_kmh']:.1f} km/h)" if data.get("speed_band_kmh") is not None else ""
+        lines.append(f"  driven {data['entry_speed_kmh']:.1f} km/h at the entry gate, {w['min']:.1f}-{w['max']:.1f} "
+                     f"km/h (mean {w['mean']:.1f}) in the window{band}")
+    return lines + [""]
 
 
 def plot_cmd(

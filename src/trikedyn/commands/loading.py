@@ -10,7 +10,18 @@ from typing import Annotated
 import typer
 
 from ..errors import InputError
-from ._common import ForceOpt, JsonOpt, ManoeuvreOpt, OptionOpt, VehicleArg, emit, manoeuvre_options, within
+from ._common import (
+    CriterionOpt,
+    ForceOpt,
+    JsonOpt,
+    ManoeuvreOpt,
+    OptionOpt,
+    SpeedControlOpt,
+    VehicleArg,
+    emit,
+    manoeuvre_options,
+    within,
+)
 from ._sampled import ProgressLine, write_results
 
 JSON_FILE, CSV_FILE, FIGURE_FILE = "loading-chart.json", "loading-chart.csv", "loading-chart.png"
@@ -41,6 +52,8 @@ def loading_chart_cmd(
     margin_fraction: Annotated[float | None, typer.Option("--margin-fraction", callback=within(0, 0.99), help="Or: safe speed = threshold x (1 - this) [-].")] = None,
     resolution: Annotated[float, typer.Option("--resolution", callback=within(0.01, 10, "km/h"), help="Resolution of each threshold search [km/h].")] = 0.1,
     high: Annotated[float, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h] (raise it for slc).")] = 90.0,
+    criterion: CriterionOpt = "course",
+    speed_control: SpeedControlOpt = "driver",
     workers: Annotated[int, typer.Option("--workers", callback=within(0, 256), help="Processes (0: in this process).")] = 2,
     out: Annotated[Path | None, typer.Option("--out", help="Folder for loading-chart.json, .csv and .png (a printable figure).")] = None,
     force: ForceOpt = False,
@@ -62,7 +75,7 @@ def loading_chart_cmd(
         from .._files import check_output_folder
 
         check_output_folder(out, force=force, option="--out")
-    search = Search(manoeuvre, options, resolution, high_kmh=high)
+    search = Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion, speed_control=speed_control)
     chart = lc.run_loading_chart(pset, search, *grid,
                                  margin_kmh=lc.DEFAULT_MARGIN_KMH if margin_kmh is None else margin_kmh,
                                  margin_fraction=margin_fraction, workers=workers, progress=ProgressLine("loading-chart", "cells", every_s=3.0))

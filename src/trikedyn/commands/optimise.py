@@ -12,7 +12,17 @@ from typing import Annotated
 import typer
 
 from ..errors import InputError
-from ._common import ForceOpt, JsonOpt, OptionOpt, VehicleArg, emit, manoeuvre_options, within
+from ._common import (
+    CriterionOpt,
+    ForceOpt,
+    JsonOpt,
+    OptionOpt,
+    SpeedControlOpt,
+    VehicleArg,
+    emit,
+    manoeuvre_options,
+    within,
+)
 from ._sampled import ProgressLine, check_resume, start_output, write_results
 
 JSON_FILE, LOG_FILE, FIGURE_FILE, PLAN_FILE = ("optimise.json", "optimise-evaluations.csv", "optimise.png",
@@ -31,8 +41,7 @@ def _plan(pset, spec, searches) -> dict:
     return json.loads(json.dumps({
         "vehicle": pset.name, "vehicle_digest": digest,
         "spec": {k: v for k, v in spec.to_dict().items() if k not in ("origin", "description")},
-        "searches": [{"manoeuvre": s.manoeuvre, "options": dict(s.options), "resolution_kmh": s.resolution_kmh,
-                      "high_kmh": s.high_kmh, "low_kmh": s.low_kmh, "dt_s": s.dt_s} for s in searches]}))
+        "searches": [s.to_dict() for s in searches]}))
 
 
 def _check_command(file: Path, manoeuvre: str, options: dict, payload_kg: float) -> str:
@@ -56,6 +65,8 @@ def optimise_cmd(
     seed: Annotated[int | None, typer.Option("--seed", callback=within(0, 2**32 - 1), help="Seed of differential evolution (default: the spec's).")] = None,
     resolution: Annotated[float | None, typer.Option("--resolution", callback=within(0.01, 10, "km/h"), help="Resolution of each threshold search [km/h] (default: the spec's, 0.1).")] = None,
     high: Annotated[float | None, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h] (default: the spec's, 90; raise it for slc).")] = None,
+    criterion: Annotated[str | None, CriterionOpt.__metadata__[0]] = None,
+    speed_control: Annotated[str | None, SpeedControlOpt.__metadata__[0]] = None,
     workers: Annotated[int, typer.Option("--workers", callback=within(0, 256), help="Processes (0: in this process); the result does not depend on it.")] = 2,
     out: Annotated[Path, typer.Option("--out", help="Folder for the optimised vehicle (TOML), optimise.json, the evaluations (CSV, written as they finish) and the figure (PNG).")] = Path("optimise-output"),
     resume: Annotated[bool, typer.Option("--resume", help="Continue an interrupted run in --out: layouts in its CSV are not searched again.")] = False,
@@ -74,7 +85,8 @@ def optimise_cmd(
     check_resume(out, resume, force)
     the_spec = opt.load_optimise_spec(spec)
     changes = {k: v for k, v in (("maxiter", maxiter), ("popsize", popsize), ("seed", seed),
-                                 ("resolution_kmh", resolution), ("high_kmh", high)) if v is not None}
+                                 ("resolution_kmh", resolution), ("high_kmh", high), ("criterion", criterion),
+                                 ("speed_control", speed_control)) if v is not None}
     if manoeuvre:
         if len(set(manoeuvre)) != len(manoeuvre):
             raise InputError("a manoeuvre is given twice", where="--manoeuvre")
@@ -82,7 +94,8 @@ def optimise_cmd(
     the_spec = replace(the_spec, **changes)
     if option and len(the_spec.manoeuvres) > 1:
         raise InputError("options (-o) apply to one manoeuvre; give a single --manoeuvre", where="--option")
-    searches = tuple(opt.Search(m, manoeuvre_options(m, option), the_spec.resolution_kmh, high_kmh=the_spec.high_kmh)
+    searches = tuple(opt.Search(m, manoeuvre_options(m, option), the_spec.resolution_kmh, high_kmh=the_spec.high_kmh,
+                                criterion=the_spec.criterion, speed_control=the_spec.speed_control)
                      for m in the_spec.manoeuvres)
     pset = load_vehicle(vehicle)
     the_spec.check(pset)

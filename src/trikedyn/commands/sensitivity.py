@@ -8,7 +8,19 @@ from typing import Annotated
 
 import typer
 
-from ._common import ForceOpt, JsonOpt, ManoeuvreOpt, OptionOpt, VehicleArg, emit, manoeuvre_options, readable, within
+from ._common import (
+    CriterionOpt,
+    ForceOpt,
+    JsonOpt,
+    ManoeuvreOpt,
+    OptionOpt,
+    SpeedControlOpt,
+    VehicleArg,
+    emit,
+    manoeuvre_options,
+    readable,
+    within,
+)
 from ._sampled import ProgressLine, check_resume, start_output, write_results
 
 JSON_FILE, SAMPLES_FILE, FIGURE_FILE, PLAN_FILE = ("sensitivity.json", "sensitivity-samples.csv", "sensitivity.png",
@@ -16,7 +28,8 @@ JSON_FILE, SAMPLES_FILE, FIGURE_FILE, PLAN_FILE = ("sensitivity.json", "sensitiv
 def _plan(pset, search, factors, method, samples, seed, fraction) -> dict:
     """What makes the samples of a run: a resumed run must have the same."""
     return {"vehicle": pset.name, "manoeuvre": search.manoeuvre, "options": search.options,
-            "resolution_kmh": search.resolution_kmh, "high_kmh": search.high_kmh, "method": method, "samples": samples, "seed": seed,
+            "resolution_kmh": search.resolution_kmh, "high_kmh": search.high_kmh, "criterion": search.criterion,
+            "speed_control": search.speed_control, "method": method, "samples": samples, "seed": seed,
             "fraction": fraction, "factors": [[f.name, f.low, f.high] for f in factors]}
 
 
@@ -88,6 +101,8 @@ def sensitivity_cmd(
     resolution: Annotated[float, typer.Option("--resolution", callback=within(0.01, 10, "km/h"), help="Resolution of each threshold search [km/h].")] = 0.1,
     high: Annotated[float, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h]; a sample that passes it counts as this speed (raise it for slc).")] = 90.0,
     seed: Annotated[int, typer.Option("--seed", callback=within(0, 2**32 - 1), help="Seed of the sampling and of the confidence intervals.")] = 1,
+    criterion: CriterionOpt = "course",
+    speed_control: SpeedControlOpt = "driver",
     workers: Annotated[int, typer.Option("--workers", callback=within(0, 256), help="Processes (0: in this process).")] = 2,
     out: Annotated[Path | None, typer.Option("--out", help="Folder for sensitivity.json, the samples (CSV, written as they finish) and the figure (PNG).")] = None,
     resume: Annotated[bool, typer.Option("--resume", help="Continue an interrupted run in --out: samples in its CSV are not run again.")] = False,
@@ -107,7 +122,7 @@ def sensitivity_cmd(
     else:
         factors, excluded = sa.candidate_factors(pset, fraction)
     n = sa.DEFAULT_SAMPLES[method] if samples is None else int(samples)
-    search = sa.Search(manoeuvre, options, resolution, high_kmh=high)
+    search = sa.Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion, speed_control=speed_control)
     sa.sample(sa.problem(factors), method, n, seed)  # a bad --samples fails before anything is written
     plan = json.loads(json.dumps(_plan(pset, search, factors, method, n, seed, fraction)))
     log = None

@@ -10,14 +10,19 @@ import typer
 
 from ..errors import InputError
 from ._common import (
+    BandKmhOpt,
+    BandPercentOpt,
+    CriterionOpt,
     ForceOpt,
     FreightAliasOpt,
     JsonOpt,
     ManoeuvreOpt,
     OptionOpt,
     PayloadOpt,
+    SpeedControlOpt,
     VehicleArg,
     emit,
+    judging,
     manoeuvre_options,
     payload_kg,
     save_figure,
@@ -36,23 +41,37 @@ def threshold_cmd(
     low: Annotated[float, typer.Option("--low", callback=within(0, 400, "km/h", above=True), help="Lowest speed searched [km/h].")] = 10.0,
     high: Annotated[float, typer.Option("--high", callback=within(0, 400, "km/h", above=True), help="Highest speed searched [km/h].")] = 90.0,
     resolution: Annotated[float, typer.Option("--resolution", callback=within(0.001, 50, "km/h"), help="Resolution [km/h].")] = 0.1,
+    criterion: CriterionOpt = "course",
+    speed_control: SpeedControlOpt = "driver",
+    band_percent: BandPercentOpt = 3.0,
+    band_kmh: BandKmhOpt = 1.0,
     as_json: JsonOpt = False,
 ):
-    """Threshold velocity: the highest speed with every wheel on the ground through the manoeuvre."""
+    """Threshold velocity: the highest speed at which the vehicle passes the manoeuvre, under a criterion
+    (course: a valid ISO run, the default; lift-off: no wheel lifts, the paper's), quoted with the speed the
+    passing run actually drove. With the driver's own speed control the search stops at the top speed."""
     payload = payload_kg(payload, freight)
     from ..analysis.threshold import threshold_velocity
     from ..params import load_vehicle, scale_suspension, with_freight
 
+    if low >= high:
+        raise InputError(f"must be below --high ({high:g} km/h), got {low:g}", where="--low")
     options = manoeuvre_options(manoeuvre, option)
+    rules = judging(band_percent, band_kmh)
     pset = with_freight(scale_suspension(load_vehicle(vehicle), stiffness=stiffness, damping=damping), payload)
-    result = threshold_velocity(pset, manoeuvre, options=options, low_kmh=low, high_kmh=high, resolution_kmh=resolution)
+    result = threshold_velocity(pset, manoeuvre, options=options, low_kmh=low, high_kmh=high, resolution_kmh=resolution,
+                                criterion=criterion, speed_control=speed_control, judging=rules)
     data = result.to_dict(runs=True) | {"vehicle": pset.name, "manoeuvre": manoeuvre, "options": options,
-                                        "payload_kg": payload, "stiffness_scale": stiffness, "damping_scale": damping}
-    if result.threshold_speed_kmh is None:
-        headline = f"no threshold: {result.detail}"
-    else:
-        headline = f"threshold velocity {result.threshold_speed_kmh:.1f} km/h ({result.limit or 'no limit found'})"
-    lines = [headline, f"  {result.detail}"]
+                                        "payload_kg": payload, "stiffness_scale": stiffness, "damping_scale": damping,
+                                        "speed_band": rules.to_dict()}
+    lines = [result.headline, f"  {result.detail}"]
+    if result.lift_off is not None and result.lift_off.detail != result.detail:
+        lines.append(f"  lift-off: {result.lift_off.detail}")
+    if result.top_speed_kmh is not None and result.limit != "top speed":
+        lines.append(f"  top speed on the flat {result.top_speed_kmh:.1f} km/h"
+                     + (" (the ideal speed control drives beyond it)" if speed_control == "ideal"
+                        and result.threshold_speed_kmh is not None
+                        and result.threshold_speed_kmh > result.top_speed_kmh else ""))
     if result.first_cone_strike_kmh is not None:
         lines.append(f"  first cone strike seen at {result.first_cone_strike_kmh:.1f} km/h")
     lines.append(f"  {len(result.runs)} runs")

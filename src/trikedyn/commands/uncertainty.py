@@ -8,7 +8,19 @@ from typing import Annotated
 
 import typer
 
-from ._common import ForceOpt, JsonOpt, ManoeuvreOpt, OptionOpt, VehicleArg, emit, manoeuvre_options, readable, within
+from ._common import (
+    CriterionOpt,
+    ForceOpt,
+    JsonOpt,
+    ManoeuvreOpt,
+    OptionOpt,
+    SpeedControlOpt,
+    VehicleArg,
+    emit,
+    manoeuvre_options,
+    readable,
+    within,
+)
 from ._sampled import ProgressLine, check_resume, start_output, write_results
 
 JSON_FILE, SAMPLES_FILE, FIGURE_FILE, PLAN_FILE = ("uncertainty.json", "uncertainty-samples.csv", "uncertainty.png",
@@ -18,7 +30,8 @@ JSON_FILE, SAMPLES_FILE, FIGURE_FILE, PLAN_FILE = ("uncertainty.json", "uncertai
 def _plan(pset, search, inputs, samples, seed, fraction) -> dict:
     """What makes the samples of a run: a resumed run must have the same."""
     return {"vehicle": pset.name, "manoeuvre": search.manoeuvre, "options": search.options,
-            "resolution_kmh": search.resolution_kmh, "high_kmh": search.high_kmh, "sampling": "latin-hypercube",
+            "resolution_kmh": search.resolution_kmh, "high_kmh": search.high_kmh, "criterion": search.criterion,
+            "speed_control": search.speed_control, "sampling": "latin-hypercube",
             "samples": samples, "seed": seed, "fraction": fraction,
             "inputs": [[i.name, i.distribution, i.factor.low, i.factor.high, i.std] for i in inputs]}
 
@@ -92,6 +105,8 @@ def uncertainty_cmd(
     resolution: Annotated[float, typer.Option("--resolution", callback=within(0.01, 10, "km/h"), help="Resolution of each threshold search [km/h].")] = 0.1,
     high: Annotated[float, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h]; a sample that passes it counts as this speed.")] = 90.0,
     seed: Annotated[int, typer.Option("--seed", callback=within(0, 2**32 - 1), help="Seed of the sampling.")] = 1,
+    criterion: CriterionOpt = "course",
+    speed_control: SpeedControlOpt = "driver",
     workers: Annotated[int, typer.Option("--workers", callback=within(0, 256), help="Processes (0: in this process).")] = 2,
     out: Annotated[Path | None, typer.Option("--out", help="Folder for uncertainty.json, the samples (CSV, written as they finish) and the histogram (PNG).")] = None,
     resume: Annotated[bool, typer.Option("--resume", help="Continue an interrupted run in --out: samples in its CSV are not run again.")] = False,
@@ -110,7 +125,7 @@ def uncertainty_cmd(
     sigmas = {m.path: m.std for m in measured} | stds
     sources = {m.path: m.source for m in measured} | dict.fromkeys(stds, "--std")
     inputs, excluded = ua.build_inputs(pset, parameter, sigmas, fraction, sources)
-    search = ua.Search(manoeuvre, options, resolution, high_kmh=high)
+    search = ua.Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion, speed_control=speed_control)
     plan = json.loads(json.dumps(_plan(pset, search, inputs, int(samples), seed, fraction)))
     log = None
     if out is not None:

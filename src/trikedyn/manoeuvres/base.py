@@ -31,6 +31,9 @@ __all__ = ["Manoeuvre", "Window", "check_duration", "path_manoeuvre", "time_to_c
 MAX_DURATION_S = 3600.0
 """Longest manoeuvre accepted [s] (a longer one is almost certainly a unit mistake)."""
 
+SPEED_JUDGED = ("window", "entry", "none")
+"""Where a manoeuvre's target speed is held (:attr:`Manoeuvre.speed_judged`)."""
+
 AFTER_EXIT_S = 1.0
 """Simulated time beyond the moment the vehicle is due at the exit gate [s] (a slower vehicle still
 reaches it; the steer command in the run-out is checked by the tests)."""
@@ -91,6 +94,11 @@ class Manoeuvre:
         The options it was built with (JSON-safe), for the record.
     description : str
         What the test is and the choices made.
+    speed_judged : {"window", "entry", "none"}
+        Where a run must hold its target speed (:mod:`trikedyn.analysis.verdict`, ``speed not held``):
+        through the whole window (the lane changes, driven at a constant speed), only at the entry gate (an
+        open-loop steer whose standard takes the speed at the start of the steer: ISO 7401, the fishhook;
+        what the steer does to the speed afterwards is part of the test), or nowhere.
     """
 
     name: str
@@ -103,6 +111,7 @@ class Manoeuvre:
     steer_hold_s: float | None = None
     parameters: dict = field(default_factory=dict)
     description: str = ""
+    speed_judged: str = "window"
 
     def __post_init__(self):
         if self.path is None and self.steer is None:
@@ -117,6 +126,9 @@ class Manoeuvre:
             if table.shape[0] > 1 and np.any(np.diff(table[:, 0]) <= 0):
                 raise InputError("steer times must increase", where=f"{self.name}.steer")
             object.__setattr__(self, "steer", table)
+        if self.speed_judged not in SPEED_JUDGED:
+            raise InputError(f"expected one of {', '.join(SPEED_JUDGED)}, got {self.speed_judged!r}",
+                             where=f"{self.name}.speed_judged")
         if self.window.kind == "distance" and self.path is None:
             raise InputError("a distance window needs a path", where=f"{self.name}.window")
 
@@ -139,7 +151,8 @@ class Manoeuvre:
         if self.window.kind != "distance":
             raise InputError("only a manoeuvre judged over distance can change its speed profile", where=self.name)
         return path_manoeuvre(self.name, self.title, self.path, speed, entry_m=self.window.start,
-                              exit_m=self.window.end, parameters=self.parameters, description=self.description)
+                              exit_m=self.window.end, parameters=self.parameters, description=self.description,
+                              speed_judged=self.speed_judged)
 
     def to_dict(self) -> dict:
         """JSON-safe summary."""
@@ -154,6 +167,7 @@ class Manoeuvre:
             "steer_hold_s": self.steer_hold_s,
             "parameters": dict(self.parameters),
             "description": self.description,
+            "speed_judged": self.speed_judged,
         }
 
 
@@ -213,7 +227,8 @@ def with_run_out(path: Path, length_m: float) -> Path:
 
 
 def path_manoeuvre(name: str, title: str, path: Path, speed: SpeedProfile, *, entry_m: float, exit_m: float,
-                   parameters: dict | None = None, description: str = "", preview_s: float = 2.0) -> Manoeuvre:
+                   parameters: dict | None = None, description: str = "", preview_s: float = 2.0,
+                   speed_judged: str = "window") -> Manoeuvre:
     """A closed-loop manoeuvre on ``path`` judged from ``entry_m`` to ``exit_m`` (arc length of the CG).
 
     The run lasts until the vehicle, at its target speed, is due ``AFTER_EXIT_S`` past the exit gate; the
@@ -227,7 +242,7 @@ def path_manoeuvre(name: str, title: str, path: Path, speed: SpeedProfile, *, en
     needed = exit_m + v_max * (AFTER_EXIT_S + preview_s) + 10.0  # CG ahead of the start, preview, margin
     full = with_run_out(path, max(0.0, needed - float(path.s_m[-1])))
     return Manoeuvre(name=name, title=title, speed=speed, duration_s=duration, window=Window("distance", entry_m, exit_m),
-                     path=full, parameters=dict(parameters or {}), description=description)
+                     path=full, parameters=dict(parameters or {}), description=description, speed_judged=speed_judged)
 
 
 def whole_path(path: Path, speed: SpeedProfile) -> Manoeuvre:

@@ -10,7 +10,7 @@ import numpy as np
 from ..errors import InputError
 from .geometry import CONE_RADIUS_M, Path, _array, _number
 
-__all__ = ["cone_strikes", "corridor_violations"]
+__all__ = ["cone_clearance", "cone_strikes", "corridor_violations"]
 
 # --------------------------------------------------------------------------------------------------------------
 # judging a run
@@ -97,6 +97,53 @@ def cone_strikes(
         {"cone": int(k), "x_m": float(cones[k, 0]), "y_m": float(cones[k, 1]), "time_s": float(t[first[k]])}
         for k in order
     ]
+
+
+def cone_clearance(path: Path, time_s, x_m, y_m, yaw_rad, footprint, *,
+                   cone_radius_m: float = CONE_RADIUS_M) -> np.ndarray:
+    """The signed clearance between the footprint and the nearest cone at each sample [m].
+
+    Parameters
+    ----------
+    path : Path
+        The manoeuvre (its ``cones``).
+    time_s, x_m, y_m, yaw_rad : array_like
+        Trajectory samples: time [s], position of the vehicle reference point [m] and yaw angle [rad].
+    footprint : tuple of float
+        ``(x_rear_m, x_front_m, half_width_m)`` in vehicle axes relative to the reference point [m].
+    cone_radius_m : float
+        Radius of a cone's base circle [m].
+
+    Returns
+    -------
+    ndarray
+        Per sample, the smallest over the cones of (distance from the cone centre to the rectangle, negative
+        inside it, by the depth) minus the cone radius [m]: positive while every cone is clear, zero at the
+        first touch (:func:`cone_strikes`), negative by how far the footprint overlaps a cone. It is
+        continuous in the trajectory: the threshold search extrapolates it (+inf without cones).
+    """
+    t, x, y, yaw = _trajectory(time_s, x_m, y_m, yaw_rad)
+    x_rear, x_front, half_width = _footprint(footprint)
+    r = _number(cone_radius_m, "cone_radius_m", minimum=0.0)
+    cones = path.cones
+    out = np.full(t.size, np.inf)
+    if cones.shape[0] == 0 or t.size == 0:
+        return out
+    c, s = np.cos(yaw), np.sin(yaw)
+    chunk = max(1, 2_000_000 // cones.shape[0])
+    for start in range(0, t.size, chunk):
+        sl = slice(start, start + chunk)
+        dx = cones[None, :, 0] - x[sl, None]
+        dy = cones[None, :, 1] - y[sl, None]
+        bx = c[sl, None] * dx + s[sl, None] * dy  # cone centre in vehicle axes
+        by = -s[sl, None] * dx + c[sl, None] * dy
+        ex = bx - np.clip(bx, x_rear, x_front)
+        ey = by - np.clip(by, -half_width, half_width)
+        outside = np.hypot(ex, ey)
+        depth = np.minimum(np.minimum(bx - x_rear, x_front - bx), np.minimum(by + half_width, half_width - by))
+        signed = np.where((ex == 0.0) & (ey == 0.0), -depth, outside)
+        out[sl] = signed.min(axis=1) - r
+    return out
 
 
 def corridor_violations(path: Path, time_s, x_m, y_m, yaw_rad, footprint) -> list[dict]:

@@ -29,7 +29,7 @@ tracks), :mod:`.csv_path` (CSV import) and :mod:`.judging` (cones, corridors); t
 
 from .csv_path import path_from_csv
 from .geometry import CONE_RADIUS_M, DS_MAX_M, MAX_LENGTH_M, Corridor, Path
-from .judging import cone_strikes, corridor_violations
+from .judging import cone_clearance, cone_strikes, corridor_violations
 from .tracks import circle, double_lane_change, single_lane_change, straight
 
 __all__ = [
@@ -39,6 +39,7 @@ __all__ = [
     "Corridor",
     "Path",
     "circle",
+    "cone_clearance",
     "cone_strikes",
     "corridor_violations",
     "double_lane_change",

@@ -20,7 +20,11 @@ from ..units import STANDARD_GRAVITY
 from .packing import VEHICLE, WHEEL, Plant, road_record, state_labels
 from .topology import Tree, build_tree
 
-__all__ = ["Road", "VehicleModel", "build_model", "flat_road", "speed_bump"]
+__all__ = ["IDEAL_LIMIT", "Road", "VehicleModel", "build_model", "flat_road", "speed_bump"]
+
+IDEAL_LIMIT = 1e9
+"""Torque [N m] and power [W] limit of the ideal drive and brakes (:meth:`VehicleModel.with_ideal_drive`):
+never reached."""
 
 
 @dataclass(frozen=True)
@@ -129,6 +133,19 @@ class VehicleModel:
     def on_flat_road(self) -> VehicleModel:
         """This model on a flat road (itself if its road is flat, keeping its cache)."""
         return self if self.flat else self.with_road(flat_road())
+
+    def with_ideal_drive(self) -> VehicleModel:
+        """This model with a drive and brakes that have no torque or power limit (the ideal speed control).
+
+        The speed controller's demand then reaches the wheels whatever it is, as a multibody package's
+        kinematic drive imposes the speed; the tyres still carry it (their grip is the only limit). The
+        cache is shared: what it holds (equilibrium, stability limits) does not depend on the limits.
+        """
+        vehicle = self.plant.vehicle.copy()
+        vehicle["max_torque"] = IDEAL_LIMIT
+        vehicle["max_power"] = IDEAL_LIMIT
+        vehicle["max_brake"] = IDEAL_LIMIT
+        return replace(self, plant=self.plant._replace(vehicle=vehicle), cache=self.cache)
 
     def variant(self, *, slip_forces: bool | None = None, damping: bool | None = None,
                 gravity: float | None = None, drag: bool | None = None) -> VehicleModel:

@@ -23,7 +23,12 @@ from ..params.io import ParameterSet
 from .result import Result
 from .run import run_model, time_step
 
-__all__ = ["run", "drive", "footprint"]
+__all__ = ["SPEED_CONTROLS", "run", "drive", "footprint"]
+
+SPEED_CONTROLS = ("driver", "ideal")
+"""How the speed is held: ``driver`` (the PI controller on the vehicle's own drive and brakes, within their
+torque and power limits) or ``ideal`` (the same controller on a drive and brakes without limits: the speed a
+multibody package's kinematic drive would impose, whatever the vehicle's motor can give)."""
 
 
 def footprint(params) -> tuple[float, float, float]:
@@ -66,7 +71,7 @@ def _judging_channels(params, manoeuvre: Manoeuvre):
 def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc", *, speed_kmh: float | None = None,
         driver: DriverSettings | None = None, dt: float | None = None, output_rate_hz: float = 100.0,
         raise_on_failure: bool = False, duration_s: float | None = None, integrator: str = "etdrk4",
-        **options) -> Result:
+        speed_control: str = "driver", **options) -> Result:
     """Drive a manoeuvre and return the recorded run.
 
     Parameters
@@ -87,6 +92,10 @@ def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc"
         Output rate [Hz].
     integrator : str
         ``"etdrk4"`` (default) or ``"rk4"`` (:data:`~trikedyn.simulate.run.INTEGRATORS`).
+    speed_control : {"driver", "ideal"}
+        ``"driver"`` (default): the driver holds the speed with the vehicle's own drive and brakes, within
+        their limits (a target beyond the top speed is not held); ``"ideal"``: with a drive and brakes
+        without limits (:data:`SPEED_CONTROLS`).
     raise_on_failure : bool
         Raise :class:`~trikedyn.errors.SimulationError` (with the partial ``.result``) when the run stops
         early; by default the result says so (``success``, ``message``).
@@ -102,6 +111,11 @@ def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc"
     """
     model = vehicle if isinstance(vehicle, VehicleModel) else build_model(vehicle)
     params = model.params
+    if speed_control not in SPEED_CONTROLS:
+        raise InputError(f"unknown speed control {speed_control!r}; expected one of {', '.join(SPEED_CONTROLS)}",
+                         where="speed_control")
+    if speed_control == "ideal":
+        model = model.with_ideal_drive()
     if not isinstance(manoeuvre, Manoeuvre):
         from ..manoeuvres.registry import build
 
@@ -129,7 +143,7 @@ def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc"
     if manoeuvre.steer is not None:
         inputs = _steer_inputs(manoeuvre.steer, duration, dt)
     meta = {"manoeuvre": manoeuvre.title, "manoeuvre_name": manoeuvre.name, "driver": settings.__dict__,
-            "target_speed_kmh": float(manoeuvre.speed.speed_mps.max() * 3.6),
+            "target_speed_kmh": float(manoeuvre.speed.speed_mps.max() * 3.6), "speed_control": speed_control,
             "window": manoeuvre.window.to_dict(), "footprint_m": list(footprint(params))}
     return run_model(model, x0, inputs, duration_s=duration, dt=dt, output_rate_hz=output_rate_hz,
                      raise_on_failure=raise_on_failure, path=path_rows, speed_profile=manoeuvre.speed.as_array(),

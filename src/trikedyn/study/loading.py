@@ -128,6 +128,7 @@ class LoadingChart:
             "vehicle": self.vehicle, "manoeuvre": self.manoeuvre, "options": dict(self.search.options),
             "margin_kmh": self.margin_kmh, "margin_fraction": self.margin_fraction, "margin": self.margin_text,
             "resolution_kmh": self.search.resolution_kmh, "high_kmh": self.search.high_kmh,
+            "criterion": self.search.criterion, "speed_control": self.search.speed_control,
             "freight_site_m": list(self.site_m), "masses_kg": list(self.masses_kg), "x_m": list(self.x_m),
             "z_m": list(self.z_m), "cells": self.cells(), "failed": self.failed, "at_search_limit": at_limit,
             "workers": self.workers, "wall_time_s": self.wall_time_s,

@@ -38,7 +38,8 @@ from difflib import get_close_matches
 
 from ..errors import InputError
 
-__all__ = ["DEFAULT_METRIC", "MetricOption", "StudyMetric", "get", "label", "metrics", "parse_entry", "study_metric"]
+__all__ = ["DEFAULT_METRIC", "MetricOption", "StudyMetric", "get", "label", "metrics", "parse_entry", "study_metric",
+           "table_fields"]
 
 DEFAULT_METRIC = "threshold"
 """The metric of a spec that lists none (every study before metrics existed): its scenario ids and table
@@ -171,12 +172,27 @@ def label(name: str, options: dict) -> str:
               help="threshold velocity: the highest speed with every wheel on the ground")
 def _threshold(pset, scenario):
     from ..analysis.threshold import threshold_velocity
+    from ..analysis.verdict import Judging
 
+    band = {k: scenario[k] for k in ("speed_band_percent", "speed_band_kmh") if scenario.get(k) is not None}
     result = threshold_velocity(pset, scenario["manoeuvre"], low_kmh=scenario["low_kmh"],
                                 high_kmh=scenario["high_kmh"], step_kmh=scenario["step_kmh"],
-                                resolution_kmh=scenario["resolution_kmh"])
+                                resolution_kmh=scenario["resolution_kmh"],
+                                criterion=scenario.get("criterion") or "lift-off",
+                                speed_control=scenario.get("speed_control") or "driver", judging=Judging(**band))
+    return {"value": result.threshold_speed_kmh, **table_fields(result)}
+
+
+def table_fields(result) -> dict:
+    """A threshold result as the study table's columns: its fields, the speed driven flattened
+    (``driven_min_kmh``, ``driven_mean_kmh``, ``driven_max_kmh``), and the lift-off search's limit under
+    ``both`` (``lift_off_limit``)."""
     out = result.to_dict()
-    return {"value": out["threshold_speed_kmh"], **out}
+    window = out.pop("window_speed_kmh", None) or {}
+    lift = out.pop("lift_off", None)
+    out.update({f"driven_{k}_kmh": window.get(k) for k in ("min", "mean", "max")})
+    out["lift_off_limit"] = None if lift is None else lift.get("limit")
+    return out
 
 
 @study_metric("tilt_angle", unit="deg", per_manoeuvre=False,
@@ -210,7 +226,8 @@ def _run_metric(pset, scenario, speed_kmh, metric_name):
     from ..simulate.closed_loop import run
 
     model = build_model(pset)
-    result = run(model, manoeuvre_builder(scenario["manoeuvre"])(model.params, speed_kmh))
+    result = run(model, manoeuvre_builder(scenario["manoeuvre"])(model.params, speed_kmh),
+                 speed_control=scenario.get("speed_control") or "driver")
     value = evaluate(result, metric_name)
     lift = first_lift(result)
     detail = f"at {speed_kmh:g} km/h: " + (f"{lift.wheel} lifted at {lift.time_s:.2f} s" if lift is not None

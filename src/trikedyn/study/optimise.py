@@ -239,7 +239,8 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
     spec = load_optimise_spec(spec)
     spec.check(pset)
     if searches is None:
-        searches = [Search(m, {}, spec.resolution_kmh, high_kmh=spec.high_kmh) for m in spec.manoeuvres]
+        searches = [Search(m, {}, spec.resolution_kmh, high_kmh=spec.high_kmh, criterion=spec.criterion,
+                           speed_control=spec.speed_control) for m in spec.manoeuvres]
     searches = tuple(searches)
     if not searches:
         raise InputError("needs at least one manoeuvre", where="--manoeuvre")

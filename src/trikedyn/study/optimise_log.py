@@ -160,6 +160,7 @@ class OptimiseResult:
                     self.spec.popsize, len(self.spec.knobs)), "maxiter": self.spec.maxiter, "tol": self.spec.tol,
                 "step": self.spec.step, "message": self.message},
             "resolution_kmh": self.searches[0].resolution_kmh, "high_kmh": self.searches[0].high_kmh,
+            "criterion": self.searches[0].criterion, "speed_control": self.searches[0].speed_control,
             "at_search_limit": self.best_threshold_speed_kmh >= self.searches[0].high_kmh - 1e-9,
             "workers": self.workers, "wall_time_s": self.wall_time_s,
         }

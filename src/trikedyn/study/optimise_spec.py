@@ -11,7 +11,8 @@ A small TOML file, or a built-in name such as ``battery-layout`` (``study/specs/
     popsize = 5               # population: popsize x number of knobs (at least 5)
     maxiter = 8               # generations after the first
     # optional: tol = 0.002, step = 0.001 (knob values rounded to this [knob unit]),
-    #           resolution_kmh = 0.1, high_kmh = 90 (the threshold search)
+    #           resolution_kmh = 0.1, high_kmh = 90 (the threshold search),
+    #           criterion = "course" (or "lift-off", "both"), speed_control = "driver" (or "ideal")
 
 The knobs are :mod:`trikedyn.params.knobs`' (``component.NAME.x_m|y_m|z_m``, ``track_m``, ``wheelbase_m``,
 ...). Parsed with pydantic; a mistake is an :class:`~trikedyn.errors.InputError` naming the file and key.
@@ -23,6 +24,7 @@ import math
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
+from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
@@ -61,6 +63,10 @@ class _Optimise(_Model):
     step: float = Field(default=0.001, gt=0, le=1, description="knob values are rounded to this [knob unit]")
     resolution_kmh: float = Field(default=0.1, ge=0.01, le=10, description="threshold search resolution [km/h]")
     high_kmh: float = Field(default=90.0, ge=11, le=400, description="highest speed searched [km/h]")
+    criterion: Literal["course", "lift-off", "both"] = Field(default="course", description="the threshold's "
+                                                              "pass rule (course: a valid ISO run; lift-off: the paper's)")
+    speed_control: Literal["driver", "ideal"] = Field(default="driver", description="the vehicle's own drive, or "
+                                                      "an unlimited one")
 
     @field_validator("knobs")
     @classmethod
@@ -104,6 +110,8 @@ class OptimiseSpec:
     payload_kg : float
     seed, popsize, maxiter : int
     tol, step, resolution_kmh, high_kmh : float
+    criterion, speed_control : str
+        The threshold search's pass rule and speed control (:class:`~trikedyn.study.sample_runs.Search`).
     description, origin : str
         ``origin``: the built-in name or file path it was read from (named in error messages).
     """
@@ -118,6 +126,8 @@ class OptimiseSpec:
     step: float = 0.001
     resolution_kmh: float = 0.1
     high_kmh: float = 90.0
+    criterion: str = "course"
+    speed_control: str = "driver"
     description: str = ""
     origin: str = "<string>"
 
@@ -129,7 +139,8 @@ class OptimiseSpec:
         return {"origin": self.origin, "description": self.description,
                 "knobs": {n: [lo, hi] for n, lo, hi in self.knobs}, "manoeuvres": list(self.manoeuvres),
                 "payload_kg": self.payload_kg, "seed": self.seed, "popsize": self.popsize, "maxiter": self.maxiter,
-                "tol": self.tol, "step": self.step, "resolution_kmh": self.resolution_kmh, "high_kmh": self.high_kmh}
+                "tol": self.tol, "step": self.step, "resolution_kmh": self.resolution_kmh, "high_kmh": self.high_kmh,
+                "criterion": self.criterion, "speed_control": self.speed_control}
 
     def check(self, pset: ParameterSet) -> None:
         """The knobs exist on ``pset`` and their bounds lie within each knob's own bounds.
@@ -196,7 +207,8 @@ def parse_optimise_spec(source: str | dict, origin: str = "<string>") -> Optimis
                         manoeuvres=tuple(o.manoeuvres), payload_kg=float(o.payload_kg), seed=int(o.seed),
                         popsize=int(o.popsize), maxiter=int(o.maxiter), tol=float(o.tol), step=float(o.step),
                         resolution_kmh=float(o.resolution_kmh), high_kmh=float(o.high_kmh),
-                        description=o.description, origin=origin)
+                        criterion=o.criterion, speed_control=o.speed_control, description=o.description,
+                        origin=origin)
 
 
 def population_size(popsize: int, n_knobs: int) -> int:

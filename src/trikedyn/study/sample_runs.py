@@ -17,14 +17,17 @@ from .csv_log import AppendedCsv
 from .factors import Factor, apply_factors
 from .pool_runs import MAX_RESTARTS, ResilientPool, WorkersKeptDying
 
-__all__ = ["MAX_RESTARTS", "SampleLog", "Search", "evaluate_sample", "limit_counts", "limits_line", "run_logged_samples",
-           "run_samples"]
+__all__ = ["LIMITS", "MAX_RESTARTS", "SampleLog", "Search", "evaluate_sample", "limit_counts", "limits_line", "regimes",
+           "run_logged_samples", "run_samples"]
 
 
 
 @dataclass(frozen=True)
 class Search:
-    """The threshold search each sample runs (:func:`~trikedyn.analysis.threshold.threshold_velocity`)."""
+    """The threshold search each sample runs (:func:`~trikedyn.analysis.threshold.threshold_velocity`):
+    the manoeuvre with its options, the range and resolution [km/h], the time step [s], the criterion
+    (``"course"``, ``"lift-off"`` or ``"both"``: the course threshold is then the value) and the speed control
+    (``"driver"`` or ``"ideal"``)."""
 
     manoeuvre: str = "dlc"
     options: dict = field(default_factory=dict)
@@ -32,6 +35,24 @@ class Search:
     low_kmh: float = 10.0
     high_kmh: float = 90.0
     dt_s: float | None = None
+    criterion: str = "course"
+    speed_control: str = "driver"
+
+    def __post_init__(self):
+        from ..analysis.threshold import CRITERIA
+        from ..simulate.closed_loop import SPEED_CONTROLS
+
+        if self.criterion not in CRITERIA:
+            raise InputError(f"expected one of {', '.join(CRITERIA)}, got {self.criterion!r}", where="criterion")
+        if self.speed_control not in SPEED_CONTROLS:
+            raise InputError(f"expected one of {', '.join(SPEED_CONTROLS)}, got {self.speed_control!r}",
+                             where="speed_control")
+
+    def to_dict(self) -> dict:
+        """The settings, as a plan file records them."""
+        return {"manoeuvre": self.manoeuvre, "options": dict(self.options), "resolution_kmh": self.resolution_kmh,
+                "low_kmh": self.low_kmh, "high_kmh": self.high_kmh, "dt_s": self.dt_s, "criterion": self.criterion,
+                "speed_control": self.speed_control}
 
     def run(self, pset: ParameterSet, dt_s: float | None = None):
         """The threshold search on ``pset``, with the time step ``dt_s`` [s] (default: :attr:`dt_s`; None: the
@@ -40,7 +61,8 @@ class Search:
 
         return threshold_velocity(pset, self.manoeuvre, options=dict(self.options), low_kmh=self.low_kmh,
                                   high_kmh=self.high_kmh, resolution_kmh=self.resolution_kmh,
-                                  dt=self.dt_s if dt_s is None else dt_s)
+                                  dt=self.dt_s if dt_s is None else dt_s, criterion=self.criterion,
+                                  speed_control=self.speed_control)
 
     def threshold(self, pset: ParameterSet) -> tuple[float | None, str | None]:
         """The threshold velocity [km/h] of ``pset``, or None and why there is none (see :meth:`outcome`)."""
@@ -50,8 +72,9 @@ class Search:
     def outcome(self, pset: ParameterSet) -> tuple[float | None, str | None, str]:
         """The threshold velocity [km/h] of ``pset`` or None, why there is none or None, and what limits it.
 
-        The limit is ``"lift-off"`` (a wheel lifted first), ``"tracking"`` (the driver lost the path first:
-        :mod:`trikedyn.analysis.threshold`) or ``""`` (no threshold). Never raises for a failed search: a
+        The limit is what failed above the threshold (:mod:`trikedyn.analysis.threshold`: ``"lift-off"``,
+        ``"tracking"``, ``"cone strike"``, ``"speed not held"``, ``"top speed"``, ...) or ``""`` (no threshold,
+        or none found up to the top of the range). Never raises for a failed search: a
         sampled study reports it and goes on. A variant whose fastest mode needs a finer time step than
         :attr:`dt_s` (a stiffer or lighter part) is searched again with half the step.
         """
@@ -71,19 +94,38 @@ class Search:
         return float(result.threshold_speed_kmh), None, result.limit or ""
 
 
+LIMITS = ("lift-off", "tracking", "cone strike", "path lost", "spin", "speed not held", "top speed")
+"""What can limit a threshold (:mod:`trikedyn.analysis.threshold`), in the order the counts are listed."""
+
+_LIMIT_WORDS = {"lift-off": "a wheel lifted first", "tracking": "the driver lost the path before a wheel lifted",
+                "cone strike": "a cone was struck first", "path lost": "the driver lost the path first",
+                "spin": "the vehicle spun first", "speed not held": "the speed could not be held",
+                "top speed": "it passed at its top speed"}
+
+
 def limit_counts(limits) -> dict[str, int]:
-    """Samples per limit (``{"lift-off": n, "tracking": m}``, failed samples left out)."""
-    return {name: sum(limit == name for limit in limits) for name in ("lift-off", "tracking")}
+    """Samples per limit, for every limit that occurs (``{"lift-off": n, "cone strike": m}``; samples without a
+    threshold or without a limit left out); ``lift-off`` and ``tracking`` always listed."""
+    found = [str(limit) for limit in limits if limit]
+    names = [*LIMITS[:2], *(n for n in LIMITS[2:] if n in found), *sorted(set(found) - set(LIMITS))]
+    return {name: found.count(name) for name in names}
+
+
+def regimes(limits) -> dict[str, int]:
+    """The limits that occur with their counts, when there are two or more (else empty)."""
+    count = {k: v for k, v in limit_counts(limits).items() if v}
+    return count if len(count) > 1 else {}
 
 
 def limits_line(limits, consequence: str = "") -> str | None:
     """The samples' limits in words for a text summary (``consequence`` appended), or None when every sample with
     a threshold had the same one (nothing to say)."""
-    count = limit_counts(limits)
-    if min(count.values()) == 0:
+    count = regimes(limits)
+    if not count:
         return None
-    return (f"limits: {count['lift-off']} samples lift-off (a wheel lifted first), {count['tracking']} tracking (the "
-            f"driver lost the path before a wheel lifted): two regimes{consequence}")
+    parts = ", ".join(f"{n} {name} ({_LIMIT_WORDS.get(name, name)})" for name, n in count.items())
+    word = "two" if len(count) == 2 else str(len(count))
+    return f"limits: {parts}: {word} regimes{consequence}"
 
 
 def evaluate_sample(pset: ParameterSet, factors: tuple[Factor, ...], x,
@@ -192,7 +234,7 @@ class SampleLog(AppendedCsv):
     """The samples of a run as a CSV file: one row per evaluated sample, appended (and flushed) as it finishes.
 
     Columns: ``sample`` (row index), ``group`` (Morris trajectory or Sobol block), ``status`` (``ok`` or
-    ``failed``), ``threshold_speed_kmh`` [km/h], ``limit`` (``lift-off``, ``tracking`` or empty:
+    ``failed``), ``threshold_speed_kmh`` [km/h], ``limit`` (what failed above the threshold, or empty:
     :meth:`Search.outcome`), ``error``, then each factor's value [its unit].
     """
 

@@ -34,6 +34,10 @@ SCENARIO_KEYS = (
     "low_kmh",
     "high_kmh",
     "step_kmh",
+    "criterion",
+    "speed_control",
+    "speed_band_percent",
+    "speed_band_kmh",
     "metric",
     "metric_options",
     "metric_label",
@@ -41,6 +45,8 @@ SCENARIO_KEYS = (
 """Keys of a scenario dict, in this order."""
 
 _NOT_HASHED = ("scenario_id", "groups", "metric_label")
+_JUDGING = ("criterion", "speed_control", "speed_band_percent", "speed_band_kmh")
+"""How a run is judged and driven: None on a scenario whose metric does not use it."""
 
 
 def norm(value):
@@ -60,6 +66,9 @@ def canonical_json(scenario: dict) -> str:
     data["overrides"] = dict(sorted(data["overrides"].items()))
     if data["metric"] in (None, "threshold") and not data["metric_options"]:  # the ids from before metrics
         del data["metric"], data["metric_options"]
+    for key in _JUDGING:  # a metric that neither searches nor drives keeps the id it had before them
+        if data.get(key) is None:
+            data.pop(key, None)
     return json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=False)
 
 
@@ -82,7 +91,9 @@ def expand(spec: StudySpec) -> list[dict]:
         Each with the keys of ``SCENARIO_KEYS``: ``scenario_id`` (str), ``groups`` (str), ``vehicle`` (str),
         ``vehicle_digest`` (str), ``manoeuvre`` (str), ``freight_kg`` [kg], ``stiffness_scale`` and
         ``damping_scale`` [-], ``overrides`` (dict: dotted path -> value), ``resolution_kmh``, ``low_kmh``,
-        ``high_kmh``, ``step_kmh`` [km/h] (None for a metric that does not search), ``metric`` (name),
+        ``high_kmh``, ``step_kmh`` [km/h], ``criterion``, ``speed_band_percent`` [%], ``speed_band_kmh``
+        [km/h] (None for a metric that does not search), ``speed_control`` (None for a metric not per
+        manoeuvre), ``metric`` (name),
         ``metric_options`` (dict) and ``metric_label`` (as the table shows it).
     """
     from .metrics import get, label
@@ -92,6 +103,8 @@ def expand(spec: StudySpec) -> list[dict]:
         metric = get(metric_name)
         search = (spec.resolution_kmh, spec.low_kmh, spec.high_kmh, spec.step_kmh) if metric.uses_search \
             else (None,) * 4
+        judged = (spec.criterion, spec.speed_band_percent, spec.speed_band_kmh) if metric.uses_search else (None,) * 3
+        driven = spec.speed_control if metric.per_manoeuvre else None
         for manoeuvre, group in itertools.product(spec.manoeuvres if metric.per_manoeuvre else (None,), spec.groups):
             paths = [p for p, _ in group.overrides]
             axes = [vals for _, vals in group.overrides]
@@ -112,6 +125,10 @@ def expand(spec: StudySpec) -> list[dict]:
                     "low_kmh": search[1],
                     "high_kmh": search[2],
                     "step_kmh": search[3],
+                    "criterion": judged[0],
+                    "speed_control": driven,
+                    "speed_band_percent": judged[1],
+                    "speed_band_kmh": judged[2],
                     "metric": metric_name,
                     "metric_options": dict(options),
                     "metric_label": label(metric_name, options),

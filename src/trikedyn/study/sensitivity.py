@@ -63,6 +63,7 @@ from .sample_runs import (  # noqa: F401
     Search,
     evaluate_sample,
     limit_counts,
+    regimes,
     run_logged_samples,
     run_samples,
 )
@@ -242,7 +243,7 @@ class SensitivityResult:
     search : Search
     wall_time_s : float
     limits : list of str
-        Per sample: ``"lift-off"``, ``"tracking"`` or ``""`` (no threshold), :meth:`Search.outcome`.
+        Per sample: what limits its threshold (``"lift-off"``, ``"cone strike"``, ...) or ``""``, :meth:`Search.outcome`.
     """
 
     vehicle: str
@@ -288,6 +289,7 @@ class SensitivityResult:
             "vehicle": self.vehicle, "manoeuvre": self.manoeuvre, "options": dict(self.search.options),
             "method": self.method, "fraction": self.fraction, "samples": self.samples, "seed": self.seed,
             "resolution_kmh": self.search.resolution_kmh, "high_kmh": self.search.high_kmh,
+            "criterion": self.search.criterion, "speed_control": self.search.speed_control,
             "reference_threshold_speed_kmh": self.reference_threshold_speed_kmh,
             "n_runs": self.n_runs, "failed": self.failed, "at_search_limit": self.at_search_limit,
             "groups_used": self.used, "groups_dropped": self.dropped, "limits": limit_counts(self.limits),
@@ -325,11 +327,11 @@ class SensitivityResult:
         ax.set_yticks(y, names, fontsize=8)
         ax.axvline(0.0, color="k", lw=0.8)
         ref = self.reference_threshold_speed_kmh
-        count = limit_counts(self.limits)
-        regimes = (f"\nlimits: {count['lift-off']} samples lift-off, {count['tracking']} tracking (the driver lost "
-                   "the path first): two regimes, mixed in the indices") if min(count.values()) > 0 else ""
+        count = regimes(self.limits)
+        regime = ("\nlimits: " + ", ".join(f"{n} {name}" for name, n in count.items())
+                  + ": regimes mixed in the indices") if count else ""
         ax.set_title(f"{self.vehicle}, {self.manoeuvre}: threshold {'-' if ref is None else f'{ref:.1f}'} km/h; "
-                     f"factors +/-{self.fraction:.0%} ({self.method}, {self.n_runs} runs){regimes}", fontsize=9)
+                     f"factors +/-{self.fraction:.0%} ({self.method}, {self.n_runs} runs){regime}", fontsize=9)
         ax.legend(loc="lower right", fontsize=8)
         ax.grid(axis="x", alpha=0.3)
         fig.tight_layout()

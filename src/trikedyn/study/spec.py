@@ -10,6 +10,9 @@ A study file::
     freight_kg = [0, 50, 100, 150, 200]
     resolution_kmh = 0.1                # threshold search: bisection resolution [km/h]
     # optional: low_kmh = 10, high_kmh = 90, step_kmh = 10 (search range and bracketing step [km/h])
+    # optional: criterion = "course"    # or "lift-off" (the paper's) or "both" (the threshold's pass rule)
+    # optional: speed_control = "driver"  # or "ideal" (unlimited drive: the speed imposed)
+    # optional: speed_band_percent = 3, speed_band_kmh = 1  (the band the speed is held to)
 
     [[groups]]                          # each group is a grid
     name = "stiffness"
@@ -57,7 +60,7 @@ import math
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
@@ -130,6 +133,13 @@ class _Spec(_Model):
     low_kmh: float = Field(default=10.0, gt=0)
     high_kmh: float = Field(default=90.0, gt=0, le=300)
     step_kmh: float = Field(default=10.0, gt=0)
+    criterion: Literal["course", "lift-off", "both"] = Field(
+        default="course", description="what a run must do to pass: course (ISO 3888-1 validity), lift-off (the "
+        "paper's) or both")
+    speed_control: Literal["driver", "ideal"] = Field(
+        default="driver", description="the vehicle's own drive (stops at its top speed) or an unlimited one")
+    speed_band_percent: float = Field(default=3.0, ge=0, le=100)
+    speed_band_kmh: float = Field(default=1.0, ge=0, le=100)
     groups: list[_Group] = Field(default_factory=lambda: [_Group(name="base")], min_length=1)
 
     @field_validator("manoeuvres")
@@ -193,6 +203,12 @@ class StudySpec:
         The paper's freight in the trunk [kg] (Table 3).
     resolution_kmh, low_kmh, high_kmh, step_kmh : float
         Threshold search settings [km/h] (see :func:`trikedyn.analysis.threshold.threshold_velocity`).
+    criterion : str
+        The threshold's pass rule: ``"course"``, ``"lift-off"`` or ``"both"``.
+    speed_control : str
+        ``"driver"`` or ``"ideal"`` (every run of a metric per manoeuvre).
+    speed_band_percent, speed_band_kmh : float
+        The band the speed is held to [%, km/h] (:class:`~trikedyn.analysis.verdict.Judging`).
     groups : tuple of GroupSpec
     origin : str
         Spec name or file path it was read from.
@@ -212,6 +228,10 @@ class StudySpec:
     groups: tuple[GroupSpec, ...]
     origin: str = "<string>"
     metrics: tuple[tuple[str, dict], ...] = (("threshold", {}),)
+    criterion: str = "course"
+    speed_control: str = "driver"
+    speed_band_percent: float = 3.0
+    speed_band_kmh: float = 1.0
 
     def scenarios(self) -> list[dict]:
         """The unique scenarios, in spec order (see :func:`expand`)."""
@@ -271,6 +291,8 @@ def parse_spec(source: str | dict, origin: str = "<string>", base_dir: str | Pat
         model = _Spec.model_validate(raw)
     except ValidationError as exc:
         raise InputError(_describe(exc, raw), where=origin) from None
+    if model.speed_band_percent == 0 and model.speed_band_kmh == 0:
+        raise InputError("speed_band_percent and speed_band_kmh are both 0: no speed can be held", where=origin)
     if model.low_kmh >= model.high_kmh:
         raise InputError(f"low_kmh ({model.low_kmh:g}) must be below high_kmh ({model.high_kmh:g})", where=origin)
     names = [g.name for g in model.groups]
@@ -319,6 +341,10 @@ def parse_spec(source: str | dict, origin: str = "<string>", base_dir: str | Pat
         groups=groups,
         origin=origin,
         metrics=metrics,
+        criterion=model.criterion,
+        speed_control=model.speed_control,
+        speed_band_percent=float(model.speed_band_percent),
+        speed_band_kmh=float(model.speed_band_kmh),
     )
 
 

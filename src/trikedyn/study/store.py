@@ -68,8 +68,10 @@ SCHEMA_VERSION = "1"
 SCENARIO_COLUMNS = ("scenario_id", "groups", "vehicle", "manoeuvre", "freight_kg", "stiffness_scale",
                     "damping_scale")
 RESULT_KEYS = ("threshold_speed_kmh", "limit", "limiting_wheel", "lift_time_s", "first_failure_kmh",
-               "first_cone_strike_kmh", "n_runs", "detail")
-SEARCH_COLUMNS = ("resolution_kmh", "low_kmh", "high_kmh", "step_kmh")
+               "first_cone_strike_kmh", "n_runs", "detail", "entry_speed_kmh", "driven_min_kmh", "driven_mean_kmh",
+               "driven_max_kmh", "top_speed_kmh", "course_speed_kmh", "lift_off_speed_kmh", "lift_off_limit")
+SEARCH_COLUMNS = ("resolution_kmh", "low_kmh", "high_kmh", "step_kmh", "criterion", "speed_control",
+                  "speed_band_percent", "speed_band_kmh")
 EXPORT_COLUMNS = (*SCENARIO_COLUMNS, "status", *RESULT_KEYS, *SEARCH_COLUMNS, "error")
 """Columns of the exported table; override columns (named by their dotted parameter path) follow
 ``damping_scale``."""
@@ -373,7 +375,9 @@ class StudyStore:
         frame = pd.DataFrame.from_records(records, columns=columns)
         frame["n_runs"] = frame["n_runs"].astype("Int64")
         for col in ("freight_kg", "stiffness_scale", "damping_scale", "threshold_speed_kmh", "lift_time_s",
-                    "first_failure_kmh", "first_cone_strike_kmh", *SEARCH_COLUMNS,
+                    "first_failure_kmh", "first_cone_strike_kmh", "entry_speed_kmh", "driven_min_kmh",
+                    "driven_mean_kmh", "driven_max_kmh", "top_speed_kmh", "course_speed_kmh", "lift_off_speed_kmh",
+                    "resolution_kmh", "low_kmh", "high_kmh", "step_kmh", "speed_band_percent", "speed_band_kmh",
                     *(["value"] if with_metrics else [])):
             frame[col] = frame[col].astype("float64")
         return frame

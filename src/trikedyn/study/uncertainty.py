@@ -33,7 +33,7 @@ import numpy as np
 from ..errors import InputError, did_you_mean
 from ..params.io import ParameterSet
 from .factors import DEFAULT_FRACTION, Factor, candidate_factors, select_factors
-from .sample_runs import SampleLog, Search, limit_counts, run_logged_samples
+from .sample_runs import SampleLog, Search, limit_counts, regimes, run_logged_samples
 
 __all__ = ["DEFAULT_SAMPLES", "TRUNCATION", "Input", "Measured", "UncertaintyResult", "build_inputs",
            "identification_stds", "measured_stds", "parse_std", "run_uncertainty", "sample", "weighing_stds"]
@@ -346,7 +346,7 @@ class UncertaintyResult:
     notes: list = field(default_factory=list)
     """Remarks on the inputs (a vehicle value far from its measurement), one line each."""
     limits: list = field(default_factory=list)
-    """Per sample: ``"lift-off"``, ``"tracking"`` or ``""`` (no threshold), :meth:`Search.outcome`."""
+    """Per sample: what limits its threshold (``"lift-off"``, ``"cone strike"``, ...) or ``""``, :meth:`Search.outcome`."""
 
     @property
     def ok(self) -> np.ndarray:
@@ -383,6 +383,7 @@ class UncertaintyResult:
             "vehicle": self.vehicle, "manoeuvre": self.manoeuvre, "options": dict(self.search.options),
             "sampling": "latin-hypercube", "fraction": self.fraction, "seed": self.seed,
             "resolution_kmh": self.search.resolution_kmh, "high_kmh": self.search.high_kmh,
+            "criterion": self.search.criterion, "speed_control": self.search.speed_control,
             "reference_threshold_speed_kmh": self.reference_threshold_speed_kmh,
             **self.statistics(),
             "at_search_limit": int(np.sum(self.ok >= self.search.high_kmh - 1e-9)),
@@ -409,13 +410,12 @@ class UncertaintyResult:
         if y.size:
             bins = np.histogram_bin_edges(y, bins=max(5, min(30, int(np.sqrt(y.size)) * 2)))
             limits = np.array(self.limits if len(self.limits) == len(self.Y) else [""] * len(self.Y))[np.isfinite(self.Y)]
-            count = limit_counts(limits)
-            if min(count.values()) > 0:  # two regimes: stacked, so the mix shows
-                parts = [y[limits == name] for name in ("lift-off", "tracking")]
-                ax.hist(parts, bins=bins, stacked=True, color=["tab:blue", "tab:purple"], alpha=0.75,
-                        label=[f"lift-off first (n={count['lift-off']})",
-                               f"path lost first (n={count['tracking']})"
-                               + (f"; {self.failed} failed" if self.failed else "")])
+            count = regimes(limits)
+            if count:  # two regimes or more: stacked, so the mix shows
+                parts = [y[limits == name] for name in count]
+                labels = [f"{name} (n={n})" for name, n in count.items()]
+                labels[-1] += f"; {self.failed} failed" if self.failed else ""
+                ax.hist(parts, bins=bins, stacked=True, alpha=0.75, label=labels)
             else:
                 ax.hist(y, bins=bins, color="tab:blue", alpha=0.75, label=f"samples (n={y.size}, {self.failed} failed)")
             ax.axvspan(s["p05_kmh"], s["p95_kmh"], color="tab:orange", alpha=0.2, zorder=0, label="5-95 %")

@@ -50,4 +50,5 @@ def build(params, speed_kmh: float, radius_m: float = 20.0, deceleration_mps2: f
                                  "centre_y_m": radius_m if direction == "left" else -radius_m},
                      description=(f"ISO 7975 braking in a turn: circle R = {radius_m:g} m at {speed_kmh:g} km/h, "
                                   f"steering held and the target speed falling at {deceleration_mps2:g} m/s^2 from "
-                                  f"{t_brake:.2f} s to {final_speed_ratio:g} of the initial speed."))
+                                  f"{t_brake:.2f} s to {final_speed_ratio:g} of the initial speed."),
+                     speed_judged="entry")

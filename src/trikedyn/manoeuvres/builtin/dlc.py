@@ -20,7 +20,9 @@ OPTIONS = (
 def build(params, speed_kmh: float, standard: str = "ISO 3888-1", direction: str = "left", run_in_m: float = 30.0):
     """Double lane change through cones at a constant target speed; lanes from the vehicle's width.
 
-    Judged from the entry gate (start of section 1) to the exit gate (end of the last section).
+    Judged from the entry gate (start of section 1) to the exit gate (end of the last section); the speed
+    is held through the window (ISO 3888-1) or judged at the entry gate (ISO 3888-2, whose driver releases
+    the throttle there; here the driver still holds it).
     """
     path = paths.double_lane_change(params.body.overall_width_m, run_in_m=run_in_m, standard=standard,
                                     direction=direction)
@@ -29,4 +31,5 @@ def build(params, speed_kmh: float, standard: str = "ISO 3888-1", direction: str
     entry_m = float(np.interp(run_in_m, path.x_m, path.s_m))
     return path_manoeuvre("dlc", path.name, path, speed.constant(speed_kmh, 1.0), entry_m=entry_m, exit_m=exit_m,
                           parameters={"standard": standard, "direction": direction, "run_in_m": run_in_m},
-                          description=path.description)
+                          description=path.description,
+                          speed_judged="window" if standard == "ISO 3888-1" else "entry")

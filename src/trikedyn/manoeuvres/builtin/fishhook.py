@@ -68,4 +68,5 @@ def build(params, speed_kmh: float, scale: float = 6.5, ay_ref_g: float = 0.3, r
                                   f"({scale:g} x {math.degrees(ref):.2f} deg for {ay_ref_g:g} g at {ref_speed_kmh:g} "
                                   f"km/h{', capped at the lock' if amplitude < scale * ref else ''}), "
                                   f"{math.degrees(rate):.0f} deg/s, dwell {dwell_s:g} s, hold {hold_s:g} s; "
-                                  f"the driver holds {speed_kmh:g} km/h."))
+                                  f"the driver holds {speed_kmh:g} km/h; the speed is judged at the first steer."),
+                     speed_judged="entry")

@@ -36,4 +36,6 @@ def build(params, speed_kmh: float, steer_deg: float = 5.0, start_s: float = 1.0
                      steer=steer, parameters={"steer_deg": steer_deg, "start_s": start_s, "ramp_s": ramp_s,
                                               "hold_s": hold_s},
                      description=(f"ISO 7401 step steer: {steer_deg:g} deg about the steering axis at {start_s:g} s, "
-                                  f"ramp {ramp_s:g} s, held {hold_s:g} s; the driver holds {speed_kmh:g} km/h."))
+                                  f"ramp {ramp_s:g} s, held {hold_s:g} s; the driver holds {speed_kmh:g} km/h, judged at "
+                                  f"the start of the step."),
+                     speed_judged="entry")
