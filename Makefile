@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 OUT ?= trikedyn-output
 STAMP := $(VENV)/.installed
 
-.PHONY: run test bench docs fuzz lint clean
+.PHONY: run test bench morris-seeds docs fuzz lint clean
 
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
@@ -25,6 +25,9 @@ fuzz: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet commonroad-vehicle-models  # the peer, for the bench only
 	$(BIN)/python benchmarks/run.py
+
+morris-seeds: $(STAMP)  # issue 19: the Morris ranking of the assumed values against the seed (about 3 min)
+	$(BIN)/python benchmarks/morris_seeds.py
 
 docs: $(STAMP)
 	NO_MKDOCS_2_WARNING=1 $(BIN)/python -m mkdocs build --strict

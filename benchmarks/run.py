@@ -87,9 +87,11 @@ def bench_double_lane_change() -> dict:
 
 
 def bench_threshold() -> dict:
-    """Issues 5 and 11: one threshold search on the double lane change (reference-etrike, 0.1 km/h), by the
-    margin search and by bisection; then both on every scenario of the paper's study (runs per search, time
-    per search, agreement)."""
+    """Issues 5, 11 and 19: one threshold search on the double lane change (reference-etrike, 0.1 km/h, the
+    default course criterion), by the margin search and by bisection; then both on every scenario of the
+    paper's study under each criterion (runs per search, time per search, agreement): with the spec's ideal
+    speed control, and the course criterion again with the driver's (the single lane change then stops at the
+    top speed)."""
     import statistics
 
     from trikedyn.analysis.threshold import threshold_velocity
@@ -107,34 +109,40 @@ def bench_threshold() -> dict:
         wall = best_of(search, 3)
         r = holder["result"]
         out[f"threshold_search_dlc_{method}"] = {"wall_s": wall, "runs": r.n_runs, "speeds_kmh": list(r.speeds_kmh),
-                                                 "threshold_speed_kmh": r.threshold_speed_kmh, "limit": r.limit}
+                                                 "threshold_speed_kmh": r.threshold_speed_kmh, "limit": r.limit,
+                                                 "criterion": r.criterion}
     spec = load_spec("paper")
     base = spec.load_vehicle()
-    per = {"margin": {"runs": [], "wall_s": []}, "bisection": {"runs": [], "wall_s": []}}
-    agree = 0
     scenarios = spec.scenarios()
+    models = []
     for s in scenarios:
         pset = scale_suspension(base, stiffness=s["stiffness_scale"], damping=s["damping_scale"])
         if s["overrides"]:
             pset = override(pset, s["overrides"])
-        m = build_model(with_freight(pset, s["freight_kg"]))
-        found = {}
-        for method in per:
-            start = time.perf_counter()
-            r = threshold_velocity(m, s["manoeuvre"], low_kmh=s["low_kmh"], high_kmh=s["high_kmh"],
-                                   step_kmh=s["step_kmh"], resolution_kmh=s["resolution_kmh"], method=method)
-            per[method]["wall_s"].append(time.perf_counter() - start)
-            per[method]["runs"].append(r.n_runs)
-            found[method] = r.threshold_speed_kmh
-        agree += found["margin"] == found["bisection"]
-    out["threshold_search_paper_study"] = {
-        "scenarios": len(scenarios),
-        "same_threshold_as_bisection": agree,
-        **{f"{method}_{key}": value for method, v in per.items() for key, value in (
-            ("median_runs", statistics.median(v["runs"])), ("mean_runs", statistics.fmean(v["runs"])),
-            ("max_runs", max(v["runs"])), ("mean_wall_s", statistics.fmean(v["wall_s"])))},
-        "target_median_runs": 5,
-    }
+        models.append(build_model(with_freight(pset, s["freight_kg"])))
+    cases = (("course", spec.speed_control), ("lift-off", spec.speed_control), ("course", "driver"))
+    for criterion, control in cases:
+        per = {"margin": {"runs": [], "wall_s": []}, "bisection": {"runs": [], "wall_s": []}}
+        agree = 0
+        for s, m in zip(scenarios, models, strict=True):
+            found = {}
+            for method in per:
+                start = time.perf_counter()
+                r = threshold_velocity(m, s["manoeuvre"], low_kmh=s["low_kmh"], high_kmh=s["high_kmh"],
+                                       step_kmh=s["step_kmh"], resolution_kmh=s["resolution_kmh"], method=method,
+                                       criterion=criterion, speed_control=control)
+                per[method]["wall_s"].append(time.perf_counter() - start)
+                per[method]["runs"].append(r.n_runs)
+                found[method] = (r.threshold_speed_kmh, r.limit)
+            agree += found["margin"] == found["bisection"]
+        out[f"threshold_search_paper_study_{criterion}_{control}"] = {
+            "scenarios": len(scenarios), "criterion": criterion, "speed_control": control,
+            "same_threshold_as_bisection": agree,
+            **{f"{method}_{key}": value for method, v in per.items() for key, value in (
+                ("median_runs", statistics.median(v["runs"])), ("mean_runs", statistics.fmean(v["runs"])),
+                ("max_runs", max(v["runs"])), ("mean_wall_s", statistics.fmean(v["wall_s"])))},
+            "target_median_runs": 6 if criterion == "course" else None,
+        }
     return out
 
 
@@ -225,13 +233,17 @@ def main() -> int:
     print(f"trikedyn --version {su['version']:.2f} s (target 0.3 s), trikedyn vehicle list {su['vehicle_list']:.2f} s"
           " (target 0.8 s)")
     t, b = results["threshold_search_dlc_margin"], results["threshold_search_dlc_bisection"]
-    print(f"threshold search, DLC: {t['wall_s']:.2f} s ({t['runs']} runs) -> {t['threshold_speed_kmh']} km/h ({t['limit']});"
+    print(f"threshold search, DLC ({t['criterion']}): {t['wall_s']:.2f} s ({t['runs']} runs) -> {t['threshold_speed_kmh']} km/h ({t['limit']});"
           f" bisection {b['wall_s']:.2f} s ({b['runs']} runs) -> {b['threshold_speed_kmh']} km/h")
-    p = results["threshold_search_paper_study"]
-    print(f"threshold searches over the paper's study ({p['scenarios']} scenarios): median {p['margin_median_runs']:g} runs"
-          f" per search (mean {p['margin_mean_runs']:.2f}, max {p['margin_max_runs']}; target <= 5),"
-          f" {p['margin_mean_wall_s']:.2f} s per search; bisection median {p['bisection_median_runs']:g} runs,"
-          f" {p['bisection_mean_wall_s']:.2f} s; same threshold in {p['same_threshold_as_bisection']}/{p['scenarios']}")
+    for key, p in results.items():
+        if not key.startswith("threshold_search_paper_study_"):
+            continue
+        target = f"; target <= {p['target_median_runs']}" if p["target_median_runs"] else ""
+        print(f"threshold searches over the paper's study ({p['scenarios']} scenarios, {p['criterion']} criterion, "
+              f"{p['speed_control']} speed control): median {p['margin_median_runs']:g} runs per search (mean "
+              f"{p['margin_mean_runs']:.2f}, max {p['margin_max_runs']}{target}), {p['margin_mean_wall_s']:.2f} s per "
+              f"search; bisection median {p['bisection_median_runs']:g} runs, {p['bisection_mean_wall_s']:.2f} s; same "
+              f"threshold and limit in {p['same_threshold_as_bisection']}/{p['scenarios']}")
     st, rp = results["study_paper_2_workers"], results["reproduce"]
     print(f"built-in study, 2 workers: median {st['wall_s']:.1f} s of {st['runs']} ({st['min_s']:.1f}-{st['max_s']:.1f} s;"
           f" target {st['target_s']:g} s)")

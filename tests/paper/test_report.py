@@ -10,7 +10,7 @@ from trikedyn.paper.html import render_report
 from trikedyn.paper.report import SECTIONS, report_sections
 
 IDS = ("eq4", "eq3", "table3", "sampling", "tyre", "cg_offset", "model_bump", "lane_changes", "rollover", "freight",
-       "stiffness", "damping")
+       "stiffness", "damping", "speed_control")
 
 
 def _statements(ids=IDS):
@@ -29,7 +29,8 @@ def test_each_statement_and_each_file_belongs_to_one_section():
 def test_sections_show_the_study_folded_and_the_warnings_as_notes(tmp_path):
     study = pd.DataFrame({"manoeuvre": ["slc", "dlc"], "freight_kg": [0.0, 200.0], "stiffness_scale": [0.8, 1.2],
                           "damping_scale": [1.0, 1.0], "threshold_speed_kmh": [80.1, 35.2], "limit": "lift-off",
-                          "limiting_wheel": "rear_left", "detail": "not shown"})
+                          "limiting_wheel": "rear_left", "detail": "not shown", "driven_min_kmh": [79.2, 34.9],
+                          "driven_max_kmh": [80.4, 35.3]})
     study.to_csv(tmp_path / "fig10_threshold_study.csv", index=False)
     pd.DataFrame({"vehicle": ["reference-etrike"], "suspension": ["front"], "identified_frequency_hz": [2.5],
                   "warnings": ["Nyquist: only 3.96 samples per cycle"]}).to_csv(tmp_path / "table1_model_bump.csv",
@@ -40,7 +41,7 @@ def test_sections_show_the_study_folded_and_the_warnings_as_notes(tmp_path):
     assert last["tables"] == [] and len(last["folded"]) == 1
     folded = last["folded"][0][0]
     assert list(folded.columns) == ["manoeuvre", "freight_kg", "stiffness_scale", "damping_scale",
-                                    "threshold_speed_kmh", "limit", "limiting_wheel"]
+                                    "threshold_speed_kmh", "driven_min_kmh", "driven_max_kmh", "limit", "limiting_wheel"]
     identification = sections[1]
     assert any("Nyquist: only 3.96 samples per cycle" in note for note in identification["notes"])
     assert all("warnings" not in frame.columns for frame, _ in identification["tables"])
@@ -62,7 +63,7 @@ def test_a_warnings_column_empty_everywhere_gives_no_note_and_no_pandas_warning(
 
 
 def test_sections_without_the_study_leave_it_out(tmp_path):
-    sections = report_sections(tmp_path, _statements(IDS[:-3]))
+    sections = report_sections(tmp_path, _statements(IDS[:-4]))
     assert not any("Threshold" in s["title"] for s in sections)
     assert all(not s["figures"] and not s["tables"] for s in sections)  # no file written: none shown
 

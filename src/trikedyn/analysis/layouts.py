@@ -49,7 +49,10 @@ class LayoutRow:
     threshold_speed_kmh : dict
         Manoeuvre -> threshold velocity [km/h] (None: fails at the lowest speed searched).
     threshold_detail : dict
-        Manoeuvre -> what limits it (the first failing run).
+        Manoeuvre -> what limits it (the first failing run), in words.
+    threshold_limit : dict
+        Manoeuvre -> the limit's name (``"lift-off"``, ``"cone strike"``, ``"top speed"``, ...; None: none
+        found in the range).
     """
 
     layout: str
@@ -60,6 +63,7 @@ class LayoutRow:
     rigid_tilt_angle_deg: float | None
     threshold_speed_kmh: dict = field(default_factory=dict)
     threshold_detail: dict = field(default_factory=dict)
+    threshold_limit: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         return {
@@ -67,6 +71,7 @@ class LayoutRow:
             "tip_over_edge": self.tip_over_edge, "tilt_angle_deg": self.tilt_angle_deg,
             "rigid_tilt_angle_deg": self.rigid_tilt_angle_deg,
             "threshold_speed_kmh": dict(self.threshold_speed_kmh), "threshold_detail": dict(self.threshold_detail),
+            "threshold_limit": dict(self.threshold_limit),
         }
 
 
@@ -111,7 +116,8 @@ class LayoutComparison:
             ["static tip-over (rigid) [g]", *(num(r.static_tip_over_g, ".3f") for r in self.rows)],
             ["tilt-table angle [deg]", *(num(r.tilt_angle_deg, ".1f") for r in self.rows)],
             ["  rigid [deg]", *(num(r.rigid_tilt_angle_deg, ".1f") for r in self.rows)],
-            *([f"threshold {m} [km/h]", *(num(r.threshold_speed_kmh.get(m), ".1f") for r in self.rows)]
+            *([f"threshold {m} [km/h]", *(_with_limit(num(r.threshold_speed_kmh.get(m), ".1f"),
+                                                        r.threshold_limit.get(m)) for r in self.rows)]
               for m in self.manoeuvres),
         ]
         widths = [max(len(row[i]) for row in (head, *body)) for i in range(len(head))]
@@ -147,6 +153,11 @@ class LayoutComparison:
         return fig
 
 
+def _with_limit(value: str, limit: str | None) -> str:
+    """A threshold in the table with what limits it: ``41.1 (cone strike)``."""
+    return value if limit is None or value == "-" else f"{value} ({limit})"
+
+
 def _row(pset: ParameterSet, manoeuvres, options, tilt: bool, search: dict) -> LayoutRow:
     from .threshold import threshold_velocity
     from .tilt import tilt_table
@@ -157,16 +168,17 @@ def _row(pset: ParameterSet, manoeuvres, options, tilt: bool, search: dict) -> L
     if tilt:
         result = tilt_table(pset)
         tilt_deg, rigid_deg = result.tilt_angle_deg, result.rigid_tilt_angle_deg
-    speeds, details = {}, {}
+    speeds, details, limits = {}, {}, {}
     for m in manoeuvres:
         found = threshold_velocity(pset, m, options=options.get(m), **search)
-        speeds[m], details[m] = found.threshold_speed_kmh, found.detail
-    return LayoutRow(params.layout, params.name, tip_g, edge, tilt_deg, rigid_deg, speeds, details)
+        speeds[m], details[m], limits[m] = found.threshold_speed_kmh, found.detail, found.limit
+    return LayoutRow(params.layout, params.name, tip_g, edge, tilt_deg, rigid_deg, speeds, details, limits)
 
 
 def compare_layouts(vehicle: ParameterSet | VehicleParameters, manoeuvres=("dlc", "slc"), *,
                     options: dict | None = None, tilt: bool = True, low_kmh: float = 10.0, high_kmh: float = 90.0,
-                    step_kmh: float = 10.0, resolution_kmh: float = 0.1) -> LayoutComparison:
+                    step_kmh: float = 10.0, resolution_kmh: float = 0.1, criterion: str = "course",
+                    speed_control: str = "driver") -> LayoutComparison:
     """A vehicle and its mirror layout side by side (see the module docstring).
 
     Parameters
@@ -181,6 +193,9 @@ def compare_layouts(vehicle: ParameterSet | VehicleParameters, manoeuvres=("dlc"
         Run the tilt-table test (about 0.3 s per layout once compiled).
     low_kmh, high_kmh, step_kmh, resolution_kmh : float
         The threshold search [km/h] (:func:`trikedyn.analysis.threshold.threshold_velocity`).
+    criterion, speed_control : str
+        The search's pass rule (``"course"``, ``"lift-off"``, ``"both"``) and speed control (``"driver"``,
+        ``"ideal"``).
 
     Returns
     -------
@@ -204,7 +219,8 @@ def compare_layouts(vehicle: ParameterSet | VehicleParameters, manoeuvres=("dlc"
     manoeuvres = tuple(str(m) for m in manoeuvres)
     mirror = mirror_layout(vehicle)
     mirror_set = ParameterSet(mirror, {}, f"mirror of {vehicle.origin or vehicle.name}")
-    search = dict(low_kmh=low_kmh, high_kmh=high_kmh, step_kmh=step_kmh, resolution_kmh=resolution_kmh)
+    search = dict(low_kmh=low_kmh, high_kmh=high_kmh, step_kmh=step_kmh, resolution_kmh=resolution_kmh,
+                  criterion=criterion, speed_control=speed_control)
     options = options or {}
     rows = tuple(_row(p, manoeuvres, options, tilt, search) for p in (vehicle, mirror_set))
     mp = mass_properties(vehicle.params)

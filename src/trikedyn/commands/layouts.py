@@ -8,10 +8,12 @@ from typing import Annotated
 import typer
 
 from ._common import (
+    CriterionOpt,
     ForceOpt,
     FreightAliasOpt,
     JsonOpt,
     PayloadOpt,
+    SpeedControlOpt,
     VehicleArg,
     emit,
     finite,
@@ -36,6 +38,8 @@ def compare_layouts_cmd(
     low: Annotated[float, typer.Option("--low", callback=within(0, 400, "km/h", above=True), help="Lowest speed searched [km/h].")] = 10.0,
     high: Annotated[float, typer.Option("--high", callback=within(0, 400, "km/h", above=True), help="Highest speed searched [km/h].")] = 90.0,
     resolution: Annotated[float, typer.Option("--resolution", callback=within(0.001, 50, "km/h"), help="Threshold resolution [km/h].")] = 0.1,
+    criterion: CriterionOpt = "course",
+    speed_control: SpeedControlOpt = "driver",
     out: Annotated[Path | None, typer.Option("--out", help="Folder to write comparison.json, the mirror vehicle (.toml) "
                                              "and a figure into (created; a non-empty one needs --force).")] = None,
     force: ForceOpt = False,
@@ -61,8 +65,9 @@ def compare_layouts_cmd(
         check_output_folder(out, force=force, option="--out")
     pset = with_freight(load_vehicle(vehicle), payload)
     result = compare_layouts(pset, manoeuvres, tilt=not no_tilt, low_kmh=low, high_kmh=high,
-                             resolution_kmh=resolution)
-    data = {"vehicle": pset.name, "payload_kg": payload, **result.to_dict()}
+                             resolution_kmh=resolution, criterion=criterion, speed_control=speed_control)
+    data = {"vehicle": pset.name, "payload_kg": payload, "criterion": criterion, "speed_control": speed_control,
+            **result.to_dict()}
     if out is not None:
         data["wrote"] = _write(out, result, data)
     text = lambda: result.table() + (f"\nwrote {', '.join(data['wrote'])}" if out is not None else "")  # noqa: E731

@@ -54,6 +54,8 @@ def study_summary_text(s: dict) -> str:
         f"{n['computed']} computed in this run, {n['skipped']} already stored",
         f"wall time {s['wall_time_s']:.1f} s on {s['executor']}",
     ]
+    if "threshold" in (s.get("metrics") or ["threshold"]) and s.get("criterion"):
+        lines.insert(1, f"threshold: the {s['criterion']} criterion, {s['speed_control']} speed control")
     if s["table"]:
         lines.append(f"table: {s['table']} (and {Path(s['parquet']).name})")
     if s.get("figures"):

@@ -49,16 +49,18 @@ SECTIONS = (
      "tables": (("table3.csv", None),)},
     {"title": "Lane changes (Figs. 7-8)", "statements": ("lane_changes",),
      "animations": ("slc", "dlc"), "figures": ("fig7_slc.png", "fig8_dlc.png"),
-     "tables": (("manoeuvres.csv", ("manoeuvre", "min_speed_kmh", "max_speed_kmh",
+     "tables": (("manoeuvres.csv", ("manoeuvre", "verdict", "min_speed_kmh", "max_speed_kmh",
                                     "max_lateral_acceleration_mps2", "max_yaw_rate_radps", "max_abs_roll_deg",
                                     "max_abs_ri", "min_wheel_load_N", "max_path_error_m", "cone_strikes",
                                     "wheel_lifted")),)},
     {"title": "Rollover index (Fig. 9, Eq. 5)", "statements": ("rollover",), "equations": ("eq5",),
      "figures": ("fig9_rollover_index.png",)},
-    {"title": "Threshold velocity (Fig. 10)", "statements": ("freight", "stiffness", "damping"),
+    {"title": "Threshold velocity (Fig. 10)", "statements": ("freight", "stiffness", "damping", "speed_control"),
      "figures": ("fig10_threshold_study.png",),
+     "tables": (("thresholds_by_control.csv", None),),
      "folded": (("fig10_threshold_study.csv", ("manoeuvre", "freight_kg", "stiffness_scale", "damping_scale",
-                                               "threshold_speed_kmh", "limit", "limiting_wheel")),)},
+                                               "threshold_speed_kmh", "driven_min_kmh", "driven_max_kmh", "limit",
+                                               "limiting_wheel")),)},
 )
 """The report's sections: the statements (by id) they hold, and the files they show."""
 
@@ -76,6 +78,9 @@ _CAPTIONS = {
     "table3.csv": "Centre of gravity against freight, the paper's axes (table3.csv)",
     "manoeuvres.csv": "The two lane changes (manoeuvres.csv)",
     "fig10_threshold_study.csv": "Every scenario of the study, from fig10_threshold_study.csv",
+    "thresholds_by_control.csv": "The thresholds with the speed imposed (ideal) and with the trike's own drive "
+                                 "(driver), under the paper's criterion (lift-off) and ISO 3888-1's (course) "
+                                 "(thresholds_by_control.csv)",
     "fig2_identification_reference-etrike-eq4_front.png": "Quarter car, front: emulated 10 Hz record and its "
                                                           "spectrum (cf. Fig. 2c-d)",
     "fig2_identification_reference-etrike-eq4_rear.png": "Quarter car, rear: emulated 10 Hz record and its spectrum",

@@ -179,6 +179,16 @@ def plan(frame) -> list[tuple[str, str, list[str]]]:
     return out
 
 
+def _judged_by(rows) -> str:
+    """What a metric's values were judged by, for its title: `` under course, driver speed control``."""
+    parts = []
+    for col, word in (("criterion", "{} criterion"), ("speed_control", "{} speed control")):
+        if col in rows.columns and rows[col].notna().any():
+            values = sorted(rows[col].dropna().astype(str).unique())
+            parts.append(word.format("/".join(values)))
+    return f" ({', '.join(parts)})" if parts else ""
+
+
 def study_figures(frame, out_dir: str | Path, title: str | None = None, dpi: int = 110) -> list[Path]:
     """Draw the figures of a study table (:meth:`StudyStore.to_pandas`) into ``out_dir``.
 
@@ -212,7 +222,7 @@ def study_figures(frame, out_dir: str | Path, title: str | None = None, dpi: int
             n = len(varying)
             fig = Figure(figsize=(4.6 * min(n, 3), 3.8 * math.ceil(n / 3)))
             _main_effects(fig, rows, varying, ylabel)
-        fig.suptitle(f"{title + ': ' if title else ''}{metric} ({kind})")
+        fig.suptitle(f"{title + ': ' if title else ''}{metric}{_judged_by(rows)} ({kind})")
         fig.tight_layout()
         path = out_dir / f"fig_{_slug(metric)}.png"
         atomic_write(path, lambda fh, fig=fig: fig.savefig(fh, dpi=dpi, format="png"))

@@ -354,6 +354,8 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
         "scenarios": {"total": len(order), "done": len(stored), "failed": n_failed, "computed": computed,
                       "skipped": n_skipped, "lost": len(lost)},
         "metrics": list(dict.fromkeys(s["metric_label"] for s in scenarios)),
+        "criterion": spec.criterion,
+        "speed_control": spec.speed_control,
         "wall_time_s": round(time.perf_counter() - started, 3),
         "table": str(files["csv"]) if files else None,
         "parquet": str(files["parquet"]) if files else None,
