@@ -111,6 +111,7 @@ class RunVerdict:
     criterion: str = DEFAULT_CRITERION
 
     def to_dict(self) -> dict:
+        """Every field, JSON-ready."""
         return asdict(self)
 
 
@@ -408,6 +409,7 @@ def _search(runs: _Runs, criterion: str, grid: Grid, method: str, step_kmh: floa
     made: list[RunVerdict] = []
 
     def measure(v):
+        """The run at ``v`` [km/h] judged under this search's criterion, kept in ``made``."""
         verdict, probe = runs.measure(v, criterion)
         made.append(verdict)
         return verdict, probe

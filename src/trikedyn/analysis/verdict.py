@@ -90,6 +90,7 @@ class Judging:
         return max(self.speed_band_percent / 100.0 * abs(target_kmh), self.speed_band_kmh)
 
     def to_dict(self) -> dict:
+        """The settings as a plain dict."""
         return asdict(self)
 
 
@@ -103,6 +104,7 @@ class Reason:
     wheel: str | None = None
 
     def to_dict(self) -> dict:
+        """``reason``, ``time_s``, ``detail`` and ``wheel`` (None unless a wheel lifted)."""
         return asdict(self)
 
 

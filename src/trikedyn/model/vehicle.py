@@ -91,6 +91,7 @@ class VehicleModel:
 
     @property
     def n_dof(self) -> int:
+        """Degrees of freedom of the tree (13 for the paper's topology)."""
         return self.tree.n_dof
 
     @property
@@ -100,6 +101,7 @@ class VehicleModel:
 
     @property
     def wheel_names(self) -> tuple[str, ...]:
+        """The wheels' names, in the tree's order."""
         return tuple(w.name for w in self.tree.wheels)
 
     @property
@@ -128,6 +130,7 @@ class VehicleModel:
         return int(self.plant.road[0]["bump"]) == 0
 
     def with_road(self, road: Road) -> VehicleModel:
+        """This model on another road (its cache emptied: the equilibrium depends on the road)."""
         return replace(self, plant=self.plant._replace(road=road.record()), cache={})
 
     def on_flat_road(self) -> VehicleModel:
