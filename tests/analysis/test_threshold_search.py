@@ -164,7 +164,7 @@ def test_result_reports_its_runs(reference):
     assert set(result.to_dict()) == {"threshold_speed_kmh", "limit", "limiting_wheel", "lift_time_s",
                                      "first_failure_kmh", "first_cone_strike_kmh", "detail", "n_runs", "criterion",
                                      "speed_control", "top_speed_kmh", "entry_speed_kmh", "window_speed_kmh",
-                                     "course_speed_kmh", "lift_off_speed_kmh"}
+                                     "course_speed_kmh", "lift_off_speed_kmh", "failure_time_s"}
     with pytest.raises(Exception, match="method"):
         threshold_velocity(reference, "slc", method="golden")
 

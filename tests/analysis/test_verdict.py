@@ -141,7 +141,7 @@ def test_the_slc_threshold_is_held_or_the_top_speed(model, slc):
     assert slc.limit == "top speed" and slc.top_speed_kmh == pytest.approx(top)
     assert top - 0.1 < slc.threshold_speed_kmh <= top and _held(slc)
     assert slc.detail == ("it drives cleanly through the ISO 14791 single lane change at any speed it can reach "
-                          f"(top speed {top:.0f} km/h)")
+                          f"(top speed {top:.1f} km/h)")
     lift = threshold_velocity(model, "slc", criterion="lift-off")
     assert lift.limit == "top speed" and lift.detail.startswith("no wheel lifts in the ISO 14791 single lane change "
                                                                 "at any speed it can reach")

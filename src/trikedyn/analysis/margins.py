@@ -168,7 +168,7 @@ def criterion_rows(result, verdict, criterion: str, judging, bins: int = BINS) -
         if getattr(man, "speed_judged", "window") == "entry":
             judged = np.zeros_like(window)
             judged[int(np.nonzero(window)[0][0])] = True
-        rows[0] = _row(verdict.speed_band_kmh - np.abs(speed - target * 3.6), judged, column, bins)
+        rows[0] = _row(judging.band_kmh(target * 3.6) - np.abs(speed - target * 3.6), judged, column, bins)
     if "path_error_m" in result.channels and man is not None and man.closed_loop:
         error = np.abs(np.asarray(result["path_error_m"], dtype=float))
         rows[1] = _row(judging.lost_m - error, scope & before, column, bins)

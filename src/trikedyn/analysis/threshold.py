@@ -187,8 +187,8 @@ class ThresholdResult:
         ``low_kmh`` fails already.
     limit, limiting_wheel, lift_time_s
         At ``first_failure_kmh`` (one resolution above the threshold): what failed (see the module
-        docstring), the wheel that lifted first and when [s] (the time of the failure when no wheel lifted);
-        ``limit`` is ``"top speed"`` when nothing fails up to the vehicle's top speed.
+        docstring), the wheel that lifted first and when [s] (None when no wheel lifted); ``limit`` is
+        ``"top speed"`` when nothing fails up to the vehicle's top speed.
     first_failure_kmh : float or None
         The failing speed [km/h] that certifies the threshold.
     first_cone_strike_kmh : float or None
@@ -213,6 +213,8 @@ class ThresholdResult:
         The threshold under each criterion searched (the other None).
     lift_off : ThresholdResult or None
         Under ``"both"``: the lift-off search (this result is the course one).
+    failure_time_s : float or None
+        When the run at ``first_failure_kmh`` failed [s] (its lift, cone strike, lost path, ...).
     """
 
     threshold_speed_kmh: float | None
@@ -232,6 +234,7 @@ class ThresholdResult:
     course_speed_kmh: float | None = None
     lift_off_speed_kmh: float | None = None
     lift_off: ThresholdResult | None = field(default=None, repr=False)
+    failure_time_s: float | None = None
 
     @property
     def n_runs(self) -> int:
@@ -429,8 +432,9 @@ def _search(runs: _Runs, criterion: str, grid: Grid, method: str, step_kmh: floa
               f"{criterion.replace('-', '_')}_speed_kmh": None}
     if passed is None:
         failing = by_speed[grid.speed(0)]
-        return ThresholdResult(None, failing.limit, failing.wheel, failing.time_s, failing.speed_kmh, strike,
-                               f"fails already at {failing.speed_kmh:g} km/h: {failing.detail}", **common)
+        return ThresholdResult(None, failing.limit, failing.wheel, _lift_time(failing), failing.speed_kmh, strike,
+                               f"fails already at {failing.speed_kmh:g} km/h: {failing.detail}",
+                               failure_time_s=failing.time_s, **common)
     threshold = grid.speed(passed)
     held = by_speed[threshold]
     common.update(entry_speed_kmh=held.entry_speed_kmh, window_speed_kmh=held.window_speed_kmh)
@@ -439,13 +443,19 @@ def _search(runs: _Runs, criterion: str, grid: Grid, method: str, step_kmh: floa
         top = context["top_speed_kmh"]
         if capped:
             what = "no wheel lifts in" if criterion == "lift-off" else "it drives cleanly through"
-            detail = f"{what} {title} at any speed it can reach (top speed {top:.0f} km/h)"
+            detail = f"{what} {title} at any speed it can reach (top speed {top:.1f} km/h)"
             return ThresholdResult(threshold, TOP_SPEED, None, None, None, strike, detail, **common)
         what = "no wheel lifts" if criterion == "lift-off" else "it drives the course cleanly"
         return ThresholdResult(threshold, None, None, None, None, strike, f"{what} up to {threshold:g} km/h", **common)
     failing = by_speed[grid.speed(failed)]
-    return ThresholdResult(threshold, failing.limit, failing.wheel, failing.time_s, failing.speed_kmh, strike,
-                           f"at {failing.speed_kmh:.1f} km/h: {failing.detail}", **common)
+    return ThresholdResult(threshold, failing.limit, failing.wheel, _lift_time(failing), failing.speed_kmh, strike,
+                           f"at {failing.speed_kmh:.1f} km/h: {failing.detail}", failure_time_s=failing.time_s,
+                           **common)
+
+
+def _lift_time(run: RunVerdict) -> float | None:
+    """When a failing run's wheel lifted [s], None when none did (it failed otherwise)."""
+    return run.time_s if run.wheel is not None else None
 
 
 def _bisection(attempt, grid: Grid, step_kmh: float) -> tuple[int | None, int | None]:

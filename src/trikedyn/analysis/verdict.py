@@ -85,9 +85,11 @@ class Judging:
         if self.speed_band_percent == 0 and self.speed_band_kmh == 0:
             raise InputError("a speed band of zero width cannot be held", where="speed_band_kmh")
 
-    def band_kmh(self, target_kmh: float) -> float:
-        """Half-width of the speed band around ``target_kmh`` [km/h]."""
-        return max(self.speed_band_percent / 100.0 * abs(target_kmh), self.speed_band_kmh)
+    def band_kmh(self, target_kmh):
+        """Half-width of the speed band around ``target_kmh`` [km/h] (a number, or an array: a rising target
+        has a band that widens with it)."""
+        band = np.maximum(self.speed_band_percent / 100.0 * np.abs(target_kmh), self.speed_band_kmh)
+        return float(band) if np.ndim(band) == 0 else band
 
     def to_dict(self) -> dict:
         """The settings as a plain dict."""
@@ -127,7 +129,8 @@ class Verdict:
     window_speed_kmh : dict or None
         ``{"min", "mean", "max"}`` of the speed over the window [km/h].
     speed_band_kmh : float or None
-        Half-width of the band the speed was held to [km/h] (None when the manoeuvre's speed is not judged).
+        Half-width of the band the speed was held to at the highest target [km/h] (None when the manoeuvre's
+        speed is not judged); a varying target has the band of each moment's target.
     """
 
     passed: bool
@@ -241,16 +244,17 @@ def judge(result, judging: Judging | None = None) -> Verdict:
     where = getattr(man, "speed_judged", "window") if target is not None else "none"
     if where != "none":
         band = judging.band_kmh(top)
+        bands = judging.band_kmh(target * 3.6)
         judged = window
         if where == "entry" and window.any():
             judged = np.zeros_like(window)
             judged[int(np.nonzero(window)[0][0])] = True
-        off = np.nonzero(judged & (np.abs(speed - target * 3.6) > band))[0]
+        off = np.nonzero(judged & (np.abs(speed - target * 3.6) > bands))[0]
         if off.size:
             i = int(off[0])
             reasons.append(Reason(SPEED_NOT_HELD, float(time[i]),
                                   f"speed not held: {speed[i]:.1f} km/h at {time[i]:.2f} s against a target of "
-                                  f"{target[i] * 3.6:.1f} +/- {band:.1f} km/h"))
+                                  f"{target[i] * 3.6:.1f} +/- {bands[i]:.1f} km/h"))
         elif man is not None and result.success and not _reached_exit(result):
             t = float(time[-1])
             where = "the exit gate" if window.any() else "the entry gate"

@@ -74,7 +74,7 @@ def threshold_cmd(
                         and result.threshold_speed_kmh > result.top_speed_kmh else ""))
     if result.first_cone_strike_kmh is not None:
         lines.append(f"  first cone strike seen at {result.first_cone_strike_kmh:.1f} km/h")
-    lines.append(f"  {len(result.runs)} runs")
+    lines.append(f"  {len(result.runs)} run{'s' if len(result.runs) != 1 else ''}")
     emit(data, as_json, "\n".join(lines))
 
 

@@ -169,16 +169,17 @@ def label(name: str, options: dict) -> str:
 # the built-in metrics
 # ------------------------------------------------------------------------------------------------
 @study_metric("threshold", unit="km/h", per_manoeuvre=True, uses_search=True,
-              help="threshold velocity: the highest speed with every wheel on the ground")
+              help="threshold velocity: the highest speed at which a run passes (the spec's criterion: course, "
+                   "lift-off or both)")
 def _threshold(pset, scenario):
-    from ..analysis.threshold import threshold_velocity
+    from ..analysis.threshold import DEFAULT_CRITERION, threshold_velocity
     from ..analysis.verdict import Judging
 
     band = {k: scenario[k] for k in ("speed_band_percent", "speed_band_kmh") if scenario.get(k) is not None}
     result = threshold_velocity(pset, scenario["manoeuvre"], low_kmh=scenario["low_kmh"],
                                 high_kmh=scenario["high_kmh"], step_kmh=scenario["step_kmh"],
                                 resolution_kmh=scenario["resolution_kmh"],
-                                criterion=scenario.get("criterion") or "lift-off",
+                                criterion=scenario.get("criterion") or DEFAULT_CRITERION,
                                 speed_control=scenario.get("speed_control") or "driver", judging=Judging(**band))
     return {"value": result.threshold_speed_kmh, **table_fields(result)}
 

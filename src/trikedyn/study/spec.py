@@ -8,7 +8,7 @@ A study file::
     manoeuvres = ["dlc", "slc"]         # registered manoeuvres (`trikedyn manoeuvres`), default options
     metrics = ["threshold"]             # optional (this is the default): what each variation measures
     freight_kg = [0, 50, 100, 150, 200]
-    resolution_kmh = 0.1                # threshold search: bisection resolution [km/h]
+    resolution_kmh = 0.1                # threshold search resolution [km/h]
     # optional: low_kmh = 10, high_kmh = 90, step_kmh = 10 (search range and bracketing step [km/h])
     # optional: criterion = "course"    # or "lift-off" (the paper's) or "both" (the threshold's pass rule)
     # optional: speed_control = "driver"  # or "ideal" (unlimited drive: the speed imposed)
@@ -129,17 +129,20 @@ class _Spec(_Model):
         "understeer_gradient, peak_ri, min_wheel_load, ...), each a name or a table { name = ..., option = value }",
     )
     freight_kg: list[float] = Field(default=[0.0], min_length=1)
-    resolution_kmh: float = Field(default=0.1, gt=0, le=10)
-    low_kmh: float = Field(default=10.0, gt=0)
-    high_kmh: float = Field(default=90.0, gt=0, le=300)
-    step_kmh: float = Field(default=10.0, gt=0)
+    resolution_kmh: float = Field(default=0.1, gt=0, le=10, description="threshold search resolution [km/h]")
+    low_kmh: float = Field(default=10.0, gt=0, description="lowest speed searched [km/h]")
+    high_kmh: float = Field(default=90.0, gt=0, le=300, description="highest speed searched [km/h] (the driver's "
+                            "searches stop at the top speed when lower)")
+    step_kmh: float = Field(default=10.0, gt=0, description="bracketing step [km/h]")
     criterion: Literal["course", "lift-off", "both"] = Field(
         default="course", description="what a run must do to pass: course (ISO 3888-1 validity), lift-off (the "
         "paper's) or both")
     speed_control: Literal["driver", "ideal"] = Field(
         default="driver", description="the vehicle's own drive (stops at its top speed) or an unlimited one")
-    speed_band_percent: float = Field(default=3.0, ge=0, le=100)
-    speed_band_kmh: float = Field(default=1.0, ge=0, le=100)
+    speed_band_percent: float = Field(default=3.0, ge=0, le=100, description="half-width of the band the speed is "
+                                      "held to through the window [% of the target]")
+    speed_band_kmh: float = Field(default=1.0, ge=0, le=100, description="smallest half-width of the speed band "
+                                  "[km/h] (the band is the larger of the two)")
     groups: list[_Group] = Field(default_factory=lambda: [_Group(name="base")], min_length=1)
 
     @field_validator("manoeuvres")

@@ -68,7 +68,7 @@ SCHEMA_VERSION = "1"
 SCENARIO_COLUMNS = ("scenario_id", "groups", "vehicle", "manoeuvre", "freight_kg", "stiffness_scale",
                     "damping_scale")
 RESULT_KEYS = ("threshold_speed_kmh", "limit", "limiting_wheel", "lift_time_s", "first_failure_kmh",
-               "first_cone_strike_kmh", "n_runs", "detail", "entry_speed_kmh", "driven_min_kmh", "driven_mean_kmh",
+               "first_cone_strike_kmh", "n_runs", "detail", "failure_time_s", "entry_speed_kmh", "driven_min_kmh", "driven_mean_kmh",
                "driven_max_kmh", "top_speed_kmh", "course_speed_kmh", "lift_off_speed_kmh", "lift_off_limit")
 SEARCH_COLUMNS = ("resolution_kmh", "low_kmh", "high_kmh", "step_kmh", "criterion", "speed_control",
                   "speed_band_percent", "speed_band_kmh")
@@ -375,7 +375,7 @@ class StudyStore:
         frame = pd.DataFrame.from_records(records, columns=columns)
         frame["n_runs"] = frame["n_runs"].astype("Int64")
         for col in ("freight_kg", "stiffness_scale", "damping_scale", "threshold_speed_kmh", "lift_time_s",
-                    "first_failure_kmh", "first_cone_strike_kmh", "entry_speed_kmh", "driven_min_kmh",
+                    "first_failure_kmh", "first_cone_strike_kmh", "failure_time_s", "entry_speed_kmh", "driven_min_kmh",
                     "driven_mean_kmh", "driven_max_kmh", "top_speed_kmh", "course_speed_kmh", "lift_off_speed_kmh",
                     "resolution_kmh", "low_kmh", "high_kmh", "step_kmh", "speed_band_percent", "speed_band_kmh",
                     *(["value"] if with_metrics else [])):
