@@ -43,7 +43,8 @@ def test_animate_writes_a_gif_of_the_cones_and_keeps_it(capsys, run_file, tmp_pa
     assert code == 0, err
     data = strict_json(out)
     assert data["cones"] == 18 and data["cones_struck"] == 0  # ISO 3888-1: 3 lanes x 3 gates x 2 sides
-    assert data["vehicle"] == "preset 'reference-etrike'" and data["course"].startswith("'dlc' rebuilt at 30 km/h")
+    assert data["vehicle"] == "the vehicle recorded with the run ('reference-etrike')"
+    assert data["course"].startswith("'dlc' rebuilt at 30 km/h")
     with Image.open(gif) as image:
         assert image.format == "GIF" and image.size == (600, 400)
         assert image.n_frames == data["frames"] >= 20
@@ -89,18 +90,37 @@ def test_3d_view_writes_a_gif_of_the_cones(capsys, run_file, tmp_path):
 
 
 def test_a_run_of_an_unknown_vehicle_is_drawn_from_its_footprint(capsys, run_file, tmp_path):
-    """The cones are rebuilt for a stand-in vehicle made from the recorded footprint (the DLC's lanes depend
-    on the vehicle's width only)."""
+    """A run file from before the vehicle was recorded: the cones are rebuilt for a stand-in vehicle made from the
+    recorded footprint (the DLC's lanes depend on the vehicle's width only)."""
     frame = pd.read_parquet(run_file)
     frame.attrs["vehicle"] = "my-own-trike"
     mine = tmp_path / "mine.parquet"
     frame.to_parquet(mine, index=False)
     side = json.loads(run_file.with_suffix(".json").read_text(encoding="utf-8"))
+    side.pop("vehicle_params")
     mine.with_suffix(".json").write_text(json.dumps({**side, "vehicle": "my-own-trike"}), encoding="utf-8")
     code, out, err = _call(capsys, "animate", mine, "--every-s", 5, "--json")
     assert code == 0, err
     data = strict_json(out)
     assert data["cones"] == 18 and "stand-in" in data["vehicle"] and (tmp_path / "mine.gif").is_file()
+
+
+def test_a_run_of_an_own_vehicle_file_is_drawn_with_that_vehicle(capsys, tmp_path):
+    """The run file records the vehicle as driven: an open-loop fishhook of a user's own vehicle file (not a
+    preset) animates in 3d with its own vehicle, without a warning (it was a stand-in, which could not rebuild
+    the fishhook)."""
+    own = tmp_path / "own.toml"
+    own.write_text('extends = "reference-etrike"\nname = "own-trike"\n[mass]\ncg_z_m = 0.45\n', encoding="utf-8")
+    run = tmp_path / "fish.parquet"
+    code, _, err = _call(capsys, "simulate", own, "--manoeuvre", "fishhook", "--speed", "25", "--out", run)
+    assert code == 0, err
+    side = json.loads(run.with_suffix(".json").read_text(encoding="utf-8"))
+    assert side["vehicle_params"]["name"] == "own-trike" and side["vehicle_params"]["mass"]["cg_z_m"] == 0.45
+    code, out, err = _call(capsys, "animate", run, "--view", "3d", "--every-s", 1, "--json")
+    assert code == 0 and "warning" not in err, err
+    data = strict_json(out)
+    assert data["vehicle"] == "the vehicle recorded with the run ('own-trike')"
+    assert data["course"].startswith("'fishhook' rebuilt")
 
 
 def test_bad_input_is_one_line_and_exit_2(capsys, run_file, tmp_path):

@@ -13,8 +13,8 @@ import pytest
 
 from trikedyn.analysis.compare import load_table
 from trikedyn.cli import main
-from trikedyn.commands.animate import _meta
 from trikedyn.report.run_figures import KINDS, figure, figure_time, figure_wheel_loads, lift_spans, title_of
+from trikedyn.simulate.runfile import run_meta
 
 
 def _simulate(folder, speed):
@@ -32,7 +32,7 @@ def runs(tmp_path_factory):
 
 def _read(path):
     frame, _ = load_table(path)
-    return frame, _meta(path, frame.attrs)
+    return frame, run_meta(path, frame.attrs)
 
 
 def _labels(fig):

@@ -10,6 +10,7 @@ from typing import Annotated
 
 import typer
 
+from .._json import finite, json_default
 from ..errors import InputError
 
 __all__ = ["BandKmhOpt", "BandPercentOpt", "CriterionOpt", "ForceOpt", "FreightAliasOpt", "JsonOpt", "ManoeuvreOpt",
@@ -161,42 +162,6 @@ def key_values(data: dict, indent: str = "") -> list[str]:
         else:
             lines.append(f"{indent}{str(key):<{width}}{_shown(value)}")
     return lines
-
-
-def json_default(obj):
-    import numpy as np
-
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, np.generic):
-        return obj.item()
-    if isinstance(obj, Path):
-        return str(obj)
-    raise TypeError(f"not JSON serialisable: {type(obj).__name__}")
-
-
-def finite(node, path: str = ""):
-    """``node`` with every non-finite float replaced by None, and the paths where that happened."""
-    import math
-
-    if isinstance(node, dict):
-        out, bad = {}, []
-        for key, value in node.items():
-            out[key], sub = finite(value, f"{path}.{key}" if path else str(key))
-            bad += sub
-        return out, bad
-    if isinstance(node, list | tuple):
-        out, bad = [], []
-        for i, value in enumerate(node):
-            item, sub = finite(value, f"{path}[{i}]")
-            out.append(item)
-            bad += sub
-        return out, bad
-    if hasattr(node, "tolist") and not isinstance(node, str):  # numpy arrays and scalars
-        return finite(node.tolist(), path)
-    if isinstance(node, float) and not math.isfinite(node):
-        return None, [path]
-    return node, []
 
 
 OptionOpt = Annotated[

@@ -1,21 +1,15 @@
 """``trikedyn animate``: a run file as an animation (the trike through the cones, or its roll from behind).
 
-A run file (``trikedyn simulate --out run.parquet``, or ``.csv``) keeps the channels and, in the Parquet
-metadata and the ``.json`` beside it, the vehicle's name, the manoeuvre's name, options and target speed,
-and the footprint. The cones are not stored: the course is rebuilt from these with
-:func:`trikedyn.manoeuvres.registry.build`, for the preset of that name when its outline matches the
-recorded footprint, else for a stand-in vehicle made from the footprint (the courses depend on the
-vehicle's width only). A course that cannot be rebuilt (a path CSV gone, an unknown manoeuvre) leaves the
-animation without cones, with a warning.
+A run file (``trikedyn simulate --out run.parquet``, or ``.csv``) is read back with its vehicle and course
+as :mod:`trikedyn.simulate.runfile` rebuilds them. A course that cannot be rebuilt (a path CSV gone, an
+unknown manoeuvre) leaves the animation without cones, with a warning.
 """
 
 from __future__ import annotations
 
-import json
 import math
 import warnings
 from pathlib import Path
-from types import SimpleNamespace
 from typing import Annotated
 
 import typer
@@ -26,76 +20,6 @@ from ._common import ForceOpt, JsonOpt, emit, within
 __all__ = ["animate_cmd", "load_run"]
 
 RUN_SUFFIXES = (".parquet", ".pq", ".csv")
-WHEEL_RADIUS_M = 0.27  # drawn radius of a wheel when the vehicle is not known [m]
-
-
-def _meta(run: Path, attrs: dict) -> dict:
-    """The run's metadata: the Parquet metadata, completed by the ``.json`` summary beside the run."""
-    meta = dict(attrs)
-    side = run.with_suffix(".json")
-    if side.is_file():
-        try:
-            found = json.loads(side.read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError, ValueError) as exc:
-            warnings.warn(f"{side}: not read ({type(exc).__name__}); animating without it", stacklevel=2)
-        else:
-            meta = {**found, **meta} if isinstance(found, dict) else meta
-    return meta
-
-
-def _footprint(meta: dict):
-    """The recorded ``(x_rear, x_front, half_width)`` [m], or None."""
-    try:
-        values = tuple(float(v) for v in meta.get("footprint_m") or ())
-    except (TypeError, ValueError):
-        return None
-    ok = len(values) == 3 and all(math.isfinite(v) for v in values) and values[0] < values[1] and values[2] > 0
-    return values if ok else None
-
-
-def _stand_in(names: list[str], footprint) -> SimpleNamespace:
-    """A vehicle made from the run file alone: outline from the footprint, wheels placed by their names (front
-    ones at the wheelbase, left and right ones near the sides), CG on the centre line (approximate)."""
-    x_rear, x_front, half = footprint or (-0.5, 2.5, 0.625)
-    base = x_front + x_rear  # equal overhangs (trikedyn.simulate.closed_loop.footprint)
-    wheels = [SimpleNamespace(name=n, x_m=base if "front" in n else 0.0, radius_m=WHEEL_RADIUS_M, steered="front" in n,
-                              y_m=0.85 * half if "left" in n else -0.85 * half if "right" in n else 0.0) for n in names]
-    return SimpleNamespace(name="stand-in", wheels=wheels, wheelbase_m=base,
-                           body=SimpleNamespace(overall_width_m=2 * half, overall_length_m=x_front - x_rear),
-                           mass=SimpleNamespace(cg_x_m=0.4 * base, cg_y_m=0.0, cg_z_m=0.5))
-
-
-def _vehicle(meta: dict, names: list[str]):
-    """The preset the run names if its outline matches the recorded footprint; else a stand-in. And a note."""
-    from ..params import list_presets, load_vehicle
-
-    name, footprint = meta.get("vehicle"), _footprint(meta)
-    if isinstance(name, str) and name in list_presets():
-        params = load_vehicle(name).params
-        overhang = max(params.body.overall_length_m - params.wheelbase_m, 0.0) / 2
-        mine = (-overhang, params.wheelbase_m + overhang, params.body.overall_width_m / 2)
-        if footprint is None or all(abs(a - b) < 1e-6 for a, b in zip(mine, footprint, strict=True)):
-            return params, f"preset '{name}'"
-    return _stand_in(names, footprint), "a stand-in vehicle from the run's footprint (wheels placed approximately)"
-
-
-def _course(meta: dict, params):
-    """The manoeuvre rebuilt from the run's record (name, options, target speed), or None; and a note."""
-    from ..manoeuvres.registry import build, get
-
-    spec = meta.get("manoeuvre_spec") if isinstance(meta.get("manoeuvre_spec"), dict) else {}
-    name = meta.get("manoeuvre_name") or spec.get("name")
-    speed = meta.get("target_speed_kmh") or (meta.get("summary") or {}).get("speed_kmh")
-    if not name or not speed:
-        return None, "none: the run file names no manoeuvre and speed"
-    try:
-        declared = {o.name for o in get(str(name)).options}
-        options = {k: v for k, v in (spec.get("parameters") or {}).items() if k in declared}
-        manoeuvre = build(str(name), params, float(speed), **options)
-    except (InputError, AttributeError, KeyError, TypeError, ValueError) as exc:
-        return None, f"none: '{name}' could not be rebuilt ({exc})"
-    told = ", ".join(f"{k}={v}" for k, v in options.items())
-    return manoeuvre, f"'{name}' rebuilt at {float(speed):g} km/h" + (f" with {told}" if told else "")
 
 
 def load_run(run: Path):
@@ -108,6 +32,7 @@ def load_run(run: Path):
     """
     from ..analysis.compare import load_table
     from ..report.animation import scene_from
+    from ..simulate.runfile import run_course, run_meta, run_vehicle
 
     where = str(run)
     if not run.is_file():
@@ -120,15 +45,15 @@ def load_run(run: Path):
     missing = [c for c in ("x_m", "y_m", "yaw_rad", "speed_mps") if c not in frame.columns]
     if missing:
         raise InputError(f"not a run of trikedyn: no channel '{missing[0]}'", where=where)
-    meta = _meta(run, frame.attrs)
+    meta = run_meta(run, frame.attrs)
     names = meta.get("wheels")
     if not (isinstance(names, list) and names and all(f"{n}_fz_N" in frame.columns for n in names)):
         names = [c[: -len("_fz_N")] for c in frame.columns if str(c).endswith("_fz_N")]
     if not names:
         raise InputError("not a run of trikedyn: no wheel loads ('<wheel>_fz_N')", where=where)
     meta["wheels"] = names
-    params, vehicle_note = _vehicle(meta, names)
-    manoeuvre, course_note = _course(meta, params)
+    params, vehicle_note = run_vehicle(meta, names)
+    manoeuvre, course_note = run_course(meta, params)
     if manoeuvre is None:
         warnings.warn(f"{where}: no course drawn; {course_note}", stacklevel=2)
     channels = {c: frame[c].to_numpy() for c in frame.columns}

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Annotated
 
@@ -21,8 +20,6 @@ from ._common import (
     SpeedControlOpt,
     VehicleArg,
     emit,
-    finite,
-    json_default,
     judging,
     key_values,
     manoeuvre_options,
@@ -87,31 +84,6 @@ def manoeuvres_cmd(as_json: JsonOpt = False):
     emit(kinds, as_json, "\n".join(lines))
 
 
-def _check_run_file(out: Path, force: bool, reads=()) -> None:
-    """A run file name (``.parquet`` or ``.csv``) and the ``.json`` beside it, checked before the run."""
-    from .._files import check_output
-
-    if out.suffix not in (".parquet", ".csv"):
-        raise InputError("expected a .parquet or .csv file name", where=str(out))
-    check_output(out, force=force, reads=reads)
-    check_output(out.with_suffix(".json"), force=force, reads=reads)
-
-
-def _write_run(result, out: Path, summary: dict) -> None:
-    from .._files import atomic_write
-
-    frame = result.to_pandas().reset_index()
-    if out.suffix == ".parquet":
-        atomic_write(out, lambda fh: frame.to_parquet(fh, index=False))
-    else:
-        atomic_write(out, lambda fh: frame.to_csv(fh, index=False), binary=False)
-    meta = {k: v for k, v in result.meta.items() if k != "driver"} | {"summary": summary}
-    if result.manoeuvre is not None:
-        meta["manoeuvre_spec"] = result.manoeuvre.to_dict()
-    text = json.dumps(finite(meta)[0], indent=2, default=json_default, allow_nan=False)
-    atomic_write(out.with_suffix(".json"), lambda fh: fh.write(text), binary=False)
-
-
 def simulate_cmd(
     vehicle: VehicleArg,
     manoeuvre: ManoeuvreOpt = "dlc",
@@ -145,7 +117,9 @@ def simulate_cmd(
         raise InputError(f"must be > 0 s, got {duration!r}", where="--duration")
     options = manoeuvre_options(manoeuvre, option, radius_m=radius, steer_deg=steer_deg)
     if out is not None:
-        _check_run_file(out, force, reads=[vehicle, manoeuvre, options.get("file")])
+        from ..simulate.runfile import check_run_file
+
+        check_run_file(out, force, reads=[vehicle, manoeuvre, options.get("file")])
     rules = judging(band_percent, band_kmh)
     pset = with_freight(load_vehicle(vehicle), payload)
     result = run(pset, manoeuvre, speed_kmh=speed, duration_s=duration, speed_control=speed_control, **options)
@@ -164,7 +138,9 @@ def simulate_cmd(
             if figures is not None:
                 data["figures"] = figures
     if out is not None:
-        _write_run(result, out, data)
+        from ..simulate.runfile import write_run
+
+        write_run(result, out, data)
         data["out"] = str(out)
     emit(data, as_json, lambda: "\n".join(_verdict_lines(data) + key_values(
         {k: v for k, v in data.items() if k not in ("passed", "verdict", "reasons")})))
@@ -209,10 +185,10 @@ def plot_cmd(
     target = out or (run.with_suffix(".png") if kind == "time" else run.with_name(f"{run.stem}-{kind}.png"))
     check_output(target, force=force, reads=[run, run.with_suffix(".json")])
     from ..analysis.compare import load_table
-    from .animate import _meta
+    from ..simulate.runfile import run_meta
 
     frame, _ = load_table(run)
-    meta = _meta(run, frame.attrs)
+    meta = run_meta(run, frame.attrs)
     options = {"channels": names} if names else {}
     try:
         fig = figure(kind, frame, meta, **options)

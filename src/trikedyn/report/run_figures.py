@@ -245,14 +245,14 @@ def _scene(source, data: dict, meta: dict):
         return source
     if getattr(source, "params", None) is not None and hasattr(source, "states"):
         return Scene.from_result(source)
-    from ..commands.animate import _course, _vehicle  # how a run file's vehicle and course are rebuilt
+    from ..simulate.runfile import run_course, run_vehicle
 
     names = _wheels(data, meta)
     if not names:
         raise InputError("not a run of trikedyn: no wheel loads ('<wheel>_fz_N')", where="run")
     meta = {**meta, "wheels": names}
-    params, _ = _vehicle(meta, names)
-    manoeuvre, note = _course(meta, params)
+    params, _ = run_vehicle(meta, names)
+    manoeuvre, note = run_course(meta, params)
     if manoeuvre is None:
         warnings.warn(f"no course drawn; {note}", stacklevel=3)
     return scene_from(data, meta, params=params, manoeuvre=manoeuvre)
