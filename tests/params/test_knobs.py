@@ -160,6 +160,16 @@ def test_changed_values_carry_a_note_naming_the_knobs(reference):
     assert "note" not in q.notes.get("wheels.front.x_m", {})
 
 
+def test_a_measured_value_moved_by_a_knob_loses_its_source(reference):
+    """The CG of reference-etrike is from the paper's weighing: moved by a component knob, its note says what set
+    it and what it was, and no longer names the weighing as its source."""
+    source = reference.notes["mass.cg_z_m"]["source"]
+    q = apply_knobs(reference, {"component.battery.z_m": 0.40})
+    note = q.notes["mass.cg_z_m"]
+    assert "source" not in note and note["note"].startswith("set by design knobs: component.battery.z_m = 0.4")
+    assert f"was {reference.params.mass.cg_z_m:.6g} from {source}" in note["note"]
+
+
 def test_override_takes_knobs_after_paths(reference):
     q = override(reference, {"track_m": 1.2, "mass.cg_z_m": 0.5, "component.motor.z_m": 0.4}).params
     assert q.track_m == pytest.approx(1.2) and q.wheel("rear_left").y_m == 0.6

@@ -75,7 +75,8 @@ def loading_chart_cmd(
         from .._files import check_output_folder
 
         check_output_folder(out, force=force, option="--out")
-    search = Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion, speed_control=speed_control)
+    search = Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion,
+                    speed_control=speed_control).on_course_of(pset)
     chart = lc.run_loading_chart(pset, search, *grid,
                                  margin_kmh=lc.DEFAULT_MARGIN_KMH if margin_kmh is None else margin_kmh,
                                  margin_fraction=margin_fraction, workers=workers, progress=ProgressLine("loading-chart", "cells", every_s=3.0))

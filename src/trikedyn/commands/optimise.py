@@ -99,6 +99,7 @@ def optimise_cmd(
                      for m in the_spec.manoeuvres)
     pset = load_vehicle(vehicle)
     the_spec.check(pset)
+    searches = tuple(s.on_course_of(pset) for s in searches)  # every layout meets the reference's course
     vehicle_file = out / _file_name(pset.name)
     if vehicle_file.resolve() == Path(vehicle).resolve():
         raise InputError("is also the vehicle this command reads; use another --out", where=str(vehicle_file))

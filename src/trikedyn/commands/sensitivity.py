@@ -43,6 +43,9 @@ def _table(result) -> str:
         f"{result.samples} {group}, {result.n_runs} runs, {result.failed} failed"
         + (f" ({result.dropped} {group} left out)" if result.dropped else ""),
     ]
+    lines.append(f"  threshold: the {result.search.criterion} criterion, {result.search.speed_control} speed control")
+    if result.search.course_note():
+        lines.append(f"  {result.search.course_note()}")
     if result.at_search_limit:
         lines.append(f"  {result.at_search_limit} runs reached the top of the search ({result.search.high_kmh:g} km/h; "
                      "raise it with --high)")
@@ -122,7 +125,8 @@ def sensitivity_cmd(
     else:
         factors, excluded = sa.candidate_factors(pset, fraction)
     n = sa.DEFAULT_SAMPLES[method] if samples is None else int(samples)
-    search = sa.Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion, speed_control=speed_control)
+    search = sa.Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion,
+                       speed_control=speed_control).on_course_of(pset)
     sa.sample(sa.problem(factors), method, n, seed)  # a bad --samples fails before anything is written
     plan = json.loads(json.dumps(_plan(pset, search, factors, method, n, seed, fraction)))
     log = None

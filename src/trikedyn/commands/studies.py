@@ -52,7 +52,8 @@ def study_summary_text(s: dict) -> str:
     lines = [
         f"study '{s['study']}': {n['done']} of {n['total']} scenarios stored ({n['failed']} failed); "
         f"{n['computed']} computed in this run, {n['skipped']} already stored",
-        f"wall time {s['wall_time_s']:.1f} s on {s['executor']}",
+        f"wall time {s['wall_time_s']:.1f} s"
+        + (f"; {s['executor']}" if s["executor"].startswith("no executor") else f" on {s['executor']}"),
     ]
     if "threshold" in (s.get("metrics") or ["threshold"]) and s.get("criterion"):
         lines.insert(1, f"threshold: the {s['criterion']} criterion, {s['speed_control']} speed control")

@@ -54,6 +54,9 @@ def _text(result) -> str:
         f"  median {_fmt(d['median_kmh'])} km/h, 5-95 % {_fmt(d['p05_kmh'])} .. {_fmt(d['p95_kmh'])} km/h, "
         f"mean {_fmt(d['mean_kmh'])}, std {_fmt(d['std_kmh'])} km/h (n={d['n']})",
     ]
+    lines.append(f"  threshold: the {result.search.criterion} criterion, {result.search.speed_control} speed control")
+    if result.search.course_note():
+        lines.append(f"  {result.search.course_note()}")
     if d["at_search_limit"]:
         lines.append(f"  {d['at_search_limit']} samples reached the top of the search ({result.search.high_kmh:g} km/h; "
                      "raise it with --high)")
@@ -125,7 +128,8 @@ def uncertainty_cmd(
     sigmas = {m.path: m.std for m in measured} | stds
     sources = {m.path: m.source for m in measured} | dict.fromkeys(stds, "--std")
     inputs, excluded = ua.build_inputs(pset, parameter, sigmas, fraction, sources)
-    search = ua.Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion, speed_control=speed_control)
+    search = ua.Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion,
+                       speed_control=speed_control).on_course_of(pset)
     plan = json.loads(json.dumps(_plan(pset, search, inputs, int(samples), seed, fraction)))
     log = None
     if out is not None:

@@ -379,5 +379,16 @@ def apply_knobs(vehicle, knobs: Mapping[str, float]) -> ParameterSet:
     notes = dict(new.notes)
     for path, value in after.items():
         if before.get(path, value) != value:
-            notes[path] = {**notes.get(path, {}), "note": f"set by design knobs: {text}"}
+            notes[path] = moved_note(notes.get(path, {}), before[path], text)
     return replace(new, notes=notes)
+
+
+def moved_note(old: Mapping[str, str], was, text: str) -> dict:
+    """The provenance of a value a design knob moved: ``note`` says which knobs set it; a ``source`` (a
+    measurement, a weighing) no longer describes the new value, so it becomes ``was <old value> from <source>``
+    inside the note and is dropped; ``assumed`` (the reason for an assumed value it was derived from) stays."""
+    note = f"set by design knobs: {text}"
+    if old.get("source"):
+        shown = f"{was:.6g}" if isinstance(was, int | float) and not isinstance(was, bool) else str(was)
+        note += f"; was {shown} from {old['source']}"
+    return {**{k: v for k, v in old.items() if k not in ("source", "note")}, "note": note}

@@ -226,13 +226,17 @@ def check_executor(workers, dask_local, scheduler) -> None:
             raise InputError(f"expected a whole number of workers >= {least}, got {value!r}", where=name)
 
 
+NOTHING_TO_DO = "no executor: every scenario was stored already"
+"""The executor label of a run that had nothing to compute."""
+
+
 def make_executor(workers, dask_local, scheduler, n_todo: int) -> Executor:
     """The executor for a run's options (at most one of ``workers``, ``dask_local``, ``scheduler``) and
     ``n_todo`` calls: in this process when there is nothing to do or ``workers=0``; a :class:`ProcessPool` of
     ``workers`` (all cores by default, no more than ``n_todo``); or a :class:`DaskExecutor`."""
     check_executor(workers, dask_local, scheduler)
     if n_todo == 0:
-        return InlineExecutor("none (every scenario stored already)")
+        return InlineExecutor(NOTHING_TO_DO)
     if not _chooses_pool(workers, dask_local, scheduler):
         if scheduler is not None:
             return DaskExecutor(scheduler=scheduler)

@@ -145,7 +145,10 @@ class LoadingChart:
     def table(self) -> str:
         """A printable table per height: rows freight mass, columns x; each cell ``safe (threshold)``."""
         lines = [f"{self.vehicle} on {self.manoeuvre}: safe speed [km/h] = threshold - margin "
-                 f"({self.margin_text}, not below 0); cells: safe (threshold)"]
+                 f"({self.margin_text}, not below 0); cells: safe (threshold); the threshold under the "
+                 f"{self.search.criterion} criterion, {self.search.speed_control} speed control"]
+        if self.search.course_note():
+            lines.append(self.search.course_note())
         width = 15
         for z in self.z_m:
             lines += ["", f"freight height z = {z:.3f} m"]
@@ -216,6 +219,7 @@ def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[fl
         raise InputError("must be >= 0 km/h", where="--margin-kmh")
     from ..analysis.threshold import manoeuvre_builder
 
+    search = search.on_course_of(pset)  # every cell meets the reference vehicle's course
     manoeuvre_builder(search.manoeuvre, dict(search.options))  # a bad manoeuvre fails before any process starts
     keys = [(m, x, z) for z in zs for m in masses for x in xs]
     if len(keys) > MAX_CELLS:

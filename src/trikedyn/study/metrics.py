@@ -38,8 +38,8 @@ from difflib import get_close_matches
 
 from ..errors import InputError
 
-__all__ = ["DEFAULT_METRIC", "MetricOption", "StudyMetric", "get", "label", "metrics", "parse_entry", "study_metric",
-           "table_fields"]
+__all__ = ["DEFAULT_METRIC", "MetricOption", "StudyMetric", "course_options", "get", "label", "metrics", "parse_entry",
+           "study_metric", "table_fields"]
 
 DEFAULT_METRIC = "threshold"
 """The metric of a spec that lists none (every study before metrics existed): its scenario ids and table
@@ -176,12 +176,18 @@ def _threshold(pset, scenario):
     from ..analysis.verdict import Judging
 
     band = {k: scenario[k] for k in ("speed_band_percent", "speed_band_kmh") if scenario.get(k) is not None}
-    result = threshold_velocity(pset, scenario["manoeuvre"], low_kmh=scenario["low_kmh"],
+    result = threshold_velocity(pset, scenario["manoeuvre"], options=course_options(scenario), low_kmh=scenario["low_kmh"],
                                 high_kmh=scenario["high_kmh"], step_kmh=scenario["step_kmh"],
                                 resolution_kmh=scenario["resolution_kmh"],
                                 criterion=scenario.get("criterion") or DEFAULT_CRITERION,
                                 speed_control=scenario.get("speed_control") or "driver", judging=Judging(**band))
     return {"value": result.threshold_speed_kmh, **table_fields(result)}
+
+
+def course_options(scenario: dict) -> dict:
+    """The manoeuvre options a scenario sets: the base vehicle's width for a course laid out from it."""
+    width = scenario.get("course_width_m")
+    return {} if width is None else {"course_width_m": width}
 
 
 def table_fields(result) -> dict:
@@ -227,7 +233,7 @@ def _run_metric(pset, scenario, speed_kmh, metric_name):
     from ..simulate.closed_loop import run
 
     model = build_model(pset)
-    result = run(model, manoeuvre_builder(scenario["manoeuvre"])(model.params, speed_kmh),
+    result = run(model, manoeuvre_builder(scenario["manoeuvre"], course_options(scenario))(model.params, speed_kmh),
                  speed_control=scenario.get("speed_control") or "driver")
     value = evaluate(result, metric_name)
     lift = first_lift(result)

@@ -142,10 +142,11 @@ class _Evaluator:
         self.pool.close(abandon)
 
     def record(self, ev: Evaluation, logged: bool = False):
+        """Keep a finished evaluation (the reference vehicle's too): cached by its knob values, logged, counted."""
         self.evaluations.append(ev)
+        self.done += 1
         if ev.values is not None:
             self.cache[ev.values] = ev
-            self.done += 1
         if self.log is not None and not logged:
             self.log.append(ev)
         if self.progress is not None:
@@ -219,7 +220,8 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
         Where each evaluation is appended as it finishes; with ``resume``, the layouts it holds are not
         searched again.
     progress : callable, optional
-        ``progress(done, most)``: evaluations done, and the most the run may make.
+        ``progress(done, most)``: evaluations done (the reference vehicle's included), and the most the run may
+        make.
 
     Returns
     -------
@@ -241,7 +243,7 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
     if searches is None:
         searches = [Search(m, {}, spec.resolution_kmh, high_kmh=spec.high_kmh, criterion=spec.criterion,
                            speed_control=spec.speed_control) for m in spec.manoeuvres]
-    searches = tuple(searches)
+    searches = tuple(s.on_course_of(pset) for s in searches)  # every layout meets the reference's course
     if not searches:
         raise InputError("needs at least one manoeuvre", where="--manoeuvre")
     for s in searches:
@@ -255,10 +257,11 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
     known = log.read() if (log is not None and resume) else []
     if log is not None:
         log.open(fresh=not resume)
-    evaluator = _Evaluator(pset, spec, searches, workers, log, known, progress, total)
+    most = total + 1  # the layouts, and the reference vehicle first
+    evaluator = _Evaluator(pset, spec, searches, workers, log, known, progress, most)
     try:
         if progress is not None:
-            progress(0, total)
+            progress(0, most)
         old_ref = next((e for e in known if e.generation < 0), None)
         if old_ref is not None:
             evaluator.resumed += 1

@@ -176,6 +176,8 @@ class OptimiseResult:
         if len(self.searches) > 1:
             for m, r, b in zip(self.manoeuvres, self.reference.thresholds, self.best.thresholds, strict=True):
                 lines.append(f"  {m}: {_kmh(r)} -> {_kmh(b)} km/h")
+        lines.append(f"  {self.searches[0].criterion} criterion, {self.searches[0].speed_control} speed control")
+        lines += [f"  {m}: {note}" for m, note in ((s.manoeuvre, s.course_note()) for s in self.searches) if note]
         width = max(len(n) for n in self.spec.names) + 2
         lines.append(f"  {'knob':<{width}}{'reference':>10}{'best':>10}{'move':>9}   bounds")
         for mv in self.moves():

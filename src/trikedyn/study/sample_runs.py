@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -53,6 +53,29 @@ class Search:
         return {"manoeuvre": self.manoeuvre, "options": dict(self.options), "resolution_kmh": self.resolution_kmh,
                 "low_kmh": self.low_kmh, "high_kmh": self.high_kmh, "dt_s": self.dt_s, "criterion": self.criterion,
                 "speed_control": self.speed_control}
+
+    def on_course_of(self, pset: ParameterSet) -> Search:
+        """This search with its course laid out for ``pset``, the reference vehicle of a design: a manoeuvre
+        whose course follows the vehicle's width (the double lane change's ``course_width_m``: ISO 3888's lane
+        widths) gets ``pset``'s width, so that a wider variant meets the same course; unless the options give
+        one (``course_width_m = 0`` asks for each variant's own)."""
+        if self.manoeuvre.lower().endswith(".csv") or "course_width_m" in self.options:
+            return self
+        from ..manoeuvres.registry import get
+
+        if any(o.name == "course_width_m" for o in get(self.manoeuvre).options):
+            return replace(self, options={**self.options, "course_width_m": float(pset.params.body.overall_width_m)})
+        return self
+
+    def course_note(self) -> str | None:
+        """Which course the variants meet, in words (None when the manoeuvre's course is the same for all)."""
+        if "course_width_m" not in self.options:
+            return None
+        width = float(self.options["course_width_m"])
+        if width == 0:
+            return "course: the lanes laid out for each variant's own width"
+        return (f"course: the lanes laid out for a {width:.3f} m wide vehicle, the reference's width, for every variant "
+                "(-o course_width_m=0: each variant's own)")
 
     def run(self, pset: ParameterSet, dt_s: float | None = None):
         """The threshold search on ``pset``, with the time step ``dt_s`` [s] (default: :attr:`dt_s`; None: the

@@ -38,6 +38,7 @@ SCENARIO_KEYS = (
     "speed_control",
     "speed_band_percent",
     "speed_band_kmh",
+    "course_width_m",
     "metric",
     "metric_options",
     "metric_label",
@@ -45,8 +46,8 @@ SCENARIO_KEYS = (
 """Keys of a scenario dict, in this order."""
 
 _NOT_HASHED = ("scenario_id", "groups", "metric_label")
-_JUDGING = ("criterion", "speed_control", "speed_band_percent", "speed_band_kmh")
-"""How a run is judged and driven: None on a scenario whose metric does not use it."""
+_JUDGING = ("criterion", "speed_control", "speed_band_percent", "speed_band_kmh", "course_width_m")
+"""How a run is judged, driven and laid out: None on a scenario whose metric or manoeuvre does not use it."""
 
 
 def norm(value):
@@ -93,7 +94,8 @@ def expand(spec: StudySpec) -> list[dict]:
         ``damping_scale`` [-], ``overrides`` (dict: dotted path -> value), ``resolution_kmh``, ``low_kmh``,
         ``high_kmh``, ``step_kmh`` [km/h], ``criterion``, ``speed_band_percent`` [%], ``speed_band_kmh``
         [km/h] (None for a metric that does not search), ``speed_control`` (None for a metric not per
-        manoeuvre), ``metric`` (name),
+        manoeuvre), ``course_width_m`` [m] (the base vehicle's width, for a course laid out from it; else
+        None), ``metric`` (name),
         ``metric_options`` (dict) and ``metric_label`` (as the table shows it).
     """
     from .metrics import get, label
@@ -129,6 +131,7 @@ def expand(spec: StudySpec) -> list[dict]:
                     "speed_control": driven,
                     "speed_band_percent": judged[1],
                     "speed_band_kmh": judged[2],
+                    "course_width_m": spec.course_width_m if _follows_width(manoeuvre) else None,
                     "metric": metric_name,
                     "metric_options": dict(options),
                     "metric_label": label(metric_name, options),
@@ -142,6 +145,15 @@ def expand(spec: StudySpec) -> list[dict]:
                 scenario["scenario_id"] = sid
                 by_id[sid] = scenario
     return list(by_id.values())
+
+
+def _follows_width(manoeuvre: str | None) -> bool:
+    """Whether a manoeuvre's course is laid out from the vehicle's width (it takes ``course_width_m``)."""
+    if manoeuvre is None or str(manoeuvre).lower().endswith(".csv"):
+        return False
+    from ..manoeuvres.registry import get
+
+    return any(o.name == "course_width_m" for o in get(manoeuvre).options)
 
 
 def _distinct(values) -> frozenset[str]:

@@ -212,6 +212,9 @@ class StudySpec:
         ``"driver"`` or ``"ideal"`` (every run of a metric per manoeuvre).
     speed_band_percent, speed_band_kmh : float
         The band the speed is held to [%, km/h] (:class:`~trikedyn.analysis.verdict.Judging`).
+    course_width_m : float or None
+        The base vehicle's overall width [m]: a course that follows the vehicle's width (the double lane
+        change's lanes) is laid out for it in every scenario, so that a wider variant meets the same course.
     groups : tuple of GroupSpec
     origin : str
         Spec name or file path it was read from.
@@ -235,6 +238,7 @@ class StudySpec:
     speed_control: str = "driver"
     speed_band_percent: float = 3.0
     speed_band_kmh: float = 1.0
+    course_width_m: float | None = None
 
     def scenarios(self) -> list[dict]:
         """The unique scenarios, in spec order (see :func:`expand`)."""
@@ -348,6 +352,7 @@ def parse_spec(source: str | dict, origin: str = "<string>", base_dir: str | Pat
         speed_control=model.speed_control,
         speed_band_percent=float(model.speed_band_percent),
         speed_band_kmh=float(model.speed_band_kmh),
+        course_width_m=float(pset.params.body.overall_width_m),
     )
 
 

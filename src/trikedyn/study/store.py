@@ -71,7 +71,7 @@ RESULT_KEYS = ("threshold_speed_kmh", "limit", "limiting_wheel", "lift_time_s", 
                "first_cone_strike_kmh", "n_runs", "detail", "failure_time_s", "entry_speed_kmh", "driven_min_kmh", "driven_mean_kmh",
                "driven_max_kmh", "top_speed_kmh", "course_speed_kmh", "lift_off_speed_kmh", "lift_off_limit")
 SEARCH_COLUMNS = ("resolution_kmh", "low_kmh", "high_kmh", "step_kmh", "criterion", "speed_control",
-                  "speed_band_percent", "speed_band_kmh")
+                  "speed_band_percent", "speed_band_kmh", "course_width_m")
 EXPORT_COLUMNS = (*SCENARIO_COLUMNS, "status", *RESULT_KEYS, *SEARCH_COLUMNS, "error")
 """Columns of the exported table; override columns (named by their dotted parameter path) follow
 ``damping_scale``."""
@@ -378,6 +378,7 @@ class StudyStore:
                     "first_failure_kmh", "first_cone_strike_kmh", "failure_time_s", "entry_speed_kmh", "driven_min_kmh",
                     "driven_mean_kmh", "driven_max_kmh", "top_speed_kmh", "course_speed_kmh", "lift_off_speed_kmh",
                     "resolution_kmh", "low_kmh", "high_kmh", "step_kmh", "speed_band_percent", "speed_band_kmh",
+                    "course_width_m",
                     *(["value"] if with_metrics else [])):
             frame[col] = frame[col].astype("float64")
         return frame
