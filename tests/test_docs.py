@@ -6,7 +6,10 @@ How the examples of a page are run (in page order, in an empty folder of their o
 - a ```` ```python ```` block is executed, every block of a page in one namespace (like one session);
 - each line of a ```` ```bash ```` block that starts with ``trikedyn`` is run (in this process) and must
   exit 0;
-- ```` ```shell ```` blocks are shown, not run; ```` ```text ```` blocks are outputs.
+- ```` ```shell ```` blocks are shown, not run; ```` ```text ```` blocks are outputs. An output block marked
+  ```` ```text output ```` is checked: each of its lines must be a line that a command of the last bash block
+  before it printed, so that the figures a page quotes are the ones a run gives (show the lines that matter;
+  leave out the ones that change from run to run, such as wall times).
 
 Every ``trikedyn ...`` command in a bash or shell block, and every ```trikedyn X``` in the text, must name
 an existing command whose ``--help`` works, with options that command has.
@@ -39,12 +42,15 @@ def page_id(page: Path) -> str:
     return str(page.relative_to(DOCS))
 
 
-def blocks(page: Path):
-    """``(language, title or None, body, line)`` of each fenced block of a page, in order."""
+def blocks(page: Path, info: bool = False):
+    """``(language, title or None, body, line)`` of each fenced block of a page, in order (and, with ``info``,
+    the rest of the fence's info string, e.g. ``output``)."""
     text = page.read_text(encoding="utf-8")
     for match in FENCE.finditer(text):
         title = TITLE.search(match.group(2))
-        yield match.group(1), title.group(1) if title else None, match.group(3), text.count("\n", 0, match.start()) + 1
+        found = (match.group(1), title.group(1) if title else None, match.group(3),
+                 text.count("\n", 0, match.start()) + 1)
+        yield (*found, match.group(2)) if info else found
 
 
 def command_lines(body: str):
@@ -270,14 +276,23 @@ def test_examples_run(page, tmp_path, monkeypatch):
 
     monkeypatch.chdir(tmp_path)
     namespace = {"__name__": "__docs__"}
-    for lang, title, body, line in blocks(page):
+    printed = None  # what the commands of the last bash block printed
+    for lang, title, body, line, info in blocks(page, info=True):
         where = f"{page_id(page)}:{line}"
-        if title is not None:
+        if lang == "text" and "output" in info.split():
+            assert printed is not None, f"{where}: an output block without a bash block before it"
+            lines_printed = [row.rstrip() for row in printed.splitlines()]
+            for row in body.splitlines():
+                if row.strip():
+                    assert row.rstrip() in lines_printed, f"{where}: not printed by the command: {row!r}\n{printed[-2000:]}"
+        elif title is not None:
             (tmp_path / title).write_text(body, encoding="utf-8")
         elif lang == "python":
             exec(compile(body, where, "exec"), namespace)  # noqa: S102 - the docs' own examples
             plt.close("all")
         elif lang == "bash":
+            printed = ""
             for shown, args in command_lines(body):
                 code, out = run_cli(args)
                 assert code == 0, f"{where}: `{shown}` exited {code}:\n{out[-3000:]}"
+                printed += out
