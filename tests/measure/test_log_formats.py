@@ -28,7 +28,7 @@ def write_pothole(path, n=50):
 
 def test_builtins_are_registered_in_their_order():
     assert formats.available() == ("witmotion-sdk", "witmotion-pc", "witmotion-2025", "wt901sd-binary",
-                                   "bwt901cl-csv", "csv")
+                                   "bwt901cl-csv", "phyphox", "csv")
     assert tuple(FORMATS) == formats.available()
     assert FORMATS["csv"].startswith("generic CSV") and all(formats.get(n).writable for n in FORMATS)
 
@@ -49,7 +49,7 @@ def test_a_layout_registered_in_a_test_is_read_by_log_info(tmp_path, capsys):
         assert "pothole-logger, 50 samples" in capsys.readouterr().out
         with pytest.raises(LogFormatError, match="can be read but not written; writable formats: .*csv"):
             write_log(read_log(log).data, tmp_path / "out.txt", "pothole-logger")
-        with pytest.raises(LogFormatError, match="apply to format 'csv' only, not 'pothole-logger'"):
+        with pytest.raises(LogFormatError, match="apply to format 'phyphox' or 'csv' only, not 'pothole-logger'"):
             read_log(log, columns={"az_mps2": "Gz[g]"})
     assert "pothole-logger" not in FORMATS and detect_format(log) == "csv"
     with pytest.raises(LogFormatError, match="unknown format 'pothole-logger'"):

@@ -348,5 +348,5 @@ def test_unknown_channel_and_column(tmp_path):
     assert_error(e, p, 1)
     with pytest.raises(LogFormatError, match="did you mean 'az_mps2'"):
         read_log(p, columns={"time_s": "t", "az_mps": "AccZ"})
-    with pytest.raises(LogFormatError, match="units= gives 'km' for 'az_mps2'.*one of m/s2, g"):
+    with pytest.raises(LogFormatError, match=r"units= \(--unit\) gives 'km' for 'az_mps2'.*one of m/s2, g"):
         read_log(p, columns={"time_s": "t", "az_mps2": "AccZ"}, units={"az_mps2": "km"})

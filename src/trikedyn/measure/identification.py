@@ -23,7 +23,10 @@ class SuspensionIdentification:
 
     f_n (undamped) and xi come from ``method``; ``spectrum_natural_frequency_hz`` and ``crest_damping_ratio``
     are the paper's estimates, ``crest_damped_frequency_hz`` the crest-period cross-check, ``*_std`` the fit's
-    standard errors. K and C are the suspension's (tyre-corrected if asked), ``equivalent_*`` Eqs. 3-4's.
+    standard errors. K and C are the suspension's own (the tyre in series taken out) when a tyre stiffness was
+    given, with the tyre damping and the unsprung mass used, else Eqs. 3-4's; ``equivalent_*`` are always
+    Eqs. 3-4's (the paper's, the tyre taken as rigid: tyre-inclusive). A vehicle file takes the suspension's
+    own (:mod:`trikedyn.params.springs`).
     """
 
     natural_frequency_hz: float
@@ -41,6 +44,8 @@ class SuspensionIdentification:
     processed_rate_hz: float
     sprung_mass_kg: float
     tyre_stiffness_N_per_m: float | None
+    tyre_damping_Ns_per_m: float
+    unsprung_mass_kg: float
     method: str
     natural_frequency_std_hz: float
     damping_ratio_std: float

@@ -77,8 +77,11 @@ CHANNELS = ("ax_mps2", "ay_mps2", "az_mps2", "wx_radps", "wy_radps", "wz_radps",
 TEMP = "temperature_degC"
 _DEG = np.pi / 180.0
 _G = STANDARD_GRAVITY
-_UNITS = {"g": _G, "m/s2": 1.0, "deg/s": _DEG, "rad/s": 1.0, "deg": _DEG, "rad": 1.0, "s": 1.0, "ms": 1e-3}
-_KIND_UNITS = {"mps2": ("m/s2", "g"), "radps": ("rad/s", "deg/s"), "rad": ("rad", "deg"), "s": ("s", "ms")}
+_UNITS = {"g": _G, "m/s2": 1.0, "deg/s": _DEG, "rad/s": 1.0, "deg": _DEG, "rad": 1.0, "s": 1.0, "ms": 1e-3,
+          "us": 1e-6}
+_KIND_UNITS = {"mps2": ("m/s2", "g"), "radps": ("rad/s", "deg/s"), "rad": ("rad", "deg"), "s": ("s", "ms", "us")}
+_DECIMAL_COMMA = re.compile(r"^[+-]?\d*,\d+(?:[eE][+-]?\d+)?$")
+"""A number written with a decimal comma (``-0,25``, ``9,81E0``)."""
 _FACTOR = dict.fromkeys(CHANNELS[:3], _G) | dict.fromkeys(CHANNELS[3:], _DEG)  # WitMotion units -> SI
 
 # Headers of each WitMotion text format: time, the 9 channels, temperature.
@@ -216,7 +219,7 @@ def _split_table(text: str, sep: str, path: Path) -> tuple[list[str], pd.DataFra
         raise LogFormatError("holds only blank lines; expected a header and data rows", where=str(path))
     lineno = np.flatnonzero(keep) + 1
     body = lines[keep]
-    header = [h.strip() for h in body.iloc[0].split(sep)]
+    header = [h.strip().removeprefix('"').removesuffix('"').strip() for h in body.iloc[0].split(sep)]
     rows, lineno, at_header = body.iloc[1:], lineno[1:], f"{path}:{lineno[0]}"
     if rows.empty:
         raise LogFormatError("has a header but no data rows", where=at_header)
@@ -241,8 +244,11 @@ def _numbers(cells: pd.Series, name: str, lines: np.ndarray, path: Path, factor:
     bad = np.flatnonzero(~np.isfinite(si))
     if bad.size:
         why = "overflows in SI units" if np.isfinite(values[bad[0]]) else "is not a finite number"
-        raise LogFormatError(f"column {name!r} holds {str(cells.iloc[bad[0]])!r}, which {why}; expected a "
-                             "number", where=f"{path}:{lines[bad[0]]}")
+        cell = str(cells.iloc[bad[0]])
+        comma = (" (a decimal comma? --decimal , on the command line, decimal=',' in Python)"
+                 if _DECIMAL_COMMA.match(cell) else "")
+        raise LogFormatError(f"column {name!r} holds {cell!r}, which {why}; expected a number{comma}",
+                             where=f"{path}:{lines[bad[0]]}")
     return si
 
 
@@ -328,8 +334,50 @@ def detect_format(path) -> str:
     path = Path(path)
     return _detect(_read_bytes(path), path)
 
+_DELIMITERS = {",": ",", ";": ";", "\t": "\t", "tab": "\t", "\\t": "\t", "comma": ",", "semicolon": ";"}
+
+
+def _time_options(columns, units, time_column, time_unit, path: Path) -> tuple[dict | None, dict | None]:
+    """``columns`` and ``units`` with ``time_column`` and ``time_unit`` folded in under ``time_s``."""
+    if time_column is not None:
+        if not isinstance(time_column, str) or not time_column.strip():
+            raise LogFormatError("time_column= (--time-column) must name a column header", where=str(path))
+        if columns and TIME in columns and columns[TIME] != time_column:
+            raise LogFormatError(f"time_column={time_column!r} and columns={{'time_s': {columns[TIME]!r}}} name "
+                                 "two time columns; give one", where=str(path))
+        columns = {**(columns or {}), TIME: time_column.strip()}
+    if time_unit is not None:
+        allowed = _KIND_UNITS["s"]
+        if time_unit not in allowed:
+            raise LogFormatError(f"time_unit={time_unit!r} (--time-unit); expected one of {', '.join(allowed)}"
+                                 f"{_hint(str(time_unit), allowed)}", where=str(path))
+        if units and TIME in units and units[TIME] != time_unit:
+            raise LogFormatError(f"time_unit={time_unit!r} and units={{'time_s': {units[TIME]!r}}} disagree",
+                                 where=str(path))
+        units = {**(units or {}), TIME: time_unit}
+    return columns, units
+
+
+def _separators(delimiter, decimal, path: Path) -> tuple[str | None, str | None]:
+    """The field separator and the decimal mark asked for, checked (None: detect)."""
+    if delimiter is not None:
+        if delimiter not in _DELIMITERS:
+            raise LogFormatError(f"delimiter={delimiter!r} (--delimiter); expected ',', ';' or 'tab'",
+                                 where=str(path))
+        delimiter = _DELIMITERS[delimiter]
+    if decimal is not None:
+        if decimal not in (".", ","):
+            raise LogFormatError(f"decimal={decimal!r} (--decimal); expected '.' or ','", where=str(path))
+        if decimal == delimiter:
+            raise LogFormatError(f"the decimal mark {decimal!r} is also the delimiter; a decimal-comma file "
+                                 "separates its fields with ';' or tab", where=str(path))
+    return delimiter, decimal
+
+
 def read_log(path, format: str = "auto", *, columns: dict[str, str] | None = None, sensor: int = 1,
-             sample_rate_hz: float | None = None, units: dict[str, str] | None = None) -> ImuLog:
+             sample_rate_hz: float | None = None, units: dict[str, str] | None = None,
+             time_column: str | None = None, time_unit: str | None = None, delimiter: str | None = None,
+             decimal: str | None = None) -> ImuLog:
     """Read an IMU log into SI units.
 
     Parameters
@@ -347,7 +395,17 @@ def read_log(path, format: str = "auto", *, columns: dict[str, str] | None = Non
         Sample rate [Hz] that builds the time of a file that stores none (``wt901sd-binary`` without 0x50
         frames: 10 Hz when not given; ``csv`` without a time column); noted as ignored otherwise.
     units : dict, optional
-        ``csv`` only: SI name -> the file's unit, one of ``g m/s2 deg/s rad/s deg rad s ms``.
+        ``csv`` only: SI name -> the file's unit, one of ``g m/s2 deg/s rad/s deg rad s ms us``.
+    time_column, time_unit : str, optional
+        Table layouts (``csv``, ``phyphox``): the header of the time column (``columns={"time_s": ...}``) and
+        its unit, ``s``, ``ms`` or ``us`` (``units={"time_s": ...}``). The command line's ``--time-column``
+        and ``--time-unit``.
+    delimiter : str, optional
+        Table layouts: the field separator, ``","``, ``";"`` or ``"tab"`` (``"\\t"``); detected by default
+        (the one that splits the header and the first row alike). ``--delimiter``.
+    decimal : str, optional
+        Table layouts: the decimal mark, ``"."`` or ``","`` (a European spreadsheet's CSV); detected by
+        default (``,`` where ``;`` or tab separates fields holding ``1,5``-like numbers). ``--decimal``.
 
     Returns
     -------
@@ -365,16 +423,23 @@ def read_log(path, format: str = "auto", *, columns: dict[str, str] | None = Non
     raw = _read_bytes(path)
     fmt = _detect(raw, path) if format == "auto" else format
     layout = _registry().get(fmt)
-    if not layout.takes_columns and (columns or units):
+    table = {"columns=": columns, "units=": units, "time_column= (--time-column)": time_column,
+             "time_unit= (--time-unit)": time_unit, "delimiter= (--delimiter)": delimiter,
+             "decimal= (--decimal)": decimal}
+    given = [k for k, v in table.items() if v]
+    if not layout.takes_columns and given:
         takers = " or ".join(repr(k) for k in FORMATS if _registry().get(k).takes_columns)
-        raise LogFormatError(f"columns= and units= apply to format {takers} only, not {fmt!r}", where=str(path))
+        raise LogFormatError(f"{' and '.join(given)} apply to format {takers} only, not {fmt!r}", where=str(path))
+    columns, units = _time_options(columns, units, time_column, time_unit, path)
+    delimiter, decimal = _separators(delimiter, decimal, path)
     low, high = LOG_RATE_HZ
     if sample_rate_hz is not None and not (np.isfinite(sample_rate_hz) and low <= sample_rate_hz <= high):
         raise LogFormatError(f"sample_rate_hz={sample_rate_hz:g} must lie within {low:g} .. {high:g} Hz",
                              where=str(path))
     if not isinstance(sensor, (int, np.integer)) or sensor < 1:
         raise LogFormatError(f"sensor={sensor!r} must be an integer >= 1", where=str(path))
-    options = _registry().ReadOptions(columns=columns, units=units, sensor=sensor, sample_rate_hz=sample_rate_hz)
+    options = _registry().ReadOptions(columns=columns, units=units, sensor=sensor, sample_rate_hz=sample_rate_hz,
+                                      delimiter=delimiter, decimal=decimal)
     log = layout.read(raw, path, options)
     if sample_rate_hz is not None and TIME in log.original_columns:
         note = f"sample_rate_hz={sample_rate_hz:g} ignored: the file stores time"

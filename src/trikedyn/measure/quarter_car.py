@@ -21,7 +21,8 @@ from scipy.linalg import expm
 from trikedyn.errors import InputError
 from trikedyn.units import STANDARD_GRAVITY
 
-__all__ = ["QuarterCarModes", "quarter_car_free_decay", "quarter_car_matrices", "quarter_car_modes"]
+__all__ = ["QuarterCarModes", "quarter_car_free_decay", "quarter_car_matrices", "quarter_car_modes",
+           "sprung_mass_for_frequency"]
 
 
 def _positive(value, name, allow_zero=False):
@@ -145,6 +146,44 @@ def quarter_car_modes(sprung_mass, unsprung_mass, stiffness, damping, tyre_stiff
     order = np.argsort(omega)
     eig = np.array([z for i in order for z in pairs[i]])
     return QuarterCarModes(omega[order] / (2.0 * np.pi), zeta[order], eig)
+
+
+def sprung_mass_for_frequency(natural_frequency_hz, unsprung_mass, stiffness, damping, tyre_stiffness,
+                              tyre_damping=0.0):
+    """The sprung mass [kg] whose body mode has the undamped natural frequency ``natural_frequency_hz``.
+
+    Eq. 3 with the tyre in series: the inverse of :func:`quarter_car_modes`' ``sprung_frequency_hz`` in
+    ``M_s`` (the body frequency falls as ``M_s`` grows), found by bisection on ``log M_s`` over
+    1e-6 .. 1e6 kg to 1e-12 relative. With a rigid, massless tyre it is Eq. 3 inverted,
+    ``M_s = K / (2 pi f_n)^2``; with the tyre in series it is close to ``K_eq / (2 pi f_n)^2``,
+    ``1/K_eq = 1/K + 1/K_t``.
+
+    Parameters
+    ----------
+    natural_frequency_hz : float
+        Undamped natural frequency of the body mode [Hz].
+    unsprung_mass, stiffness, damping, tyre_stiffness, tyre_damping : float
+        As in :func:`quarter_car_matrices` [kg, N/m, N s/m, N/m, N s/m].
+
+    Returns
+    -------
+    float or None
+        ``M_s`` [kg]; None when no sprung mass in that range gives the frequency (above the wheel on its
+        tyre, about ``sqrt(K_t / m) / 2 pi``).
+    """
+    from scipy.optimize import brentq
+
+    target = _positive(natural_frequency_hz, "natural_frequency_hz")
+
+    def _gap(log_mass):
+        modes = quarter_car_modes(np.exp(log_mass), unsprung_mass, stiffness, damping, tyre_stiffness,
+                                  tyre_damping)
+        return np.log(modes.sprung_frequency_hz / target)
+
+    low, high = np.log(1e-6), np.log(1e6)
+    if _gap(low) < 0.0 or _gap(high) > 0.0:
+        return None
+    return float(np.exp(brentq(_gap, low, high, xtol=1e-12, rtol=1e-12)))
 
 
 def quarter_car_free_decay(sprung_mass, unsprung_mass, stiffness, damping, tyre_stiffness, tyre_damping=0.0,

@@ -282,7 +282,7 @@ def identify_suspension(time_s, accel_mps2, sprung_mass_kg, *, tyre_stiffness_N_
     comp, ext = cp > 0, cp < 0
     return SuspensionIdentification(
         f_n, f_d, xi, 2.0 * math.pi * xi / math.sqrt(1.0 - xi**2), deltas.get(1.0, math.nan),
-        deltas.get(-1.0, math.nan), k_s, k_eq, c_s, c_eq, cycles, fs0, fs, ms, kt, method, f_std, xi_std,
+        deltas.get(-1.0, math.nan), k_s, k_eq, c_s, c_eq, cycles, fs0, fs, ms, kt, ct_tyre, mu, method, f_std, xi_std,
         f_peak, f_spec, fd_crest, xi_c, offset, noise, fit.start_s, tuple(notes), tp, xp,
         np.where(tp >= fit.start_s, fit(tp), np.nan), t_raw, a_raw - offset, ct[comp], cv[comp], ct[ext],
         cv[ext], freq, mag)

@@ -185,17 +185,17 @@ class SteeringSpec(_Spec):
 
 
 class SuspensionSpec(_Spec):
-    """One suspension type; ``stiffness`` and ``damping`` are wheel rates (at the wheel, vertical).
+    """One suspension type: its own spring and damper as wheel rates (at the wheel, vertical), not the tyre's.
 
-    ``natural_frequency_hz`` and ``damping_ratio`` are optional measured values (Table 1); when given,
-    ``trikedyn vehicle check`` audits the stiffness and damping against them (Eqs. 3-4).
+    The model adds the wheel's tyre in series (:mod:`trikedyn.params.springs`; a tyre-inclusive K makes it too soft);
+    the measured body mode (optional: Table 1) is audited by ``trikedyn vehicle check`` (Eqs. 3-4, tyre in series).
     """
 
     kind: Literal["telescopic", "swing_arm"]
-    stiffness_N_per_m: _positive(100.0, "N/m") = Field(gt=0, le=1e7, description="wheel rate K [N/m]")
-    damping_Ns_per_m: float = Field(ge=0, le=1e5, description="wheel damping C [N s/m]")
-    natural_frequency_hz: _positive(0.1, "Hz") | None = Field(default=None, gt=0, le=50, description="measured f_n [Hz]")
-    damping_ratio: float | None = Field(default=None, ge=0, lt=1, description="measured damping ratio")
+    stiffness_N_per_m: _positive(100.0, "N/m") = Field(gt=0, le=1e7, description="the suspension's own spring as a wheel rate K, the tyre in series not included [N/m]")
+    damping_Ns_per_m: float = Field(ge=0, le=1e5, description="the suspension's own damper as a wheel rate C, the tyre not included [N s/m]")
+    natural_frequency_hz: _positive(0.1, "Hz") | None = Field(default=None, gt=0, le=50, description="measured f_n of the body mode, spring and tyre together (bump test) [Hz]")
+    damping_ratio: float | None = Field(default=None, ge=0, lt=1, description="measured damping ratio of the body mode")
     moving_mass_kg: float = Field(ge=0, le=200, description="fork slider or swing arm, wheel excluded [kg]")
     moving_inertia_kgm2: float = Field(
         default=0.0, ge=0, le=50, description="swing arm inertia about its pivot [kg m^2]"
@@ -254,8 +254,8 @@ class TyreSpec(_Spec):
     longitudinal slip stiffness ``C_kappa = slip_stiffness_factor * Fz``.
     """
 
-    vertical_stiffness_N_per_m: _positive(1000.0, "N/m") = Field(gt=0, le=1e7)
-    vertical_damping_Ns_per_m: float = Field(ge=0, le=1e4)
+    vertical_stiffness_N_per_m: _positive(1000.0, "N/m") = Field(gt=0, le=1e7, description="tyre vertical stiffness kz, in series with the suspension's spring (paper: 200 kN/m)")
+    vertical_damping_Ns_per_m: float = Field(ge=0, le=1e4, description="tyre vertical damping cz, in series with the suspension's damper (paper: 75 N s/m)")
     nominal_load_N: _positive(10.0, "N") = Field(gt=0, le=1e5, description="Fz0 of the Magic Formula [N]")
     mu_x: _positive(0.05, "") = Field(gt=0, le=3, description="longitudinal peak friction at Fz0")
     mu_y: _positive(0.05, "") = Field(gt=0, le=3, description="lateral peak friction at Fz0")

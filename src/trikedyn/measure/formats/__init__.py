@@ -80,12 +80,18 @@ class Head:
 
 @dataclass(frozen=True)
 class ReadOptions:
-    """What the caller of :func:`~trikedyn.measure.logs.read_log` asked for (already checked for range)."""
+    """What the caller of :func:`~trikedyn.measure.logs.read_log` asked for (already checked for range).
+
+    ``columns`` and ``units`` hold the time column and its unit (``time_column=``, ``time_unit=``) under
+    ``time_s``; ``delimiter`` is one of ``,`` ``;`` tab, ``decimal`` ``.`` or ``,`` (None: detected).
+    """
 
     columns: dict[str, str] | None = None
     units: dict[str, str] | None = None
     sensor: int = 1
     sample_rate_hz: float | None = None
+    delimiter: str | None = None
+    decimal: str | None = None
 
 
 class LogFormat(ABC):
@@ -95,7 +101,8 @@ class LogFormat(ABC):
     The highest score wins detection (ties: the layout listed first by :func:`available`); the built-ins
     score 1-2 for their header lines, 0.5 for any separated header (generic ``csv``) and 100 for valid
     binary frames. ``read`` returns an :class:`~trikedyn.measure.logs.ImuLog` whose ``format`` is ``name``;
-    ``write`` (optional) writes SI columns. ``takes_columns`` says whether ``columns=``/``units=`` apply.
+    ``write`` (optional) writes SI columns. ``takes_columns`` says whether the table options apply
+    (``columns=``, ``units=``, ``time_column=``, ``time_unit=``, ``delimiter=``, ``decimal=``).
     ``order`` places the layout in :func:`available` (then registration order).
     """
 
