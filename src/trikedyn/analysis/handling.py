@@ -1,15 +1,15 @@
-"""Handling figures from time histories: ISO 4138 gradients, ISO 7401 transients, ISO 7975 braking in a turn.
+"""Handling figures from time histories: ISO 7401 transients, ISO 7975 braking in a turn (and ISO 4138).
 
 Pure array algorithms (NumPy/SciPy), no vehicle model; SI signals in ISO 8855 axes (a left turn has
 positive lateral acceleration, yaw rate and steer). The standards' text was not at hand: the definitions are
 the commonly published ones (SAE J266; ISO 4138, 7401, 7975 as summarised in the literature), stated by each
-function. Results are frozen dataclasses; ``to_dict()`` gives JSON-safe plain values (None for NaN). Bad
+function. The ISO 4138 handling diagram is :mod:`trikedyn.analysis.steady_state`'s (re-exported here).
+Results are frozen dataclasses; ``to_dict()`` gives JSON-safe plain values (None for NaN). Bad
 input raises :class:`~trikedyn.errors.InputError`, a :class:`ValueError`.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -18,14 +18,12 @@ from scipy import signal
 
 from ..errors import InputError
 from ..manoeuvres.steer import sine_sweep  # the sweep steer signal, re-exported
-from ..units import STANDARD_GRAVITY as G
+from ._series import PlainResult, as_time, as_values, crossing, positive
+from .steady_state import HandlingDiagram, handling_diagram  # ISO 4138, re-exported
 
 __all__ = ["BrakingInTurn", "FrequencyResponse", "HandlingDiagram", "StepResponse", "braking_in_turn",
            "frequency_response", "handling_diagram", "sine_sweep", "step_response"]
 
-FIT_LIMIT_G = 0.2  # default upper bound of the linear-range fit [g] ...
-FIT_LIMIT_FRACTION = 0.4  # ... or this fraction of the largest a_y reached, whichever is smaller
-MIN_FIT_POINTS = 10  # fewest samples of the linear-range fit
 STEADY_WINDOW_S = 1.0  # default final window of a step-steer record averaged as the steady state [s]
 OVERSHOOT_MIN = 0.005  # a step response has a peak if it exceeds its steady value by more than this [-]
 SEGMENT_S = 10.0  # default Welch segment [s] (resolution 0.1 Hz), at most a quarter of the record
@@ -33,188 +31,9 @@ COHERENCE_MIN = 0.95  # default least coherence of a frequency kept in a frequen
 ENERGY_FRACTION = 0.03  # default least steer auto-spectral density kept, fraction of its maximum [-]
 
 
-def _jf(value):
-    value = float(value)
-    return value if math.isfinite(value) else None
-
-
-class _Result:
-    def to_dict(self) -> dict:
-        """JSON-safe plain values: floats (None for NaN or infinity), ints, lists of floats for arrays."""
-        out = {}
-        for f in dataclasses.fields(self):
-            v = getattr(self, f.name)
-            if isinstance(v, np.ndarray):
-                out[f.name] = [_jf(x) for x in v]
-            else:
-                out[f.name] = int(v) if isinstance(v, (int, np.integer)) else _jf(v)
-        return out
-
-
-def _time(t, min_samples=5) -> np.ndarray:
-    t = np.asarray(t, dtype=float)
-    if t.ndim != 1 or t.size < min_samples:
-        raise InputError(f"expected a 1-D array of at least {min_samples} samples, got shape {t.shape}", "time_s")
-    if not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
-        raise InputError("time must be finite and strictly increasing", "time_s")
-    return t
-
-
-def _values(x, n, where) -> np.ndarray:
-    x = np.asarray(x, dtype=float)
-    if x.shape != (n,):
-        raise InputError(f"has shape {x.shape}; expected ({n},), one value per sample", where)
-    if not np.all(np.isfinite(x)):
-        raise InputError(f"holds NaN or infinity at sample {int(np.flatnonzero(~np.isfinite(x))[0])}", where)
-    return x
-
-
-def _positive(value, where) -> float:
-    value = float(value)
-    if not (math.isfinite(value) and value > 0):
-        raise InputError(f"must be a positive finite number, got {value}", where)
-    return value
-
-
-def _crossing(t, y, level, start=0) -> float:
-    """Time ``y`` first reaches ``level`` at or after index ``start``, interpolated linearly; NaN if never."""
-    idx = np.flatnonzero(y[start:] >= level)
-    if idx.size == 0:
-        return math.nan
-    i = start + int(idx[0])
-    if i == 0 or y[i - 1] >= level:
-        return float(t[i])
-    return float(t[i - 1] + (level - y[i - 1]) / (y[i] - y[i - 1]) * (t[i] - t[i - 1]))
-
-
-# ------------------------------------------------------------------------------ ISO 4138 handling diagram
-@dataclass(frozen=True, eq=False)
-class HandlingDiagram(_Result):
-    """ISO 4138 constant-radius handling diagram, folded to a left turn.
-
-    Attributes
-    ----------
-    understeer_gradient_deg_per_g, sideslip_gradient_deg_per_g, roll_gradient_deg_per_g : float
-        Slopes of road-wheel steer, sideslip and roll against ``a_y / g`` in the linear range [deg/g].
-    steer_intercept_deg, sideslip_intercept_deg, roll_intercept_deg, ackermann_steer_deg : float
-        The fitted lines at ``a_y = 0`` (the steer one should be the Ackermann steer); ``L / R`` [deg].
-    max_lateral_acceleration_mps2, fit_limit_mps2 : float
-        Largest lateral acceleration of the record; upper bound of the fit [m/s^2].
-    n_fit, turn_direction : int
-        Number of samples fitted; the sign the record was folded with (+1 left turn, -1 right).
-    ay_bins_mps2, steer_deg, sideslip_deg, roll_deg : ndarray
-        The diagram: per non-empty lateral-acceleration bin, the means of a_y [m/s^2] and of road-wheel
-        steer, sideslip and roll [deg].
-    """
-
-    understeer_gradient_deg_per_g: float
-    sideslip_gradient_deg_per_g: float
-    roll_gradient_deg_per_g: float
-    steer_intercept_deg: float
-    sideslip_intercept_deg: float
-    roll_intercept_deg: float
-    ackermann_steer_deg: float
-    max_lateral_acceleration_mps2: float
-    fit_limit_mps2: float
-    n_fit: int
-    turn_direction: int
-    ay_bins_mps2: np.ndarray
-    steer_deg: np.ndarray
-    sideslip_deg: np.ndarray
-    roll_deg: np.ndarray
-
-    def plot(self):
-        """Road-wheel steer, sideslip and roll [deg] against lateral acceleration [m/s^2]: binned means
-        and the linear-range fits (dashed); returns the Figure."""
-        import matplotlib.pyplot as plt
-
-        fig, axes = plt.subplots(3, 1, sharex=True, figsize=(6, 7))
-        a = np.array([0.0, self.fit_limit_mps2])
-        rows = [("road-wheel steer", self.steer_deg, self.steer_intercept_deg, self.understeer_gradient_deg_per_g),
-                ("sideslip", self.sideslip_deg, self.sideslip_intercept_deg, self.sideslip_gradient_deg_per_g),
-                ("roll", self.roll_deg, self.roll_intercept_deg, self.roll_gradient_deg_per_g)]
-        for ax, (name, y, c0, k) in zip(axes, rows, strict=True):
-            ax.plot(self.ay_bins_mps2, y, "o-", color="k", ms=3, lw=1.0, label="binned mean")
-            ax.plot(a, c0 + k * a / G, "--", color="tab:red", lw=1.2, label=f"fit: {k:.3g} deg/g")
-            ax.set_ylabel(f"{name} [deg]")
-            ax.grid(alpha=0.3)
-            ax.legend(fontsize=8)
-        axes[0].axhline(self.ackermann_steer_deg, color="0.5", lw=0.8, ls=":")
-        axes[-1].set_xlabel("lateral acceleration [m/s^2] (folded to a left turn)")
-        fig.tight_layout()
-        return fig
-
-
-def handling_diagram(lateral_acceleration_mps2, road_steer_rad, sideslip_rad, roll_rad, *, radius_m,
-                     wheelbase_m, fit_limit_mps2=None, n_bins=20) -> HandlingDiagram:
-    """ISO 4138 steady-state circular driving, constant-radius method: gradients and diagram.
-
-    The samples are quasi-steady states on a circle of constant radius, the speed rising slowly. As the
-    Ackermann steer ``L / R`` is then constant, the slope of road-wheel steer against lateral acceleration
-    *is* the understeer gradient ``d delta / d(a_y / g)`` [deg/g] (positive: understeer); the sideslip
-    (at the CG) and roll gradients are the slopes of those angles likewise.
-
-    *Folding.* A record holds one turn direction, ``sign(mean a_y)``; every channel is multiplied by it,
-    so a right turn gives the gradients of the mirrored left turn. A record whose folded a_y goes below
-    -25 % of its maximum mixes both directions and is refused: analyse each direction separately.
-    *Linear range.* Least-squares straight lines through the samples with folded ``|a_y| <=
-    fit_limit_mps2``, by default ``min(0.2 g, 0.4 max a_y)``; at least 10 samples spanning a quarter of
-    that range are needed. *Diagram.* Means over ``n_bins`` equal bins of the folded a_y.
-
-    Parameters
-    ----------
-    lateral_acceleration_mps2 : array_like
-        Lateral acceleration [m/s^2].
-    road_steer_rad, sideslip_rad, roll_rad : array_like
-        Road-wheel steer, CG sideslip and body roll angles [rad], one per a_y sample.
-    radius_m, wheelbase_m : float
-        Radius of the circle and wheelbase [m].
-    fit_limit_mps2 : float, optional
-        Upper bound of the fitted lateral accelerations [m/s^2].
-    n_bins : int
-        Number of bins of the diagram (empty ones are dropped).
-    """
-    n = np.size(lateral_acceleration_mps2)
-    ay = _values(lateral_acceleration_mps2, n, "lateral_acceleration_mps2")
-    chans = [_values(x, n, w) for x, w in ((road_steer_rad, "road_steer_rad"), (sideslip_rad, "sideslip_rad"),
-                                           (roll_rad, "roll_rad"))]
-    radius, wheelbase = _positive(radius_m, "radius_m"), _positive(wheelbase_m, "wheelbase_m")
-    direction = 1 if ay.mean() >= 0 else -1
-    a = direction * ay
-    deg = [np.degrees(direction * x) for x in chans]
-    a_max = float(a.max())
-    if a_max <= 0 or a.min() < -0.25 * a_max:
-        raise InputError("the record mixes left and right turns (or has no lateral acceleration); analyse "
-                         "each turn direction separately", "lateral_acceleration_mps2")
-    limit = (min(FIT_LIMIT_G * G, FIT_LIMIT_FRACTION * a_max) if fit_limit_mps2 is None
-             else _positive(fit_limit_mps2, "fit_limit_mps2"))
-    sel = np.abs(a) <= limit
-    span = float(np.ptp(a[sel])) if sel.any() else 0.0
-    if sel.sum() < MIN_FIT_POINTS or span < 0.25 * limit:
-        raise InputError(f"only {int(sel.sum())} samples spanning {span:.3g} m/s^2 with |a_y| <= {limit:.3g} "
-                         f"m/s^2; the linear-range fit needs at least {MIN_FIT_POINTS} samples spanning a "
-                         "quarter of that range: start the run slower or raise fit_limit_mps2",
-                         "lateral_acceleration_mps2")
-    fits = [np.polyfit(a[sel] / G, d[sel], 1) for d in deg]
-    nb = int(n_bins)
-    which = np.clip(np.digitize(a, np.linspace(a.min(), a_max, nb + 1)) - 1, 0, nb - 1)
-    counts = np.bincount(which, minlength=nb)
-
-    def binned(x):
-        return (np.bincount(which, weights=x, minlength=nb) / np.maximum(counts, 1))[counts > 0]
-
-    return HandlingDiagram(
-        understeer_gradient_deg_per_g=float(fits[0][0]), sideslip_gradient_deg_per_g=float(fits[1][0]),
-        roll_gradient_deg_per_g=float(fits[2][0]), steer_intercept_deg=float(fits[0][1]),
-        sideslip_intercept_deg=float(fits[1][1]), roll_intercept_deg=float(fits[2][1]),
-        ackermann_steer_deg=math.degrees(wheelbase / radius), max_lateral_acceleration_mps2=a_max,
-        fit_limit_mps2=float(limit), n_fit=int(sel.sum()), turn_direction=direction,
-        ay_bins_mps2=binned(a), steer_deg=binned(deg[0]), sideslip_deg=binned(deg[1]), roll_deg=binned(deg[2]))
-
-
 # ------------------------------------------------------------------------------ ISO 7401 step steer
 @dataclass(frozen=True)
-class StepResponse(_Result):
+class StepResponse(PlainResult):
     """ISO 7401 step-steer figures of one response channel, as defined in :func:`step_response`.
 
     Attributes
@@ -269,8 +88,8 @@ def step_response(time_s, steer, response, *, steer_start_s=None, steady_window_
         If the steer has no step (it changes by less than half its range) or its step does not end
         before the steady window, or if the response does not change.
     """
-    t = _time(time_s)
-    s, r = _values(steer, t.size, "steer"), _values(response, t.size, "response")
+    t = as_time(time_s)
+    s, r = as_values(steer, t.size, "steer"), as_values(response, t.size, "response")
     if steer_start_s is None:
         s0, r0, start = s[0], r[0], 0
     else:
@@ -279,7 +98,7 @@ def step_response(time_s, steer, response, *, steer_start_s=None, steady_window_
             raise InputError(f"no sample at or before {steer_start_s} s", "steer_start_s")
         s0, r0, start = s[pre].mean(), r[pre].mean(), int(np.flatnonzero(pre)[-1])
     if np.ndim(steady_window_s) == 0:
-        window = (t[-1] - _positive(steady_window_s, "steady_window_s"), t[-1])
+        window = (t[-1] - positive(steady_window_s, "steady_window_s"), t[-1])
     else:
         window = tuple(float(v) for v in steady_window_s)
     ss = (t >= window[0] - 1e-12) & (t <= window[1] + 1e-12)
@@ -289,13 +108,13 @@ def step_response(time_s, steer, response, *, steer_start_s=None, steady_window_
     if not abs(ds) > 0.5 * np.ptp(s) + 1e-12 * np.abs(s).max():
         raise InputError("the steer has no step: its final level differs from its initial one by less than "
                          "half its range", "steer")
-    t50 = _crossing(t, (s - s0) / ds, 0.5, start)
+    t50 = crossing(t, (s - s0) / ds, 0.5, start)
     if not math.isfinite(t50) or t50 >= window[0]:
         raise InputError("the steer step is not complete before the steady window; record longer", "time_s")
     if not abs(dr) > 1e-9 * np.ptp(r):
         raise InputError("the response does not change with the steer", "response")
     y = (r - r0) / dr
-    t10, t90 = _crossing(t, y, 0.1, start), _crossing(t, y, 0.9, start)
+    t10, t90 = crossing(t, y, 0.1, start), crossing(t, y, 0.9, start)
     after = np.flatnonzero(t >= t50)
     k = int(after[np.argmax(y[after])])
     y_pk, t_pk = y[k], t[k]
@@ -312,7 +131,7 @@ def step_response(time_s, steer, response, *, steer_start_s=None, steady_window_
 
 # ------------------------------------------------------------------------------ ISO 7401 frequency response
 @dataclass(frozen=True, eq=False)
-class FrequencyResponse(_Result):
+class FrequencyResponse(PlainResult):
     """H1 frequency response of one response channel to the steer, over its reliable band.
 
     Attributes
@@ -389,8 +208,8 @@ def frequency_response(time_s, steer, response, *, f_min_hz=None, f_max_hz=None,
     coherence_min, energy_fraction : float
         Thresholds of the band [-].
     """
-    t = _time(time_s, min_samples=64)
-    x, y = _values(steer, t.size, "steer"), _values(response, t.size, "response")
+    t = as_time(time_s, min_samples=64)
+    x, y = as_values(steer, t.size, "steer"), as_values(response, t.size, "response")
     dt = np.diff(t)
     if np.ptp(dt) > 0.01 * dt.mean():
         raise InputError("the sampling is not uniform; resample onto a uniform time base first", "time_s")
@@ -418,7 +237,7 @@ def frequency_response(time_s, steer, response, *, f_min_hz=None, f_max_hz=None,
 
 # ------------------------------------------------------------------------------ ISO 7975 braking in a turn
 @dataclass(frozen=True)
-class BrakingInTurn(_Result):
+class BrakingInTurn(PlainResult):
     """ISO 7975 braking-in-a-turn figures, as defined in :func:`braking_in_turn`.
 
     Attributes
@@ -473,13 +292,13 @@ def braking_in_turn(time_s, x_m, y_m, yaw_rate_radps, speed_mps, lateral_acceler
     eval_after_s : float
         ``t1 - t0`` [s]; ISO 7975 uses 1 s.
     """
-    t = _time(time_s)
-    x, y, wz, v, ay = (_values(a, t.size, w) for a, w in (
+    t = as_time(time_s)
+    x, y, wz, v, ay = (as_values(a, t.size, w) for a, w in (
         (x_m, "x_m"), (y_m, "y_m"), (yaw_rate_radps, "yaw_rate_radps"), (speed_mps, "speed_mps"),
         (lateral_acceleration_mps2, "lateral_acceleration_mps2")))
-    radius = _positive(radius_m, "radius_m")
+    radius = positive(radius_m, "radius_m")
     t0 = float(brake_start_s)
-    t1 = t0 + _positive(eval_after_s, "eval_after_s")
+    t1 = t0 + positive(eval_after_s, "eval_after_s")
     if not t[0] <= t0 < t1 <= t[-1]:
         raise InputError(f"brake start {t0} s and evaluation time {t1} s must lie within the record "
                          f"[{t[0]}, {t[-1]}] s", "brake_start_s")
@@ -490,9 +309,11 @@ def braking_in_turn(time_s, x_m, y_m, yaw_rate_radps, speed_mps, lateral_acceler
     dev, excess = np.hypot(x - cx, y - cy) - radius, math.copysign(1.0, wz0) * wz - v / radius
 
     def at(sig, time):
+        """``sig`` at ``time``, interpolated linearly."""
         return float(np.interp(time, t, sig))
 
     def extreme(sig):
+        """The signed value of ``sig`` of largest magnitude from ``t0`` on."""
         window = np.concatenate([[at(sig, t0)], sig[t > t0]])
         return float(window[np.argmax(np.abs(window))])
 

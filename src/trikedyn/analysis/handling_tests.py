@@ -1,13 +1,16 @@
 """The handling tests engineers run first, on the model: drive the registered manoeuvre, then reduce it.
 
 - :func:`steady_state_test`: ISO 4138 constant radius, slowly rising speed -> handling diagram, understeer,
-  roll and sideslip gradients [deg/g], the lateral acceleration at the end and why the test ended;
+  roll and sideslip gradients [deg/g], the understeer gradient by band of lateral acceleration, the
+  neutral-steer lateral acceleration and the limit behaviour, the lateral acceleration at the end and why
+  the test ended;
 - :func:`step_steer_test`: ISO 7401 step steer, speed held -> yaw-rate and lateral-acceleration gains,
   response times, overshoot;
 - :func:`frequency_response_test`: ISO 7401 sine sweep -> yaw-rate and lateral-acceleration gain and phase;
 - :func:`braking_in_turn_test`: ISO 7975 -> path deviation, yaw-rate change, wheel loads.
 
-The reductions are the pure functions of :mod:`trikedyn.analysis.handling`; the road-wheel steer angle is
+The reductions are the pure functions of :mod:`trikedyn.analysis.handling`, :mod:`~trikedyn.analysis.steady_state`
+and :mod:`~trikedyn.analysis.steer_shape`; the road-wheel steer angle is
 the steer about the raked axis times ``cos(rake)``; sideslip is that of the CG, ``atan(v_y / v_x)``.
 """
 
@@ -20,7 +23,7 @@ import numpy as np
 
 from ..model.vehicle import VehicleModel, build_model
 from ..simulate.closed_loop import run
-from . import handling, metrics
+from . import handling, metrics, steady_state
 
 __all__ = ["Figures", "SteadyStateTest", "braking_in_turn_test", "frequency_response_test", "manoeuvre_figures",
            "reduces", "steady_state_test", "step_steer_test"]
@@ -60,9 +63,10 @@ def steer_at_nominal_radius(result, params, radius_m: float) -> np.ndarray:
 
 @dataclass(frozen=True)
 class SteadyStateTest:
-    """ISO 4138 on the model: the diagram, the end of the test and the run."""
+    """ISO 4138 on the model: the diagram (with its shape: gradient by band, neutral steer, limit behaviour),
+    the end of the test (``limit``, ``limit_detail``, the largest lateral acceleration [m/s^2]) and the run."""
 
-    diagram: handling.HandlingDiagram
+    diagram: steady_state.HandlingDiagram
     radius_m: float
     limit: str
     limit_detail: str
@@ -70,22 +74,58 @@ class SteadyStateTest:
     result: object = field(repr=False, default=None)
 
     def to_dict(self) -> dict:
+        """JSON-safe figures: the linear-range gradients [deg/g] (``understeer_gradient_deg_per_g`` is the
+        fit over ``fit_start_mps2``-``fit_limit_mps2``), the shape (``steer_bands``, the neutral-steer
+        lateral acceleration, ``limit_behaviour``: see :class:`~trikedyn.analysis.steer_shape.SteerShape`),
+        the end of the test (``limit``, ``limit_detail``) and the binned ``diagram``."""
         d = self.diagram.to_dict()
         keys = ("understeer_gradient_deg_per_g", "roll_gradient_deg_per_g", "sideslip_gradient_deg_per_g",
-                "ackermann_steer_deg", "steer_intercept_deg", "fit_limit_mps2")
-        return {**{k: d[k] for k in keys}, "radius_m": self.radius_m,
+                "ackermann_steer_deg", "steer_intercept_deg", "fit_start_mps2", "fit_limit_mps2")
+        shape = {k: v for k, v in d["shape"].items() if k not in ("bands", "curve_ay_mps2", "curve_steer_deg")}
+        return {**{k: d[k] for k in keys}, "steer_bands": d["shape"]["bands"], **shape, "radius_m": self.radius_m,
                 "max_lateral_acceleration_mps2": self.max_lateral_acceleration_mps2,
                 "limit": self.limit, "limit_detail": self.limit_detail,
                 "diagram": {k: d[k] for k in ("ay_bins_mps2", "steer_deg", "sideslip_deg", "roll_deg")}}
 
+    def describe(self, name: str = "") -> str:
+        """In words, a line a figure: the linear-range understeer gradient and its range, the gradient by band,
+        the neutral-steer lateral acceleration, the limit behaviour, the roll and sideslip gradients, and the
+        end of the test; ``name`` (the vehicle's) heads it."""
+        d, shape = self.diagram, self.diagram.shape
+        lines = [f"{name + ': ' if name else ''}ISO 4138 constant radius {self.radius_m:g} m",
+                 f"understeer gradient   {d.understeer_gradient_deg_per_g:+.3f} deg/g (linear range: fitted over "
+                 f"{d.fit_start_mps2:.2f}-{d.fit_limit_mps2:.2f} m/s^2)",
+                 f"  by band of a_y      (bands {shape.band_width_mps2:g} m/s^2 wide; neutral within "
+                 f"+-{shape.neutral_tolerance_deg_per_g:g} deg/g)"]
+        lines += [f"    {b.low_mps2:5.2f}-{b.high_mps2:5.2f} m/s^2  {b.gradient_deg_per_g:+7.3f} deg/g  {b.behaviour}"
+                  for b in shape.bands]
+        if shape.neutral_steer == "peak":
+            neutral = (f"{shape.neutral_steer_lateral_acceleration_mps2:.2f} m/s^2 (the steer curve's peak, "
+                       f"{shape.neutral_steer_deg:.3f} deg; oversteer beyond)")
+        elif shape.neutral_steer == "falls from the start":
+            neutral = f"none: the steer falls from the start of the test ({shape.bands[0].low_mps2:.2f} m/s^2)"
+        else:
+            neutral = f"not reached: no peak of the steer up to {d.max_lateral_acceleration_mps2:.2f} m/s^2"
+        lines += [f"neutral steer at a_y  {neutral}",
+                  f"limit behaviour       {shape.limit_behaviour} ({shape.limit_gradient_deg_per_g:+.3f} deg/g over "
+                  f"the last {shape.limit_high_mps2 - shape.limit_low_mps2:.2f} m/s^2: {shape.limit_low_mps2:.2f}-"
+                  f"{shape.limit_high_mps2:.2f} m/s^2)",
+                  f"roll gradient         {d.roll_gradient_deg_per_g:+.3f} deg/g (linear range)",
+                  f"sideslip gradient     {d.sideslip_gradient_deg_per_g:+.3f} deg/g (linear range)",
+                  f"ends at a_y           {self.max_lateral_acceleration_mps2:.2f} m/s^2: {self.limit} "
+                  f"({self.limit_detail})"]
+        return "\n".join(lines)
+
     def plot(self):
-        """The handling diagram (steer, sideslip, roll against lateral acceleration); the end marked."""
+        """The handling diagram (steer, sideslip, roll against lateral acceleration): the linear range, the
+        gradient by band, the neutral-steer point and the limit behaviour marked, and the end of the test."""
         fig = self.diagram.plot()
         for ax in fig.axes:
             ax.axvline(self.max_lateral_acceleration_mps2, color="0.4", lw=0.8, ls=":")
         fig.suptitle(f"ISO 4138 handling diagram, R = {self.radius_m:g} m; ends at "
-                     f"{self.max_lateral_acceleration_mps2:.2f} m/s² ({self.limit})", fontsize=10)
-        fig.tight_layout(rect=(0, 0, 1, 0.96))
+                     f"{self.max_lateral_acceleration_mps2:.2f} m/s^2 ({self.limit})\nlimit behaviour: "
+                     f"{self.diagram.shape.limit_behaviour}", fontsize=10)
+        fig.tight_layout(rect=(0, 0, 1, 0.95))
         return fig
 
 
@@ -141,7 +181,7 @@ def steady_state_test(vehicle, *, radius_m: float = 20.0, start_speed_kmh: float
     max_ay_mps2 : float
         Where the rise stops [m/s^2] (a wheel lift, the driver or the drive normally ends it first).
     fit_limit_mps2 : float, optional
-        Upper end of the linear-range fit (see :func:`~trikedyn.analysis.handling.handling_diagram`).
+        Upper end of the linear-range fit (see :func:`~trikedyn.analysis.steady_state.handling_diagram`).
 
     Returns
     -------
@@ -161,6 +201,7 @@ def reduces(name: str):
     """Decorator: ``fn(result) -> object with to_dict()`` gives the figures of manoeuvre ``name``."""
 
     def decorate(fn):
+        """Register ``fn`` as the reducer of ``name``; returns it unchanged."""
         _REDUCERS[name] = fn
         return fn
 
@@ -186,7 +227,7 @@ def reduce_steady_state(result, *, fit_limit_mps2: float | None = None) -> Stead
     keep[end + 1:] = False
     ay = np.asarray(result["ay_mps2"])
     steer = steer_at_nominal_radius(result, params, radius_m)
-    diagram = handling.handling_diagram(ay[keep], steer[keep], sideslip(result)[keep],
+    diagram = steady_state.handling_diagram(ay[keep], steer[keep], sideslip(result)[keep],
                                         np.asarray(result["roll_rad"])[keep], radius_m=radius_m,
                                         wheelbase_m=params.wheelbase_m, fit_limit_mps2=fit_limit_mps2)
     return SteadyStateTest(diagram, radius_m, limit, detail, float(np.abs(ay[keep]).max()), result)
@@ -202,6 +243,7 @@ class Figures:
         return self.values[key]
 
     def to_dict(self) -> dict:
+        """Each figure's ``to_dict()``, or the plain value."""
         return {k: (v.to_dict() if hasattr(v, "to_dict") else v) for k, v in self.values.items()}
 
 

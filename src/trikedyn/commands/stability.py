@@ -88,7 +88,8 @@ def handling_cmd(
     force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
-    """ISO 4138 steady-state circular driving: handling diagram, understeer, roll and sideslip gradients [deg/g]."""
+    """ISO 4138 steady-state circular driving: handling diagram, understeer gradient (linear range and by band of
+    lateral acceleration), neutral-steer lateral acceleration, limit behaviour, roll and sideslip gradients."""
     payload = payload_kg(payload, freight)
     import numpy as np
 
@@ -111,14 +112,7 @@ def handling_cmd(
         matplotlib.use("Agg")
         save_figure(test.plot(), plot, dpi=120)
         data["plot"] = str(plot)
-    text = lambda: "\n".join([  # noqa: E731
-        f"{pset.name}: ISO 4138 constant radius {radius:g} m",
-        f"understeer gradient   {data['understeer_gradient_deg_per_g']:+.3f} deg/g",
-        f"roll gradient         {data['roll_gradient_deg_per_g']:+.3f} deg/g",
-        f"sideslip gradient     {data['sideslip_gradient_deg_per_g']:+.3f} deg/g",
-        f"ends at a_y           {data['max_lateral_acceleration_mps2']:.2f} m/s^2: {data['limit']} ({data['limit_detail']})",
-    ])
-    emit(data, as_json, text)
+    emit(data, as_json, lambda: test.describe(pset.name))
 
 
 def tilt_cmd(
