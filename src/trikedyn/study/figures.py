@@ -2,32 +2,54 @@
 
 The *factors* are the table's columns that a study varies: ``freight_kg``, ``stiffness_scale``,
 ``damping_scale`` and each override (a dotted path or a design knob), counted as varying when they take more
-than one value among the metric's rows. Manoeuvres are not factors: they are the lines (a metric not per
-manoeuvre, such as the tilt angle, draws one line, ``vehicle``). By the number of factors:
+than one value among the metric's rows. An override left empty in a row (the group does not set it) is the
+level ``as given``: the vehicle's own value. Columns that always move together (each level of one meets one
+level of the other, as the two rear wheels' ``y_m`` of a wider track) are one factor, named by both.
+Manoeuvres are not factors: they are the lines (a metric not per manoeuvre, such as the tilt angle, draws one
+line, ``vehicle``). By the number of factors:
 
 - none: a bar per manoeuvre;
 - one: the metric against the factor, one line per manoeuvre;
 - two: one panel per manoeuvre, the metric against the factor with more levels, one line per level of the
   other (a family of lines); a heat map instead when both have five levels or more and form a full grid;
-- three or more: main effects, one panel per factor: the mean of the metric at each level of the factor
-  (over every other setting), one line per manoeuvre.
+- three or more: main effects (:func:`main_effects`), one panel per factor, one line per manoeuvre.
 
-Failed scenarios (no value) are left out. matplotlib is imported only here, and only when a figure is drawn
-(the figure is drawn without pyplot, so no display or backend is needed).
+**A main effect never averages over an unbalanced design without saying so.** The design is *balanced for
+a factor* when every level of it meets the same settings of the other factors (a full grid is balanced for
+every factor; a union of one-at-a-time groups, such as the paper's study or a spring group beside a track
+group, is not: its middle level meets settings the others never meet). Then:
+
+- balanced: the mean at each level over every setting of the other factors; the panel says ``balanced``;
+- unbalanced: the means over the *balanced part*, the settings of the other factors that every level meets
+  (e.g. ``damping scale = 1`` and the track as given), and the panel's title names that part;
+- unbalanced with no setting met by every level: no mean at all, one thin line per setting of the other
+  factors over the levels it meets, and the title says so.
+
+The means are means of the per-setting means, so that a setting run twice does not weigh double. The
+figure's title says when a panel is not balanced.
+
+Failed scenarios (no value) are left out, before the balance is judged. matplotlib is imported only here,
+and only when a figure is drawn (the figure is drawn without pyplot, so no display or backend is needed).
 """
 
 from __future__ import annotations
 
 import math
 import re
+import textwrap
 from pathlib import Path
 
-__all__ = ["KINDS", "factors", "plan", "study_figures"]
+__all__ = ["AS_GIVEN", "BASES", "KINDS", "factors", "main_effects", "plan", "study_figures"]
 
 _FIXED = ("scenario_id", "groups", "vehicle", "manoeuvre", "metric", "status", "value", "unit")
 _BASE_FACTORS = ("freight_kg", "stiffness_scale", "damping_scale")
 _LABELS = {"freight_kg": "freight [kg]", "stiffness_scale": "stiffness scale [-]", "damping_scale": "damping scale [-]"}
+_WORDS = {"freight_kg": "freight", "stiffness_scale": "stiffness scale", "damping_scale": "damping scale"}
 HEATMAP_LEVELS = 5
+AS_GIVEN = "as given"
+"""The label of an override's empty cell: the vehicle's own value (the row's group does not set it)."""
+BASES = ("balanced", "balanced part", "per setting")
+"""How a main effect's panel is drawn (:func:`main_effects`' ``basis``)."""
 
 
 def _override_columns(frame) -> list[str]:
@@ -53,7 +75,7 @@ def factors(frame) -> list[str]:
     """The columns of a study table that vary (more than one value), in table order."""
     out = []
     for col in (*_BASE_FACTORS, *_override_columns(frame)):
-        if col in frame.columns and frame[col].astype(str).nunique() > 1:
+        if col in frame.columns and frame[col].astype(str).nunique(dropna=False) > 1:
             out.append(col)
     return out
 
@@ -62,57 +84,220 @@ def _numeric(values) -> bool:
     return all(isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v) for v in values)
 
 
+def _missing(value) -> bool:
+    return value is None or (isinstance(value, float) and math.isnan(value))
+
+
+def _fmt(value) -> str:
+    if _missing(value):
+        return AS_GIVEN
+    return f"{value:g}" if _numeric([value]) else str(value)
+
+
+# ------------------------------------------------------------------------------------------------------------
+# factors as the figures see them: aliased columns joined, an empty override cell a level of its own
+# ------------------------------------------------------------------------------------------------------------
+def _cell(value):
+    return None if _missing(value) else value
+
+
+def _groups(rows, cols: list[str]) -> list[tuple[str, ...]]:
+    """The varying columns joined into factors: columns whose levels map one to one are one factor."""
+    cells = {c: [_cell(v) for v in rows[c].tolist()] for c in cols}
+    out: list[list[str]] = []
+    for col in cols:
+        for group in out:
+            pairs = set(zip(cells[group[0]], cells[col], strict=True))
+            if len(pairs) == len({a for a, _ in pairs}) == len({b for _, b in pairs}):
+                group.append(col)
+                break
+        else:
+            out.append([col])
+    return [tuple(g) for g in out]
+
+
+def _key(group: tuple[str, ...]) -> str:
+    return "\x00".join(group)
+
+
+def _with_keys(rows, groups):
+    """``rows`` with one column per factor holding its level: the value (a single column with no empty cell)
+    or the tuple of the group's cells (None: as given)."""
+    data = rows.copy()
+    for group in groups:
+        tuples = list(zip(*(map(_cell, data[c].tolist()) for c in group), strict=True))
+        simple = len(group) == 1 and all(t[0] is not None for t in tuples)
+        data[_key(group)] = [t[0] for t in tuples] if simple else tuples
+    return data
+
+
+def _sort_key(level):
+    parts = level if isinstance(level, tuple) else (level,)
+    return tuple((0, 0.0, "") if v is None else (1, float(v), "") if _numeric([v]) else (2, 0.0, str(v))
+                 for v in parts)
+
+
 def _levels(series) -> list:
-    values = list(dict.fromkeys(series.dropna().tolist()))
-    return sorted(values) if _numeric(values) else sorted(values, key=str)
+    values = [v for v in dict.fromkeys(series.tolist()) if not _missing(v)]
+    return sorted(values, key=_sort_key)
+
+
+def _level_label(level) -> str:
+    if isinstance(level, tuple):
+        return AS_GIVEN if all(v is None for v in level) else ", ".join(_fmt(v) for v in level)
+    return _fmt(level)
 
 
 def _x(levels):
     """x positions and tick labels: the values themselves if numeric, else 0, 1, 2 ... with labels."""
     if _numeric(levels):
         return {v: float(v) for v in levels}, None
-    return {v: float(i) for i, v in enumerate(levels)}, [str(v) for v in levels]
+    return {v: float(i) for i, v in enumerate(levels)}, [_level_label(v) for v in levels]
 
 
-def _label(col: str) -> str:
-    return _LABELS.get(col, col)
+def _label(group) -> str:
+    group = (group,) if isinstance(group, str) else group
+    return _LABELS.get(group[0], group[0]) if len(group) == 1 else " & ".join(group)
+
+
+def _words(group: tuple[str, ...]) -> str:
+    return _WORDS.get(group[0], group[0]) if len(group) == 1 else " & ".join(group)
 
 
 def _slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.=-]+", "_", text).strip("_") or "metric"
 
 
-def _line(ax, sub, col, name, marker="o"):
-    levels = _levels(sub[col])
+# ------------------------------------------------------------------------------------------------------------
+# main effects and the balance they rest on
+# ------------------------------------------------------------------------------------------------------------
+def _part_words(part: set, others: list[tuple[str, ...]], sub) -> str:
+    """The balanced part in words: ``damping scale = 1; track as given`` when it is a sub-grid, else a count."""
+    if not others:
+        return ""
+    values = [{p[i] for p in part} for i in range(len(others))]
+    if len(part) == math.prod(len(v) for v in values):
+        words = []
+        for group, vals in zip(others, values, strict=True):
+            if len(vals) == len(_levels(sub[_key(group)])):
+                continue  # every level of it: not a restriction
+            names = sorted(vals, key=_sort_key)
+            text = ", ".join(_level_label(v) for v in names)
+            words.append(f"{_words(group)} {'=' if len(names) == 1 else 'in'} {text}"
+                         if text != AS_GIVEN else f"{_words(group)} {AS_GIVEN}")
+        return "; ".join(words)
+    return f"the {len(part)} settings of the other factors that every level meets"
+
+
+def _effect(sub, group, others, metric: str, man: str) -> list[dict]:
+    """The rows of :func:`main_effects` for one factor and one manoeuvre."""
+    levels = _levels(sub[_key(group)])
+    settings = list(zip(*(sub[_key(o)].tolist() for o in others), strict=True)) if others else [()] * len(sub)
+    cells: dict = {}
+    for level, setting, value in zip(sub[_key(group)].tolist(), settings, sub["value"].tolist(), strict=True):
+        cells.setdefault(level, {}).setdefault(setting, []).append(value)
+    met = [set(cells[lv]) for lv in levels]
+    common = set.intersection(*met)
+    base = {"metric": metric, "factor": " & ".join(group), "manoeuvre": man}
+    out = []
+    if common:
+        balanced = all(s == common for s in met)
+        basis, where = ("balanced", "") if balanced else ("balanced part", _part_words(common, others, sub))
+        for lv in levels:
+            means = [sum(cells[lv][s]) / len(cells[lv][s]) for s in common]
+            out.append({**base, "level": lv, "level_label": _level_label(lv), "value": sum(means) / len(means),
+                        "n": sum(len(cells[lv][s]) for s in common), "basis": basis, "line": "mean", "over": where})
+        return out
+    for lv in levels:
+        for setting, values in cells[lv].items():
+            line = "; ".join(f"{_words(o)} {AS_GIVEN}" if _level_label(v) == AS_GIVEN
+                             else f"{_words(o)} = {_level_label(v)}" for o, v in zip(others, setting, strict=True))
+            out.append({**base, "level": lv, "level_label": _level_label(lv), "value": sum(values) / len(values),
+                        "n": len(values), "basis": "per setting", "line": line, "over": ""})
+    return out
+
+
+def main_effects(frame, metric: str | None = None):
+    """The main effects of a study table, as :func:`study_figures` draws them, with what each mean is over.
+
+    For each metric, each factor (aliased columns joined with ``" & "``) and each manoeuvre: the metric at
+    each level of the factor. Whether the design is balanced for that factor is judged on the rows with a
+    value, per manoeuvre (see the module docstring).
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        A study table (:meth:`StudyStore.to_pandas`, ``results.parquet``).
+    metric : str, optional
+        Only this metric (``"threshold"`` for a threshold-only table).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per point drawn: ``metric``, ``factor``, ``manoeuvre``, ``level`` (the value, or a tuple for a
+        joined or partly empty factor), ``level_label``, ``value`` (in the metric's unit), ``n`` (scenarios
+        averaged), ``basis`` (one of :data:`BASES`), ``line`` (``"mean"``, or the setting of the other factors
+        for ``per setting``) and ``over`` (the balanced part in words; empty when balanced).
+    """
+    import pandas as pd
+
+    data = _long(frame)
+    out = []
+    for name, rows in data.groupby("metric", sort=False):
+        if metric is not None and name != metric:
+            continue
+        rows = rows[rows["value"].notna()]
+        varying = [c for c in factors(frame) if rows[c].astype(str).nunique(dropna=False) > 1]
+        if rows.empty or not varying:
+            continue
+        groups = _groups(rows, varying)
+        keyed = _with_keys(rows, groups)
+        for group in groups:
+            others = [g for g in groups if g != group]
+            for man, sub in keyed.groupby("manoeuvre", sort=False):
+                out.extend(_effect(sub, group, others, str(name), str(man)))
+    columns = ["metric", "factor", "manoeuvre", "level", "level_label", "value", "n", "basis", "line", "over"]
+    return pd.DataFrame(out, columns=columns)
+
+
+# ------------------------------------------------------------------------------------------------------------
+# drawing
+# ------------------------------------------------------------------------------------------------------------
+def _line(ax, sub, col, name, marker="o", levels=None, **style):
+    levels = levels or _levels(sub[col])
     pos, ticks = _x(levels)
     means = sub.groupby(sub[col].map(lambda v: pos.get(v)))["value"].mean().sort_index()
-    ax.plot(means.index, means.to_numpy(), marker=marker, label=str(name))
+    ax.plot(means.index, means.to_numpy(), marker=marker, label=str(name), **style)
     if ticks is not None:
         ax.set_xticks(list(pos.values()), ticks)
 
 
-def _one(fig, data, col, ylabel):
+def _one(fig, data, group, ylabel):
     ax = fig.subplots()
+    col = _key(group)
     for man, sub in data.groupby("manoeuvre", sort=False):
-        _line(ax, sub, col, man)
-    ax.set_xlabel(_label(col))
+        _line(ax, sub, col, man, levels=_levels(data[col]))
+    ax.set_xlabel(_label(group))
     ax.set_ylabel(ylabel)
     ax.grid(alpha=0.3)
     ax.legend(fontsize="small", title="manoeuvre")
 
 
-def _is_grid(data, cols) -> bool:
+def _is_grid(data, groups) -> bool:
     """Both factors with HEATMAP_LEVELS levels or more, every pair present for every manoeuvre."""
-    a, b = cols
+    a, b = (_key(g) for g in groups)
     na, nb = len(_levels(data[a])), len(_levels(data[b]))
+    if any(isinstance(v, tuple) for v in (*data[a], *data[b])):
+        return False  # joined or partly empty factors: lines, with their labels
     return min(na, nb) >= HEATMAP_LEVELS and all(
         len(sub.groupby([a, b])) == na * nb for _, sub in data.groupby("manoeuvre", sort=False))
 
 
-def _two(fig, data, cols, ylabel, heat=False):
-    a, b = cols
+def _two(fig, data, groups, ylabel, heat=False):
+    ga, gb = groups
+    a, b = _key(ga), _key(gb)
     na, nb = len(_levels(data[a])), len(_levels(data[b]))
-    x, family = (a, b) if na >= nb else (b, a)
+    (x, gx), (family, gf) = ((a, ga), (b, gb)) if na >= nb else ((b, gb), (a, ga))
     manoeuvres = list(dict.fromkeys(data["manoeuvre"]))
     axes = fig.subplots(1, len(manoeuvres), squeeze=False)[0]
     for ax, man in zip(axes, manoeuvres, strict=True):
@@ -120,30 +305,58 @@ def _two(fig, data, cols, ylabel, heat=False):
         if heat:
             table = sub.pivot_table(index=family, columns=x, values="value", aggfunc="mean")
             image = ax.imshow(table.to_numpy(), origin="lower", aspect="auto", cmap="viridis")
-            ax.set_xticks(range(table.shape[1]), [f"{v:g}" if _numeric([v]) else str(v) for v in table.columns],
-                          rotation=45)
-            ax.set_yticks(range(table.shape[0]), [f"{v:g}" if _numeric([v]) else str(v) for v in table.index])
-            ax.set_ylabel(_label(family))
+            ax.set_xticks(range(table.shape[1]), [_level_label(v) for v in table.columns], rotation=45)
+            ax.set_yticks(range(table.shape[0]), [_level_label(v) for v in table.index])
+            ax.set_ylabel(_label(gf))
             fig.colorbar(image, ax=ax, label=ylabel)
         else:
             for level in _levels(sub[family]):
-                _line(ax, sub[sub[family] == level], x, f"{level:g}" if _numeric([level]) else level)
+                _line(ax, sub[sub[family].map(lambda v, level=level: v == level)], x, _level_label(level),
+                      levels=_levels(sub[x]))
             ax.set_ylabel(ylabel)
             ax.grid(alpha=0.3)
-            ax.legend(fontsize="small", title=_label(family))
-        ax.set_xlabel(_label(x))
+            ax.legend(fontsize="small", title=_label(gf))
+        ax.set_xlabel(_label(gx))
         ax.set_title(str(man))
 
 
-def _main_effects(fig, data, cols, ylabel):
-    n = len(cols)
+def _panel_title(effects) -> str:
+    """What one main-effects panel averages, per manoeuvre when they differ."""
+    texts = {}
+    for man, rows in effects.groupby("manoeuvre", sort=False):
+        basis, over = rows["basis"].iloc[0], rows["over"].iloc[0]
+        texts[man] = {"balanced": "balanced: mean over every other setting",
+                      "balanced part": f"unbalanced: mean where {over}",
+                      "per setting": "unbalanced, no setting meets every level: one line per setting"}[basis]
+    if len(set(texts.values())) == 1:
+        text = next(iter(texts.values()))
+    else:
+        text = "; ".join(f"{m}: {t}" for m, t in texts.items())
+    return textwrap.fill(text, 48)
+
+
+def _main_effects(fig, data, groups, ylabel, effects):
+    n = len(groups)
     ncols = min(n, 3)
     axes = fig.subplots(math.ceil(n / ncols), ncols, squeeze=False).ravel()
-    for ax, col in zip(axes, cols, strict=False):
-        for man, sub in data.groupby("manoeuvre", sort=False):
-            _line(ax, sub[sub[col].notna()], col, man)
-        ax.set_xlabel(_label(col))
-        ax.set_ylabel(f"mean {ylabel}")
+    colours = {m: f"C{i}" for i, m in enumerate(dict.fromkeys(data["manoeuvre"]))}
+    for ax, group in zip(axes, groups, strict=False):
+        mine = effects[effects["factor"] == " & ".join(group)]
+        levels = _levels(data[_key(group)])
+        pos, ticks = _x(levels)
+        for man, rows in mine.groupby("manoeuvre", sort=False):
+            for k, (line, pts) in enumerate(rows.groupby("line", sort=False)):
+                xs = [pos[v] for v in pts["level"]]
+                order = sorted(range(len(xs)), key=xs.__getitem__)
+                thin = line != "mean"
+                ax.plot([xs[i] for i in order], [pts["value"].iloc[i] for i in order], marker=".o"[not thin],
+                        color=colours[man], lw=0.8 if thin else 1.5, alpha=0.6 if thin else 1.0,
+                        label=str(man) if k == 0 else None)
+        if ticks is not None:
+            ax.set_xticks(list(pos.values()), ticks)
+        ax.set_xlabel(_label(group))
+        ax.set_ylabel(ylabel if set(mine["basis"]) == {"per setting"} else f"mean {ylabel}")
+        ax.set_title(_panel_title(mine), fontsize="small")
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize="small", title="manoeuvre")
     for ax in axes[n:]:
@@ -161,21 +374,26 @@ def _bars(fig, data, ylabel):
 KINDS = ("bars", "one factor", "two factors", "heat map", "main effects")
 
 
+def _shape(rows, columns) -> tuple[str, list[tuple[str, ...]]]:
+    varying = [c for c in columns if rows[c].astype(str).nunique(dropna=False) > 1]
+    groups = _groups(rows, varying)
+    if len(groups) == 2 and _is_grid(_with_keys(rows, groups), groups):
+        return "heat map", groups
+    return (KINDS[len(groups)] if len(groups) < 3 else "main effects"), groups
+
+
 def plan(frame) -> list[tuple[str, str, list[str]]]:
-    """What :func:`study_figures` draws for a study table: ``(metric, kind, factors)`` per metric with a
-    value, ``kind`` one of :data:`KINDS`."""
+    """What :func:`study_figures` draws for a study table: ``(metric, kind, columns)`` per metric with a
+    value, ``kind`` one of :data:`KINDS`, ``columns`` the varying columns (columns that move together count
+    as one factor for the kind)."""
     data = _long(frame)
     out = []
     for metric, rows in data.groupby("metric", sort=False):
         rows = rows[rows["value"].notna()]
         if rows.empty:
             continue
-        varying = [c for c in factors(frame) if rows[c].astype(str).nunique() > 1]
-        if len(varying) == 2 and _is_grid(rows, varying):
-            kind = "heat map"
-        else:
-            kind = KINDS[min(len(varying), 2)] if len(varying) < 3 else "main effects"
-        out.append((str(metric), kind, varying))
+        kind, groups = _shape(rows, factors(frame))
+        out.append((str(metric), kind, [c for g in groups for c in g]))
     return out
 
 
@@ -195,7 +413,8 @@ def study_figures(frame, out_dir: str | Path, title: str | None = None, dpi: int
     Returns
     -------
     list of Path
-        ``fig_<metric>.png`` per metric with at least one value (the kind: :func:`plan`).
+        ``fig_<metric>.png`` per metric with at least one value (the kind: :func:`plan`; a main-effects
+        figure's numbers: :func:`main_effects`).
     """
     from matplotlib.figure import Figure
 
@@ -204,25 +423,31 @@ def study_figures(frame, out_dir: str | Path, title: str | None = None, dpi: int
     out_dir = Path(out_dir)
     data = _long(frame)
     written = []
-    for metric, kind, varying in plan(frame):
+    for metric, _, _ in plan(frame):
         rows = data[(data["metric"] == metric) & data["value"].notna()]
+        kind, groups = _shape(rows, factors(frame))
+        rows = _with_keys(rows, groups)
         unit = rows["unit"].dropna().iloc[0] if rows["unit"].notna().any() else ""
         ylabel = f"{metric} [{unit}]" if unit else metric
         n_man = rows["manoeuvre"].nunique()
+        note = kind
         if kind == "bars":
             fig = Figure(figsize=(5.5, 4.0))
             _bars(fig, rows, ylabel)
         elif kind == "one factor":
             fig = Figure(figsize=(6.5, 4.2))
-            _one(fig, rows, varying[0], ylabel)
+            _one(fig, rows, groups[0], ylabel)
         elif kind in ("two factors", "heat map"):
             fig = Figure(figsize=(5.5 * n_man + 1.0, 4.4))
-            _two(fig, rows, varying, ylabel, heat=kind == "heat map")
+            _two(fig, rows, groups, ylabel, heat=kind == "heat map")
         else:
-            n = len(varying)
-            fig = Figure(figsize=(4.6 * min(n, 3), 3.8 * math.ceil(n / 3)))
-            _main_effects(fig, rows, varying, ylabel)
-        fig.suptitle(f"{title + ': ' if title else ''}{metric}{_judged_by(rows)} ({kind})")
+            n = len(groups)
+            fig = Figure(figsize=(4.8 * min(n, 3), 4.2 * math.ceil(n / 3)))
+            effects = main_effects(frame, metric)
+            _main_effects(fig, rows, groups, ylabel, effects)
+            if set(effects["basis"]) != {"balanced"}:
+                note = "main effects; the design is unbalanced: each panel says what it averages"
+        fig.suptitle(textwrap.fill(f"{title + ': ' if title else ''}{metric}{_judged_by(rows)} ({note})", 100))
         fig.tight_layout()
         path = out_dir / f"fig_{_slug(metric)}.png"
         atomic_write(path, lambda fh, fig=fig: fig.savefig(fh, dpi=dpi, format="png"))
