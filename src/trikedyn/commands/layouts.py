@@ -1,4 +1,5 @@
-"""``trikedyn compare-layouts``: a vehicle and its mirror layout (delta and tadpole) side by side."""
+"""``trikedyn compare-layouts``: a vehicle and its mirror layout (delta and tadpole) side by side; ``--keep``
+chooses what the mirror keeps of the CG's place (:mod:`trikedyn.analysis.layouts`)."""
 
 from __future__ import annotations
 
@@ -15,6 +16,7 @@ from ._common import (
     PayloadOpt,
     SpeedControlOpt,
     VehicleArg,
+    choice,
     emit,
     finite,
     manoeuvre_options,
@@ -32,6 +34,14 @@ def compare_layouts_cmd(
         list[str], typer.Option("--manoeuvre", help="A manoeuvre for the threshold velocity (see `trikedyn "
                                 "manoeuvres`); repeatable. Default: dlc and slc.")
     ] = [],  # noqa: B006
+    keep: Annotated[str, typer.Option(
+        "--keep", callback=choice("pair-distance", "cg", "both"),
+        help="What the mirror keeps of the CG's place. pair-distance (the default): the CG at the same distance "
+             "from the two-wheel axle, the body mirrored end for end, so the load split and the rigid tip-over "
+             "a T / (2 h L) are the same and what differs is the layout's own (the fair comparison of layouts); "
+             "cg: the CG where it is on the vehicle, only the wheels moved, so a CG near one layout's pair is "
+             "near the other's single wheel (compares two CG places as much as two layouts); both: the two "
+             "mirrors.")] = "pair-distance",
     payload: PayloadOpt = 0.0,
     freight: FreightAliasOpt = None,
     no_tilt: Annotated[bool, typer.Option("--no-tilt", help="Skip the tilt-table test.")] = False,
@@ -40,14 +50,19 @@ def compare_layouts_cmd(
     resolution: Annotated[float, typer.Option("--resolution", callback=within(0.001, 50, "km/h"), help="Threshold resolution [km/h].")] = 0.1,
     criterion: CriterionOpt = "course",
     speed_control: SpeedControlOpt = "driver",
-    out: Annotated[Path | None, typer.Option("--out", help="Folder to write comparison.json, the mirror vehicle (.toml) "
-                                             "and a figure into (created; a non-empty one needs --force).")] = None,
+    out: Annotated[Path | None, typer.Option("--out", help="Folder to write comparison.json, each mirror vehicle "
+                                             "(LAYOUT-mirror-KEEP.toml) and a figure into (created; a non-empty one "
+                                             "needs --force).")] = None,
     force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
-    """Delta against tadpole: the vehicle and its mirror layout on the same mass, CG, wheelbase and track.
+    """Delta against tadpole: the vehicle and its mirror layout on the same mass, CG height, wheelbase and track.
 
-    Static rigid tip-over [g], tilt-table angle [deg] and the threshold velocity [km/h] in each manoeuvre.
+    The mirror has the wheel pair at the other end. By default (--keep pair-distance) its CG is at the same
+    distance from its two-wheel axle, so the static load split and rigid tip-over are the same and the
+    comparison is of the layouts; --keep cg leaves the CG where it is on the vehicle. For each: the CG's
+    distance a from the single wheel's axle [m], the weight on the single wheel [%], the static rigid
+    tip-over [g], the tilt-table angle [deg] and the threshold velocity [km/h] in each manoeuvre.
     """
     payload = payload_kg(payload, freight)
     from ..analysis.layouts import compare_layouts
@@ -64,7 +79,7 @@ def compare_layouts_cmd(
 
         check_output_folder(out, force=force, option="--out")
     pset = with_freight(load_vehicle(vehicle), payload)
-    result = compare_layouts(pset, manoeuvres, tilt=not no_tilt, low_kmh=low, high_kmh=high,
+    result = compare_layouts(pset, manoeuvres, keep=keep, tilt=not no_tilt, low_kmh=low, high_kmh=high,
                              resolution_kmh=resolution, criterion=criterion, speed_control=speed_control)
     data = {"vehicle": pset.name, "payload_kg": payload, "criterion": criterion, "speed_control": speed_control,
             **result.to_dict()}
@@ -84,9 +99,11 @@ def _write(out: Path, result, data: dict) -> list[str]:
 
     table = out / "comparison.json"
     atomic_write(table, lambda fh: fh.write(json.dumps(finite(data)[0], indent=2, allow_nan=False)), binary=False)
-    mirror = out / f"{result.rows[1].layout}-mirror.toml"
-    save_vehicle(result.mirror, mirror)
+    mirrors = []
+    for keep, params in result.mirrors.items():
+        mirrors.append(out / f"{params.layout}-mirror-{keep}.toml")
+        save_vehicle(params, mirrors[-1])
     matplotlib.use("Agg")
     figure = out / "layouts.png"
     save_figure(result.plot(), figure)
-    return [str(table), str(mirror), str(figure)]
+    return [str(table), *map(str, mirrors), str(figure)]
