@@ -13,6 +13,11 @@ it (for a preset, the presets' folder; an absolute path is taken as it is). Load
 path, so ``pathlib.Path(wheel.tyre_file)`` finds it wherever the program runs, and reads it with
 :func:`trikedyn.tyre.tir.read_tir`: a missing or invalid tyre file fails the load, naming the wheel and the
 vehicle file. :func:`save_vehicle` writes it relative to the new file's folder again where it can.
+
+A value the schema refuses that it would accept in another unit says so (``steering.max_angle_deg: ... (got
+0.7); did you type radians? 0.7 rad is 40.1 deg``: :func:`trikedyn.plausibility.unit_slip_hint`), and a
+loaded set is looked at for values that look like slips (radians in a degree field, a tyre file of another
+size, ...): each is a :class:`~trikedyn.plausibility.PlausibilityWarning` (:mod:`trikedyn.params.plausibility`).
 """
 
 from __future__ import annotations
@@ -27,6 +32,8 @@ from pydantic import ValidationError
 
 from .._validation import describe_validation_error
 from ..errors import ParameterError, did_you_mean
+from ..plausibility import unit_slip_hint
+from .plausibility import warn_implausible
 from .schema import VehicleParameters
 from .tomlfile import MAX_FILE_BYTES, builtin_names, is_file, parse_toml, read_text
 
@@ -145,8 +152,10 @@ def _parse(toml_text: str, origin: str, folder: Path | None, chain: tuple) -> Pa
     try:
         params = VehicleParameters.model_validate(plain)
     except ValidationError as exc:
-        raise ParameterError(_describe(exc, plain), where=_shown(origin)) from None
-    _check_tyre_files(params, named_in, origin)
+        hint = unit_slip_hint(exc, plain, VehicleParameters)
+        raise ParameterError(_describe(exc, plain) + hint, where=_shown(origin)) from None
+    tyres = _check_tyre_files(params, named_in, origin)
+    warn_implausible(params, _shown(origin), tyres)
     return ParameterSet(params, notes, origin)
 
 
@@ -172,12 +181,13 @@ def _resolve_tyre_files(raw: dict, origin: str, folder: Path | None, named_in: d
         named_in.setdefault(resolved, _shown(origin, 120))
 
 
-def _check_tyre_files(params: VehicleParameters, named_in: dict, origin: str) -> None:
+def _check_tyre_files(params: VehicleParameters, named_in: dict, origin: str) -> dict:
     """Read every wheel's ``.tir`` file once; a missing or invalid one is a ParameterError naming the wheel
-    and the vehicle file that names it."""
+    and the vehicle file that names it. Returns ``tyre_file -> TyreProperties``."""
     files = {w.tyre_file for w in params.wheels if w.tyre_file is not None}
+    read: dict = {}
     if not files:
-        return
+        return read
     from ..errors import InputError
     from ..tyre.tir import read_tir
 
@@ -186,11 +196,12 @@ def _check_tyre_files(params: VehicleParameters, named_in: dict, origin: str) ->
             continue
         files.discard(wheel.tyre_file)
         try:
-            read_tir(Path(wheel.tyre_file))
+            read[wheel.tyre_file] = read_tir(Path(wheel.tyre_file))
         except InputError as exc:
             naming = named_in.get(wheel.tyre_file, _shown(origin, 120))
             raise ParameterError(f"{exc} (tyre file named in {naming})",
                                  where=f"wheels[{wheel.name}].tyre_file") from None
+    return read
 
 
 def save_vehicle(pset: ParameterSet | VehicleParameters, path: str | Path) -> Path:

@@ -26,7 +26,8 @@ Formula coefficients themselves are dimensionless by construction and are never 
 
 Mistakes (not a text file, over 1 MiB, a line that is neither a comment, a section, a ``KEY = value`` nor a
 table row, a number that is not finite, a duplicate key, an unknown unit, a missing ``FNOMIN`` or
-``UNLOADED_RADIUS``, an unsupported format) raise :class:`~trikedyn.errors.InputError` naming ``file:line``.
+``UNLOADED_RADIUS``, an ``UNLOADED_RADIUS`` outside 0.01 .. 2.5 m once converted (lengths in another unit
+than ``[UNITS]`` says), an unsupported format) raise :class:`~trikedyn.errors.InputError` naming ``file:line``.
 """
 
 from __future__ import annotations
@@ -40,10 +41,11 @@ from types import MappingProxyType
 
 from ..errors import InputError
 
-__all__ = ["MAX_BYTES", "TirTable", "TyreProperties", "parse_tir", "read_tir"]
+__all__ = ["MAX_BYTES", "MAX_RADIUS_M", "MIN_RADIUS_M", "TirTable", "TyreProperties", "parse_tir", "read_tir"]
 
 MAX_BYTES = 1 << 20  #: largest file read [bytes]
 MAX_LINE_CHARS = 4096  #: longest line read [characters]
+MIN_RADIUS_M, MAX_RADIUS_M = 0.01, 2.5  #: range of UNLOADED_RADIUS [m]: from a toy's tyre to the largest earthmover's
 
 PAC2002, MF52, MF61, MF62 = "PAC2002", "MF5.2", "MF6.1", "MF6.2"
 _FITTYP = {6: PAC2002, 21: MF52, 61: MF61, 62: MF62}
@@ -410,7 +412,7 @@ def _build(name, sections, lines, tables, encoding) -> TyreProperties:
             coefficients[key] = default
             if key not in _SPECIAL or key in ("LONGVL", "PKY4"):
                 defaulted.append(key)
-    _check(coefficients, flat, at)
+    _check(coefficients, flat, at, units.get("LENGTH", "meter"))
 
     side_entry = flat.get("TYRESIDE")
     side = str(side_entry[0]).strip().upper() if side_entry else "LEFT"
@@ -472,8 +474,8 @@ def _family(name, flat, sections, at) -> tuple[str, str]:
     return family, str(value)
 
 
-def _check(c: dict[str, float], flat, at) -> None:
-    """Values the equations cannot work with."""
+def _check(c: dict[str, float], flat, at, length_unit: str) -> None:
+    """Values the equations cannot work with, and a radius no tyre has (lengths in another unit)."""
 
     def where(key):
         return at(flat[key][1], key) if key in flat else key
@@ -481,6 +483,10 @@ def _check(c: dict[str, float], flat, at) -> None:
     for key in ("FNOMIN", "UNLOADED_RADIUS", "LFZO"):
         if not c[key] > 0.0:
             raise InputError(f"{key} must be > 0, got {c[key]:g}", where=where(key))
+    if not MIN_RADIUS_M <= c["UNLOADED_RADIUS"] <= MAX_RADIUS_M:
+        raise InputError(f"UNLOADED_RADIUS {c['UNLOADED_RADIUS']:g} m is no tyre's ({MIN_RADIUS_M:g} to "
+                         f"{MAX_RADIUS_M:g} m); are the file's lengths in {length_unit!r}, its [UNITS] LENGTH?",
+                         where=where("UNLOADED_RADIUS"))
     if c["LMUY"] == 0.0:
         raise InputError("LMUY must not be 0 (the aligning-torque stiffness divides by it)", where=where("LMUY"))
     if c["LONGVL"] <= 0.0:
