@@ -274,8 +274,10 @@ def _times(cells: pd.Series, name: str, lines: np.ndarray, path: Path, notes: li
     if bad.size:
         what = "a number (finite, counted from the first row)" if numeric else \
             "a clock time [YYYY-MM-DD ]HH:MM:SS[.fff]"
-        raise LogFormatError(f"time column {name!r} holds {str(cells.iloc[bad[0]])!r}; expected {what}",
-                             where=f"{path}:{lines[bad[0]]}")
+        cell = str(cells.iloc[bad[0]])
+        if _DECIMAL_COMMA.match(cell):
+            what += " (a decimal comma? --decimal , on the command line, decimal=',' in Python)"
+        raise LogFormatError(f"time column {name!r} holds {cell!r}; expected {what}", where=f"{path}:{lines[bad[0]]}")
     return t - t[0]
 
 

@@ -99,14 +99,14 @@ def _sprung_mass(params: VehicleParameters, wheel, reading: str | None) -> tuple
     rigid = f"{m_rigid:.1f} kg by the paper's rigid-tyre Eq. 3" + (f" (ratio {r_rigid:.2f})" if r_rigid else "")
     if reading == RIGID:
         xi = s.damping_ratio if s.damping_ratio is not None else car.body_mode()[1]
-        own = None
+        own = own_c = None
         if positive:
-            own, _ = suspension_from_body_mode(f, xi, m_cg, kt, tyre_damping=car.tyre_damping_Ns_per_m,
-                                               unsprung_mass_kg=car.unsprung_mass_kg)
-            own = float(own) if own > 0 else None
-        row["stiffness_own_for_frequency_N_per_m"] = own
-        need = (f"the suspension's own spring for {f:g} Hz is {own:.0f} N/m" if own is not None else
-                f"no spring in series with this tyre gives {f:g} Hz")
+            own, own_c = (float(v) for v in suspension_from_body_mode(
+                f, xi, m_cg, kt, tyre_damping=car.tyre_damping_Ns_per_m, unsprung_mass_kg=car.unsprung_mass_kg))
+            own, own_c = (own, own_c) if own > 0 and own_c >= 0 else (None, None)
+        row |= {"stiffness_own_for_frequency_N_per_m": own, "damping_own_for_frequency_Ns_per_m": own_c}
+        need = (f"the suspension's own spring and damper for {f:g} Hz and xi {xi:.3g} are {own:.0f} N/m and "
+                f"{own_c:.0f} N s/m" if own is not None else f"no spring in series with this tyre gives {f:g} Hz")
         level = WARNING if positive and _close(r_rigid, MASS_TOLERANCE) else INCONSISTENT
         message = (f"{start}, {rigid} but {series}: K reads as tyre-inclusive; the model adds the tyre "
                    f"({kt:.0f} N/m) in series, so its quarter car bounces at {f_model:.2f} Hz, not {f:g} Hz ({need}; "
