@@ -30,22 +30,33 @@ Formats (keys of :data:`FORMATS`) and their quirks
     then ``AccX1 ... AngZ2`` for two sensors (suffix = sensor) without units: m/s² (the logger used
     g = 9.8, kept as written), °/s and °. The logger writes 0 in every field of a sensor that has not
     reported yet, so leading rows whose acceleration or angle triple is exactly 0 are dropped.
+``phyphox``
+    The phyphox phone app's CSV export: quoted headers ``"Time (s)","Acceleration x (m/s^2)",...`` (also
+    ``Linear Acceleration`` and ``Gyroscope x (rad/s)``), with ``,`` and a decimal point, or ``;`` and a
+    decimal comma, or tab; the other rules as ``csv``. Linear acceleration (gravity removed by the phone) is
+    read into ``ax..az_mps2`` with a note.
 ``csv``
-    Generic CSV (``,``, ``;`` or tab), UTF-8: ``columns`` maps SI names to headers, ``units`` gives the
-    file's units (``g m/s2 deg/s rad/s deg rad s ms``); headers that are SI names are recognised. Time may
-    be numbers or clock times ``[YYYY-MM-DD ]HH:MM:SS[.fff]`` (decimal fraction).
+    Generic CSV, UTF-8: headers that are SI names are recognised (and ``time_ms``, ``time_us``: time in ms,
+    µs); ``columns`` (``--column NAME=HEADER``, ``time_column``/``--time-column``) maps SI names to the
+    other headers, ``units`` (``--unit``, ``time_unit``/``--time-unit``) gives the file's units (``g m/s2
+    deg/s rad/s deg rad s ms us``). The separator (``,``, ``;`` or tab) is the one that splits the header and
+    the first row alike, or ``delimiter``/``--delimiter``; the decimal mark is ``,`` where ``;`` or tab
+    separates numbers like ``1,5`` (a European spreadsheet's CSV), or ``decimal``/``--decimal``. Double quotes
+    around a header are taken off. Time may be numbers or clock times ``[YYYY-MM-DD ]HH:MM:SS[.fff]``
+    (decimal fraction).
 
 Detection (``format="auto"``): a first byte 0x55 with valid frame checksums is ``wt901sd-binary``; else the
-header line decides (``Chiptime``, ``DeviceName``, ``Chip Time()``, ``AccX1``), and any other separated
-header is ``csv``.
+header line decides (``Chiptime``, ``DeviceName``, ``Chip Time()``, ``AccX1``, phyphox's ``Time (s)`` with
+its acceleration or gyroscope headers), and any other separated header is ``csv``.
 
 Each layout is one module of :mod:`trikedyn.measure.formats` that registers itself there; :data:`FORMATS`,
 detection, :func:`read_log` and :func:`write_log` go through that registry, so a new layout is one new
 module (or a ``formats.register`` call) and nothing here changes.
 
-Common rules: fields are not quoted; lines are counted by ``\\n``; clock times become seconds from the
-first row and a clock without a date that jumps back by more than 12 h has passed midnight; rows that
-repeat the previous time are dropped (kept the first); time must then increase strictly.
+Common rules: fields are not quoted (headers may be, in double quotes); lines are counted by ``\\n``; clock
+times become seconds from the first row and a clock without a date that jumps back by more than 12 h has
+passed midnight; rows that repeat the previous time are dropped (kept the first); time must then increase
+strictly.
 
 Bounds (:mod:`trikedyn.measure.limits`): a file of at most 256 MiB; a ``sample_rate_hz`` given by the user
 within 0.01 Hz .. 10 kHz. Non-finite data are refused, not dropped: a value that is not a finite number, or

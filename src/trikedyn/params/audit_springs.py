@@ -110,7 +110,7 @@ def _sprung_mass(params: VehicleParameters, wheel, reading: str | None) -> tuple
         level = WARNING if positive and _close(r_rigid, MASS_TOLERANCE) else INCONSISTENT
         message = (f"{start}, {rigid} but {series}: K reads as tyre-inclusive; the model adds the tyre "
                    f"({kt:.0f} N/m) in series, so its quarter car bounces at {f_model:.2f} Hz, not {f:g} Hz ({need}; "
-                   "`trikedyn identify --into` writes it)")
+                   "`trikedyn identify --into` writes them)")
         return Finding(level, "sprung mass", message, row), m_rigid
     level = OK if positive and _close(r_series, MASS_TOLERANCE) else INCONSISTENT
     return Finding(level, "sprung mass", f"{start}, {series}; {rigid}", row), m_series
