@@ -26,7 +26,7 @@ readings 0 .. 10 000 kg, ``reading_std_kg`` 0 .. 100 kg, ``wheel_radius_m`` up t
 within 20 m of the origin, raise heights up to 5 m and below the wheelbase; 3 to 16 wheels, at most 100
 tilted weighings. Unknown keys are errors with a close-match hint (:class:`WeighingRecord`); a value refused
 that would be accepted in another unit says so (``contacts.front[0]: ... (got 1950); did you type
-millimetres? 1950 mm is 1.95 m``).
+millimetres or centimetres? 1950 mm is 1.95 m, 1950 cm is 19.5 m``).
 
 What no vehicle gives is refused too (:func:`reduce_weighing`), each in one line naming the table or entry:
 
