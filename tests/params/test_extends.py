@@ -176,3 +176,16 @@ def test_top_level_name_too_long_is_an_input_error(tmp_path):
         load_vehicle(str(tmp_path / ("y" * 5000)) + ".toml")
     with pytest.raises(ParameterError, match="unknown vehicle"):
         load_vehicle("z" * 5000)
+
+
+def test_a_layout_change_through_extends_is_said_in_words():
+    """Issue 20: a delta extended into a tadpole said 'wheels: tuple should have at most 3 items'."""
+    wheel = 'radius_m = 0.27\nmass_kg = 12.0\nspin_inertia_kgm2 = 0.2\nsuspension = "front"\n'
+    text = ('extends = "reference-etrike"\nname = "t"\n'
+            + "".join(f'[[wheels]]\nname = "{n}"\nx_m = 1.95\ny_m = {y}\n{wheel}' for n, y in
+                      (("front_left", 0.55), ("front_right", -0.55))))
+    with pytest.raises(ParameterError, match=r"adds the wheels front_left, front_right: a file that extends"):
+        parse_vehicle(text, "t.toml")
+    with pytest.raises(ParameterError, match=r"changes the layout from delta to tadpole.*extend 'reference-tadpole'"):
+        parse_vehicle('extends = "reference-etrike"\nlayout = "tadpole"\n', "t.toml")
+    assert parse_vehicle('extends = "reference-tadpole"\nname = "t"\n', "t.toml").params.layout == "tadpole"

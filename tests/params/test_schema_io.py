@@ -70,6 +70,15 @@ def test_toml_round_trip_keeps_values_and_notes(reference, tmp_path):
     assert "assumed =" in path.read_text()
 
 
+def test_a_range_key_of_a_wheel_pair_is_written_quoted(tmp_path):
+    """A declared range over a pair of wheels has dots and a '+' in its key: the file written must read back."""
+    (tmp_path / "v.toml").write_text('extends = "reference-tadpole"\nname = "v"\n[ranges]\n'
+                                     '"wheels.front_left+front_right.radius_m" = [0.25, 0.29]\n', encoding="utf-8")
+    written = save_vehicle(load_vehicle(tmp_path / "v.toml"), tmp_path / "out.toml")
+    assert '"wheels.front_left+front_right.radius_m" = [' in written.read_text(encoding="utf-8")
+    assert load_vehicle(written).params.ranges == {"wheels.front_left+front_right.radius_m": (0.25, 0.29)}
+
+
 def test_extends_merges_by_key_and_wheel_name(tmp_path):
     (tmp_path / "mine.toml").write_text(
         'extends = "reference-etrike"\nname = "mine"\n[mass]\ndriver_kg = 90.0\n'

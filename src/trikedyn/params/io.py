@@ -22,7 +22,9 @@ size, ...): each is a :class:`~trikedyn.plausibility.PlausibilityWarning` (:mod:
 
 from __future__ import annotations
 
+import json
 import os
+import re
 from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path, PurePosixPath
@@ -236,6 +238,13 @@ def _toml_value(value) -> str:
     return tomli_w.dumps({"v": value}).strip()[len("v = ") :]
 
 
+def _toml_key(key) -> str:
+    """A TOML key: bare when it can be (letters, digits, ``_``, ``-``), else quoted (a range key such as
+    ``wheels.front_left+front_right.radius_m`` holds dots and a ``+``)."""
+    text = str(key)
+    return text if re.fullmatch(r"[A-Za-z0-9_-]+", text) else json.dumps(text)
+
+
 def _to_toml(data: dict, header: tuple = ()) -> str:
     """TOML with provenance notes as inline tables next to their values (tomli_w alone would not)."""
 
@@ -245,8 +254,9 @@ def _to_toml(data: dict, header: tuple = ()) -> str:
     def is_table_array(v):
         return isinstance(v, list) and v and all(isinstance(i, dict) for i in v)
 
-    lines = [f"{k} = {_toml_value(v)}" for k, v in data.items() if not is_table(v) and not is_table_array(v)]
-    out = ([f"[{'.'.join(header)}]"] if header and lines else []) + lines
+    lines = [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in data.items()
+             if not is_table(v) and not is_table_array(v)]
+    out = ([f"[{'.'.join(_toml_key(h) for h in header)}]"] if header and lines else []) + lines
     chunks = ["\n".join(out)] if out else []
     for key, value in data.items():
         if is_table(value):
@@ -254,7 +264,7 @@ def _to_toml(data: dict, header: tuple = ()) -> str:
         elif is_table_array(value):
             for item in value:
                 body = _to_toml(item).strip()
-                chunks.append(f"[[{'.'.join((*header, key))}]]\n{body}")
+                chunks.append(f"[[{'.'.join(_toml_key(h) for h in (*header, key))}]]\n{body}")
     return "\n\n".join(c for c in chunks if c) + ("\n" if not header else "")
 
 
@@ -298,7 +308,28 @@ def _read_raw(toml_text: str, origin: str, folder: Path | None, chain: tuple, na
         raise ParameterError(f"extends: a cycle ({loop})", where=where)
     if len(chain) > MAX_EXTENDS:
         raise ParameterError(f"extends: more than {MAX_EXTENDS} in a chain", where=where)
-    return _deep_merge(_read_raw(base_text, base_origin, base_folder, (*chain, key), named_in), raw)
+    base = _read_raw(base_text, base_origin, base_folder, (*chain, key), named_in)
+    _check_same_layout(base, raw, base_name, where)
+    return _deep_merge(base, raw)
+
+
+def _check_same_layout(base: dict, raw: dict, base_name: str, where: str) -> None:
+    """A file that extends another keeps its layout and its wheels (they merge by name): a layout changed, or
+    wheels added to a base that has its three, is refused in words (not as a tuple of too many wheels)."""
+    names = [_item_name(w) for w in base.get("wheels", []) if isinstance(w, dict)]
+    added = [_item_name(w) for w in raw.get("wheels", []) if isinstance(w, dict) and _item_name(w) is not None
+             and _item_name(w) not in names]
+    layout, base_layout = raw.get("layout"), base.get("layout", "delta")
+    if (layout is None or layout == base_layout) and not (added and len(names) >= 3):
+        return
+    what = (f"changes the layout from {base_layout} to {layout}" if layout not in (None, base_layout)
+            else f"adds the wheels {', '.join(map(str, added))}")
+    tip = "reference-tadpole" if (layout or "") == "tadpole" else "reference-etrike" if layout == "delta" else None
+    start = f"extend '{tip}' (or a file of that layout)" if tip else "extend a file of the layout you want"
+    raise ParameterError(
+        f"extends '{_shown(base_name, 60)}' (a {base_layout} with the wheels {', '.join(map(str, names))}) but "
+        f"{what}: a file that extends another keeps its layout, and its wheels merge with the base's by name; "
+        f"to build another layout, {start}, or write the whole vehicle without extends", where=where)
 
 
 def _extended(name, where: str, folder: Path | None) -> tuple[str, str, Path | None, tuple]:

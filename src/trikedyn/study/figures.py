@@ -165,7 +165,9 @@ def _words(group: tuple[str, ...]) -> str:
 
 
 def _slug(text: str) -> str:
-    return re.sub(r"[^A-Za-z0-9_.=-]+", "_", text).strip("_") or "metric"
+    """A metric's label as a plain file name: ``peak_ri(speed_kmh=25)`` -> ``peak_ri_speed_kmh_25`` (no ``=``,
+    brackets or spaces, which shells and some file systems treat specially)."""
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", text).strip("_") or "metric"
 
 
 # ------------------------------------------------------------------------------------------------------------
