@@ -252,6 +252,13 @@ def identification_stds(path: str | Path, suspension: str) -> list[Measured]:
     kt = data.get("tyre_stiffness_N_per_m")
     if kt is not None and (isinstance(kt, bool) or not isinstance(kt, int | float) or not kt > 0):
         raise InputError(f"tyre_stiffness_N_per_m: expected a number > 0 or null, got {kt!r}", where=where)
+    extra = {}  # the tyre's damping and the unsprung mass, when the identification had them (exact quarter car)
+    for key, name in (("tyre_damping_Ns_per_m", "tyre_damping"), ("unsprung_mass_kg", "unsprung_mass_kg")):
+        value = data.get(key)
+        if value is not None:
+            if isinstance(value, bool) or not isinstance(value, int | float) or not (math.isfinite(value) and value >= 0):
+                raise InputError(f"{key}: expected a number >= 0 or null, got {value!r}", where=where)
+            extra[name] = float(value)
     f, xi, m = values["natural_frequency_hz"], values["damping_ratio"], values["sprung_mass_kg"]
     sf, sxi = values["natural_frequency_std_hz"], values["damping_ratio_std"]
     if not (f > 0 and 0 < xi < 1 and m > 0 and sf >= 0 and sxi >= 0):
@@ -262,7 +269,7 @@ def identification_stds(path: str | Path, suspension: str) -> list[Measured]:
         if kt is None:
             k = stiffness_from_frequency(fn, m)
             return float(k), float(damping_coefficient(z, k, m))
-        k, c = suspension_from_body_mode(fn, z, m, float(kt))
+        k, c = suspension_from_body_mode(fn, z, m, float(kt), **extra)
         return float(k), float(c)
 
     hf, hxi = 1e-6 * f, 1e-6 * max(xi, 1e-3)
