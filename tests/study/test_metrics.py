@@ -106,7 +106,7 @@ def test_a_study_of_other_metrics_runs_and_draws(tmp_path, warm):
     assert all(0 <= v <= 1 for v in ri)
     assert list(table.columns[:8]) == ["scenario_id", "groups", "vehicle", "manoeuvre", "freight_kg",
                                        "stiffness_scale", "damping_scale", "metric"]
-    for name in ("tilt_angle", "understeer_gradient", "peak_ri_speed_kmh=30", "min_wheel_load_speed_kmh=30"):
+    for name in ("tilt_angle", "understeer_gradient", "peak_ri_speed_kmh_30", "min_wheel_load_speed_kmh_30"):
         assert (tmp_path / "out" / f"fig_{name}.png").is_file(), name
     exported = pd.read_csv(tmp_path / "out" / "results.csv")
     assert list(exported["metric"]) == list(table["metric"])
