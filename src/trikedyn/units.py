@@ -1,4 +1,8 @@
-"""Unit conversions. trikedyn is SI inside; other units appear only at the edges (CLI, files)."""
+"""Unit conversions. trikedyn is SI inside; other units appear only at the edges (CLI, files).
+
+Unit labels: the terminal, JSON keys, file formats and docstrings write plain ASCII (``m/s^2``, ``kg m^2``,
+``mps2`` in names); figures and the HTML report write them typeset (``m/s²``).
+"""
 
 from __future__ import annotations
 

@@ -123,7 +123,7 @@ class SteadyStateTest:
         for ax in fig.axes:
             ax.axvline(self.max_lateral_acceleration_mps2, color="0.4", lw=0.8, ls=":")
         fig.suptitle(f"ISO 4138 handling diagram, R = {self.radius_m:g} m; ends at "
-                     f"{self.max_lateral_acceleration_mps2:.2f} m/s^2 ({self.limit})\nlimit behaviour: "
+                     f"{self.max_lateral_acceleration_mps2:.2f} m/s² ({self.limit})\nlimit behaviour: "
                      f"{self.diagram.shape.limit_behaviour}", fontsize=10)
         fig.tight_layout(rect=(0, 0, 1, 0.95))
         return fig

@@ -83,7 +83,7 @@ class HandlingDiagram(PlainResult):
                 ("roll", self.roll_deg, self.roll_intercept_deg, self.roll_gradient_deg_per_g)]
         for ax, (name, y, c0, k) in zip(axes, rows, strict=True):
             ax.axvspan(*a, color="0.85", alpha=0.6, lw=0,
-                       label=f"linear range {a[0]:.2f}-{a[1]:.2f} m/s^2")
+                       label=f"linear range {a[0]:.2f}-{a[1]:.2f} m/s²")
             ax.plot(self.ay_bins_mps2, y, "o-", color="k", ms=3, lw=1.0, label="binned mean")
             ax.plot(a, c0 + k * a / G, "--", color="tab:red", lw=1.4, label=f"linear-range fit: {k:+.3g} deg/g")
             ax.set_ylabel(f"{name} [deg]")
@@ -93,7 +93,7 @@ class HandlingDiagram(PlainResult):
         axes[0].legend(fontsize=7, loc="lower left")
         for ax in axes[1:]:
             ax.legend(fontsize=7, loc="best")
-        axes[-1].set_xlabel("lateral acceleration [m/s^2] (folded to a left turn)")
+        axes[-1].set_xlabel("lateral acceleration [m/s²] (folded to a left turn)")
         fig.tight_layout()
         return fig
 

@@ -289,7 +289,7 @@ class SteerShape(PlainResult):
         if self.neutral_steer == "peak":
             a0 = self.neutral_steer_lateral_acceleration_mps2
             ax.plot([a0], [self.neutral_steer_deg], "*", ms=13, color="tab:red", zorder=5,
-                    label=f"neutral steer: {a0:.2f} m/s^2")
+                    label=f"neutral steer: {a0:.2f} m/s²")
             ax.axvline(a0, color="tab:red", lw=0.8, ls=":")
         ax.axvspan(self.limit_low_mps2, self.limit_high_mps2, color=_COLOURS[self.limit_behaviour], alpha=0.12,
                    label=f"limit: {self.limit_behaviour} ({self.limit_gradient_deg_per_g:+.2f} deg/g)")
