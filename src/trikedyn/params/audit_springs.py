@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import math
 
-from ..measure.suspension import suspension_from_body_mode
 from .findings import INCONSISTENT, OK, WARNING, Finding
 from .schema import VehicleParameters
 from .springs import suspension_quarter_car, wheel_quarter_car
@@ -101,6 +100,8 @@ def _sprung_mass(params: VehicleParameters, wheel, reading: str | None) -> tuple
         xi = s.damping_ratio if s.damping_ratio is not None else car.body_mode()[1]
         own = own_c = None
         if positive:
+            from ..measure.suspension import suspension_from_body_mode  # scipy.signal: only when needed
+
             own, own_c = (float(v) for v in suspension_from_body_mode(
                 f, xi, m_cg, kt, tyre_damping=car.tyre_damping_Ns_per_m, unsprung_mass_kg=car.unsprung_mass_kg))
             own, own_c = (own, own_c) if own > 0 and own_c >= 0 else (None, None)
@@ -129,6 +130,8 @@ def _damping(params: VehicleParameters, name: str, reading: str) -> Finding:
     m_series = car.sprung_mass_for(f)
     c_series = xi_series = r_series = None
     if m_series is not None:
+        from ..measure.suspension import suspension_from_body_mode
+
         _, c = suspension_from_body_mode(f, xi, m_series, car.tyre_stiffness_N_per_m,
                                          tyre_damping=car.tyre_damping_Ns_per_m, unsprung_mass_kg=car.unsprung_mass_kg)
         c_series = float(c)

@@ -28,7 +28,6 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..measure.quarter_car import quarter_car_modes, sprung_mass_for_frequency
 from ..units import STANDARD_GRAVITY
 from .ops import static_wheel_loads, unsprung_mass
 from .schema import VehicleParameters
@@ -114,6 +113,8 @@ class QuarterCar:
         mass = self.sprung_mass_kg if sprung_mass_kg is None else sprung_mass_kg
         if not mass > 0:
             return math.nan, math.nan
+        from ..measure.quarter_car import quarter_car_modes  # scipy: only when a mode is asked for
+
         modes = quarter_car_modes(mass, self.unsprung_mass_kg, self.stiffness_N_per_m, self.damping_Ns_per_m,
                                   self.tyre_stiffness_N_per_m, self.tyre_damping_Ns_per_m)
         return modes.sprung_frequency_hz, modes.sprung_damping_ratio
@@ -121,6 +122,8 @@ class QuarterCar:
     def sprung_mass_for(self, natural_frequency_hz: float) -> float | None:
         """Eq. 3 with the tyre in series: the sprung mass [kg] whose body mode has ``natural_frequency_hz``
         [Hz] (:func:`~trikedyn.measure.quarter_car.sprung_mass_for_frequency`); None if none has."""
+        from ..measure.quarter_car import sprung_mass_for_frequency
+
         return sprung_mass_for_frequency(natural_frequency_hz, self.unsprung_mass_kg, self.stiffness_N_per_m,
                                          self.damping_Ns_per_m, self.tyre_stiffness_N_per_m,
                                          self.tyre_damping_Ns_per_m)
