@@ -131,3 +131,15 @@ def test_missing_section_and_bad_toml(reference, tmp_path):
 def test_unknown_preset_hint():
     with pytest.raises(ParameterError, match="did you mean 'reference-etrike'"):
         load_vehicle("reference-etrik")
+
+
+def test_loading_a_vehicle_imports_no_signal_processing():
+    """`trikedyn vehicle list` loads every preset: the parameters must not pull in scipy.signal and the
+    identification (a second of imports; the bench's 0.8 s target for vehicle list)."""
+    import subprocess
+    import sys
+
+    code = ("import sys; from trikedyn.params import load_vehicle, audit; load_vehicle('reference-etrike'); "
+            "print(sorted(m for m in ('scipy.signal', 'trikedyn.measure.suspension') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0 and out.stdout.strip() == "[]", out.stdout + out.stderr
