@@ -44,8 +44,6 @@ def _table(result) -> str:
         + (f" ({result.dropped} {group} left out)" if result.dropped else ""),
     ]
     lines.append(f"  threshold: the {result.search.criterion} criterion, {result.search.speed_control} speed control")
-    if result.search.course_note():
-        lines.append(f"  {result.search.course_note()}")
     if result.at_search_limit:
         lines.append(f"  {result.at_search_limit} runs reached the top of the search ({result.search.high_kmh:g} km/h; "
                      "raise it with --high)")
@@ -126,7 +124,7 @@ def sensitivity_cmd(
         factors, excluded = sa.candidate_factors(pset, fraction)
     n = sa.DEFAULT_SAMPLES[method] if samples is None else int(samples)
     search = sa.Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion,
-                       speed_control=speed_control).on_course_of(pset)
+                       speed_control=speed_control)
     sa.sample(sa.problem(factors), method, n, seed)  # a bad --samples fails before anything is written
     plan = json.loads(json.dumps(_plan(pset, search, factors, method, n, seed, fraction)))
     log = None

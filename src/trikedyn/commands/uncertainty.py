@@ -55,8 +55,6 @@ def _text(result) -> str:
         f"mean {_fmt(d['mean_kmh'])}, std {_fmt(d['std_kmh'])} km/h (n={d['n']})",
     ]
     lines.append(f"  threshold: the {result.search.criterion} criterion, {result.search.speed_control} speed control")
-    if result.search.course_note():
-        lines.append(f"  {result.search.course_note()}")
     if d["at_search_limit"]:
         lines.append(f"  {d['at_search_limit']} samples reached the top of the search ({result.search.high_kmh:g} km/h; "
                      "raise it with --high)")
@@ -129,7 +127,7 @@ def uncertainty_cmd(
     sources = {m.path: m.source for m in measured} | dict.fromkeys(stds, "--std")
     inputs, excluded = ua.build_inputs(pset, parameter, sigmas, fraction, sources)
     search = ua.Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion,
-                       speed_control=speed_control).on_course_of(pset)
+                       speed_control=speed_control)
     plan = json.loads(json.dumps(_plan(pset, search, inputs, int(samples), seed, fraction)))
     log = None
     if out is not None:

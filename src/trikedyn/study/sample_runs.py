@@ -58,7 +58,11 @@ class Search:
         """This search with its course laid out for ``pset``, the reference vehicle of a design: a manoeuvre
         whose course follows the vehicle's width (the double lane change's ``course_width_m``: ISO 3888's lane
         widths) gets ``pset``'s width, so that a wider variant meets the same course; unless the options give
-        one (``course_width_m = 0`` asks for each variant's own)."""
+        one (``course_width_m = 0`` asks for each variant's own).
+
+        For designs that compare vehicles (the optimiser, the loading chart, a study's grid). Sensitivity and
+        uncertainty do not use it: they ask what the threshold of *this* vehicle is when an assumed value is
+        off, and by ISO 3888 the course of a vehicle of another width is laid out for that width."""
         if self.manoeuvre.lower().endswith(".csv") or "course_width_m" in self.options:
             return self
         from ..manoeuvres.registry import get

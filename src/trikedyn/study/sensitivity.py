@@ -376,7 +376,6 @@ def run_sensitivity(pset: ParameterSet, search: Search, factors: list[Factor], *
         raise InputError("no factor to vary", where="--parameter")
     prob = problem(factors)
     X = sample(prob, method, samples, seed)
-    search = search.on_course_of(pset)  # every sample meets the reference vehicle's course
     reference = search.run(pset).threshold_speed_kmh  # also checks the manoeuvre before any process starts
     Y, errors, limits = run_logged_samples(pset, factors, X, search, workers=workers, log=log, resume=resume,
                                            progress=progress)

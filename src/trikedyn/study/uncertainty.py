@@ -453,7 +453,6 @@ def run_uncertainty(pset: ParameterSet, search: Search, inputs: list[Input], *, 
     if not inputs:
         raise InputError("no input to vary", where="--parameter")
     X = sample(inputs, samples, seed)
-    search = search.on_course_of(pset)  # every sample meets the reference vehicle's course
     reference = search.run(pset).threshold_speed_kmh  # also checks the manoeuvre before any process starts
     Y, errors, limits = run_logged_samples(pset, [i.factor for i in inputs], X, search, workers=workers, log=log,
                                            resume=resume, progress=progress)
