@@ -4,11 +4,13 @@ and resampled uniformly in arc length."""
 from __future__ import annotations
 
 import csv
+import io
 import math
 from pathlib import Path as _FilePath
 
 import numpy as np
 
+from .._reading import excerpt, open_binary
 from ..errors import InputError
 from .geometry import _DENSE_DX_M, MAX_LENGTH_M, Path, _number, _uniform_count
 
@@ -31,24 +33,27 @@ MAX_CSV_BYTES = 256 * 2**20
 # CSV paths
 # --------------------------------------------------------------------------------------------------------------
 def _read_xy_csv(file: _FilePath) -> tuple[np.ndarray, np.ndarray]:
-    try:
-        if not file.is_file():
-            raise InputError("no such file", where=str(file))
-        size = file.stat().st_size
-    except (OSError, ValueError) as exc:
-        raise InputError(f"cannot read it: {getattr(exc, 'strerror', None) or exc}", where=str(file)) from None
-    if size > MAX_CSV_BYTES:
-        raise InputError(f"{size / 2**20:.0f} MiB; a path CSV is read up to {MAX_CSV_BYTES // 2**20} MiB", where=str(file))
+    where = str(file)
+    limit = MAX_CSV_BYTES
+
+    def too_large(size: int | None) -> str:
+        """The message for a file over the bound (``size`` [bytes]; None: it grew while read)."""
+        amount = f"{size / 2**20:.0f} MiB" if size is not None else f"more than {limit / 2**20:.0f} MiB"
+        return f"{amount}; a path CSV is read up to {limit // 2**20} MiB"
+
     reader = None
-    try:
-        with file.open(encoding="utf-8-sig", newline="") as handle:
+    with open_binary(file, where, max_bytes=limit, expected="a path CSV file", too_large=too_large) as raw:
+        try:
+            handle = io.TextIOWrapper(raw, encoding="utf-8-sig", newline="")
             reader = csv.reader(handle)
             return _parse_xy_rows(reader, file)
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read the file as UTF-8 text: {exc}", where=str(file)) from None
-    except csv.Error as exc:
-        where = f"{file}:{reader.line_num}" if reader is not None else str(file)
-        raise InputError(f"not a CSV line: {exc}", where=where) from None
+        except UnicodeDecodeError as exc:
+            raise InputError(f"cannot read the file as UTF-8 text ({exc.reason})", where=where) from None
+        except OSError as exc:
+            raise InputError(f"cannot read it: {exc.strerror or type(exc).__name__}", where=where) from None
+        except csv.Error as exc:
+            line = f"{file}:{reader.line_num}" if reader is not None else where
+            raise InputError(f"not a CSV line: {exc}", where=line) from None
 
 
 def _parse_xy_rows(reader, file: _FilePath) -> tuple[np.ndarray, np.ndarray]:
@@ -70,8 +75,8 @@ def _parse_xy_rows(reader, file: _FilePath) -> tuple[np.ndarray, np.ndarray]:
             for names in (("x_m", "x"), ("y_m", "y")):
                 index = next((header.index(n) for n in names if n in header), None)
                 if index is None:
-                    shown = ", ".join(h[:40] for h in header[:20]) or "none"
-                    raise InputError(f"missing column '{names[0]}' (or '{names[1]}'); found {shown}", where=where)
+                    raise InputError(f"missing column '{names[0]}' (or '{names[1]}'); found {_columns(header)}",
+                                     where=where)
                 found.append(index)
             columns = (found[0], found[1])
             continue
@@ -83,9 +88,9 @@ def _parse_xy_rows(reader, file: _FilePath) -> tuple[np.ndarray, np.ndarray]:
             try:
                 value = float(cell)
             except ValueError:
-                raise InputError(f"{name}: expected a number, got {cell[:40]!r}", where=where) from None
+                raise InputError(f"{name}: expected a number, got {excerpt(cell, 20)}", where=where) from None
             if not math.isfinite(value):
-                raise InputError(f"{name}: expected a finite number, got {cell[:40]!r}", where=where)
+                raise InputError(f"{name}: expected a finite number, got {excerpt(cell, 20)}", where=where)
             if abs(value) > MAX_CSV_COORDINATE_M:
                 raise InputError(f"{name}: {value:g} m is beyond +-{MAX_CSV_COORDINATE_M:g} m", where=where)
             values.append(value)
@@ -109,6 +114,14 @@ def _parse_xy_rows(reader, file: _FilePath) -> tuple[np.ndarray, np.ndarray]:
     if len(xs) < 3:
         raise InputError(f"{len(xs)} point(s); at least 3 are needed", where=str(file))
     return np.array(xs), np.array(ys)
+
+
+def _columns(header: list[str]) -> str:
+    """The header's columns for a message: at most three, each a short escaped excerpt (a file that is no
+    path CSV, a system file or binary text, is not echoed)."""
+    named = [excerpt(h, 16) for h in header[:3] if h]
+    more = f" and {len(header) - 3} more" if len(header) > 3 else ""
+    return f"{len(header)} column(s): {', '.join(named) or 'unnamed'}{more}"
 
 
 def path_from_csv(file, *, smoothing_m: float = 0.01, align: bool = True, name: str | None = None) -> Path:
@@ -140,7 +153,9 @@ def path_from_csv(file, *, smoothing_m: float = 0.01, align: bool = True, name: 
         consecutive points closer than 1 mm or farther than 1 km apart (``CSV_SPACING_M``) are refused, not
         merged (a point 1 mm from the last says the line was sampled without moving: remove or merge such
         points, the smoothing spline cannot tell their order); more than ``MAX_CSV_POINTS`` points, a line
-        longer than ``MAX_LENGTH_M`` (20 km) or a file larger than ``MAX_CSV_BYTES``.
+        longer than ``MAX_LENGTH_M`` (20 km) or a file larger than ``MAX_CSV_BYTES``. The file is read by the
+        one bounded reader (:mod:`trikedyn._reading`): a folder, a pipe or a device is refused before it is
+        opened; a message quotes at most a short, escaped excerpt of the file's text.
 
     Notes
     -----

@@ -77,6 +77,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .._reading import read_bytes
 from ..errors import LogFormatError
 from ..units import STANDARD_GRAVITY
 from .clocktime import clock_seconds
@@ -185,15 +186,17 @@ class ImuLog:
 
 # ----------------------------------------------------------------------------------------- helpers
 def _read_bytes(path: Path) -> bytes:
-    if not path.exists():
-        raise LogFormatError("file not found; expected an IMU log", where=str(path))
-    if not path.is_file():
-        raise LogFormatError("is not a file; expected an IMU log file", where=str(path))
-    size = path.stat().st_size
-    if size > MAX_LOG_BYTES:
-        raise LogFormatError(f"{size / 2**20:.0f} MiB, more than the {MAX_LOG_BYTES // 2**20} MiB read; cut the "
-                             "log to the part to analyse", where=str(path))
-    raw = path.read_bytes()
+    """The log's bytes, by the one bounded reader (:mod:`trikedyn._reading`): a folder, a pipe or a device is
+    refused before it is opened, a file over :data:`MAX_LOG_BYTES` unread."""
+    limit = MAX_LOG_BYTES
+
+    def too_large(size: int | None) -> str:
+        """The message for a file over the bound (``size`` [bytes]; None: it grew while read)."""
+        amount = f"{size / 2**20:.0f} MiB, more" if size is not None else "grew while read to more"
+        return f"{amount} than the {limit // 2**20} MiB read; cut the log to the part to analyse"
+
+    raw = read_bytes(path, str(path), max_bytes=limit, error=LogFormatError, expected="an IMU log file",
+                     missing="file not found; expected an IMU log", too_large=too_large)
     if not raw:
         raise LogFormatError("empty file (0 bytes); expected an IMU log", where=str(path))
     return raw

@@ -8,11 +8,14 @@ A value may be written plainly (``wheelbase_m = 1.95``) or with its provenance n
 The notes (``assumed``, ``source``, ``note``) are kept by dotted path (``mass.driver_kg``,
 ``wheels.front.radius_m``) in :attr:`ParameterSet.notes` and written back by :func:`save_vehicle`.
 
-A wheel's ``tyre_file`` (an Adams/MF-Tyre ``.tir`` file) is relative to the folder of the file that names
-it (for a preset, the presets' folder; an absolute path is taken as it is). Loading stores it as an absolute
-path, so ``pathlib.Path(wheel.tyre_file)`` finds it wherever the program runs, and reads it with
-:func:`trikedyn.tyre.tir.read_tir`: a missing or invalid tyre file fails the load, naming the wheel and the
-vehicle file. :func:`save_vehicle` writes it relative to the new file's folder again where it can.
+A wheel's ``tyre_file`` (an Adams/MF-Tyre ``.tir`` file) is a file a file names, so the one rule holds
+(:mod:`trikedyn._reading`): relative to the folder of the file that names it, in that folder or below it once
+symbolic links are resolved (no absolute path, no ``..``; a preset names shipped files only). Loading stores
+it as an absolute path (that folder joined with the name, links not resolved), so
+``pathlib.Path(wheel.tyre_file)`` finds it wherever the program runs, and reads it with
+:func:`trikedyn.tyre.tir.read_tir`: a refused, missing or invalid tyre file fails the load, naming the wheel
+and the vehicle file. :func:`save_vehicle` writes it relative to the new file's folder, and copies a tyre file
+that lies outside that folder beside the new file (never over another file), so that what it writes loads.
 
 A value the schema refuses that it would accept in another unit says so (``steering.max_angle_deg: ... (got
 0.7); did you type radians? 0.7 rad is 40.1 deg``: :func:`trikedyn.plausibility.unit_slip_hint`), and a
@@ -27,11 +30,12 @@ import os
 import re
 from dataclasses import dataclass, field, replace
 from importlib import resources
-from pathlib import Path, PurePosixPath
+from pathlib import Path
 
 import tomli_w
 from pydantic import ValidationError
 
+from .._reading import file_problem, named_file
 from .._validation import describe_validation_error
 from ..errors import ParameterError, did_you_mean
 from ..plausibility import unit_slip_hint
@@ -67,6 +71,7 @@ class ParameterSet:
 
     @property
     def name(self) -> str:
+        """The vehicle's name (``params.name``)."""
         return self.params.name
 
     @property
@@ -118,10 +123,9 @@ def load_vehicle(name_or_path: str | Path) -> ParameterSet:
     text = str(name_or_path)
     path = Path(text)
     if path.suffix == ".toml" or "/" in text or is_file(path):
-        if not is_file(path):
-            raise ParameterError("no such parameter file", where=_shown(text))
+        body = read_text(path, _shown(text), error=ParameterError, missing="no such parameter file")
         real = _real(path)
-        return _parse(read_text(path, _shown(text), error=ParameterError), text, real.parent, (("file", str(real)),))
+        return _parse(body, text, real.parent, (("file", str(real)),))
     presets = list_presets()
     if text not in presets:
         tip = did_you_mean(text, presets)
@@ -139,10 +143,11 @@ def parse_vehicle(toml_text: str, origin: str = "<string>") -> ParameterSet:
     what differs; tables merge key by key, ``[[wheels]]`` by wheel name. A file named by ``extends`` is
     relative to the folder of the file that names it (for text, the folder of ``origin``; a preset may
     extend presets only) and must lie in that folder or below it once symbolic links are resolved: no
-    absolute path, no ``..``. It is read like the first file (UTF-8, at most 1 MiB). A chain of
-    ``extends`` may be at most :data:`MAX_EXTENDS` long and must not come back to a file already in it.
-    A refused ``extends`` names what was written and why, never the target's content. A wheel's
-    ``tyre_file`` is likewise relative to the folder of the file that names it (see the module docstring).
+    absolute path, no ``..`` (the rule for every file a file names, :mod:`trikedyn._reading`). It is read
+    like the first file (UTF-8, at most 1 MiB). A chain of ``extends`` may be at most :data:`MAX_EXTENDS` long
+    and must not come back to a file already in it. A refused ``extends`` names what was written and why,
+    never the target's content nor where a link points. A wheel's ``tyre_file`` follows the same rule (see
+    the module docstring).
     """
     return _parse(toml_text, origin, _real(Path(origin)).parent, (("text", origin),))
 
@@ -163,19 +168,31 @@ def _parse(toml_text: str, origin: str, folder: Path | None, chain: tuple) -> Pa
 
 def _resolve_tyre_files(raw: dict, origin: str, folder: Path | None, named_in: dict) -> None:
     """Make each ``wheels[*].tyre_file`` of one file's raw table absolute, relative to that file's folder
-    (the presets' folder for a preset); ``named_in`` records which file named each."""
+    (the presets' folder for a preset), after the rule for a file a file names; ``named_in`` records which
+    file named each.
+
+    Raises
+    ------
+    ParameterError
+        ``where="wheels[NAME].tyre_file"``: a path the rule refuses (absolute, with ``..``, a link out of the
+        folder), naming the vehicle file; nothing is opened.
+    """
     wheels = raw.get("wheels")
     if not isinstance(wheels, list):
         return
     base = Path(str(_preset_dir())) if folder is None else folder
-    for wheel in wheels:
+    place = "the folder of the shipped presets" if folder is None else "the vehicle file's folder"
+    for i, wheel in enumerate(wheels):
         if not isinstance(wheel, dict) or "tyre_file" not in wheel:
             continue
         node = wheel["tyre_file"]
         value = node.get("value") if _is_annotated_value(node) else node
-        if not isinstance(value, str) or not value.strip() or "\0" in value:
+        if not isinstance(value, str) or not value.strip() or not value.isprintable():
             continue  # the schema says what is wrong with it
-        resolved = str(_real(base / value))
+        label = wheel.get("name") if isinstance(wheel.get("name"), str) else str(i)
+        named = named_file(value, base, expected="a .tir file", where=f"wheels[{_shown(label, 40)}].tyre_file",
+                           place=place, error=ParameterError, note=f"(tyre file named in {_shown(origin, 120)})")
+        resolved = str(named.path)
         if _is_annotated_value(node):
             wheel["tyre_file"] = {**node, "value": resolved}
         else:
@@ -208,14 +225,26 @@ def _check_tyre_files(params: VehicleParameters, named_in: dict, origin: str) ->
 
 def save_vehicle(pset: ParameterSet | VehicleParameters, path: str | Path) -> Path:
     """Write a parameter set as TOML, with its provenance notes next to the values (atomically: a temporary
-    file renamed into place)."""
+    file renamed into place).
+
+    A wheel's ``tyre_file`` is written relative to the new file's folder. A tyre file that lies outside that
+    folder (which the new file could not name: the rule of :mod:`trikedyn._reading`) is copied beside the
+    new file under its own name first, byte for byte; an existing file of that name is used only if it is
+    the same bytes, and never replaced.
+
+    Raises
+    ------
+    ParameterError
+        ``where="wheels[NAME].tyre_file"``: a tyre file to copy that cannot be read, or another file of its
+        name beside the new file.
+    """
     if isinstance(pset, VehicleParameters):
         pset = ParameterSet(pset)
     data = pset.params.model_dump(mode="json", exclude_none=True)
     folder = _real(Path(path)).parent
     for wheel in data.get("wheels", []):
         if "tyre_file" in wheel:
-            wheel["tyre_file"] = _relative_to(wheel["tyre_file"], folder)
+            wheel["tyre_file"] = _tyre_file_in(wheel["tyre_file"], folder, f"wheels[{wheel.get('name')}].tyre_file")
     _merge_notes(data, pset.notes)
     from .._files import atomic_write
 
@@ -223,13 +252,30 @@ def save_vehicle(pset: ParameterSet | VehicleParameters, path: str | Path) -> Pa
     return atomic_write(Path(path), lambda fh: fh.write(text), binary=False)
 
 
-def _relative_to(file: str, folder: Path) -> str:
-    """``file`` as a path relative to ``folder`` (POSIX separators), or absolute where there is none (another
-    drive)."""
-    try:
-        return Path(os.path.relpath(_real(Path(file)), folder)).as_posix()
-    except ValueError:
-        return str(Path(file))
+def _tyre_file_in(file: str, folder: Path, where: str) -> str:
+    """How a vehicle file written into the real ``folder`` names the tyre file ``file``: its path relative to
+    ``folder`` (POSIX separators) when it lies there or below, else the name of its copy beside it."""
+    real = _real(Path(file))
+    if real.is_relative_to(folder):
+        return Path(os.path.relpath(real, folder)).as_posix()
+    from .._files import atomic_write
+    from .._reading import read_bytes
+    from ..tyre.tir import MAX_BYTES
+
+    data = read_bytes(real, _shown(file), max_bytes=MAX_BYTES, error=ParameterError,
+                      expected="a .tir tyre property file")
+    copy = folder / Path(file).name
+    if copy.is_symlink() or copy.exists():
+        same = (file_problem(copy) is None and not copy.is_symlink()
+                and read_bytes(copy, str(copy), max_bytes=MAX_BYTES, error=ParameterError) == data)
+        if not same:
+            raise ParameterError(f"{Path(file).name} lies outside {_shown(str(folder), 120)}, where the new file "
+                                 f"could name it, and {copy.name} there is another file: a vehicle file names its "
+                                 "tyre files in its own folder or below it; rename that file, or write the "
+                                 "vehicle into a folder that holds the tyre file", where=where)
+        return copy.name
+    atomic_write(copy, lambda fh: fh.write(data))
+    return copy.name
 
 
 def _toml_value(value) -> str:
@@ -249,9 +295,11 @@ def _to_toml(data: dict, header: tuple = ()) -> str:
     """TOML with provenance notes as inline tables next to their values (tomli_w alone would not)."""
 
     def is_table(v):
+        """A TOML table (not a value with its notes)."""
         return isinstance(v, dict) and not _is_annotated_value(v)
 
     def is_table_array(v):
+        """An array of tables (``[[wheels]]``)."""
         return isinstance(v, list) and v and all(isinstance(i, dict) for i in v)
 
     lines = [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in data.items()
@@ -335,7 +383,8 @@ def _check_same_layout(base: dict, raw: dict, base_name: str, where: str) -> Non
 def _extended(name, where: str, folder: Path | None) -> tuple[str, str, Path | None, tuple]:
     """Text, origin, folder and identity of what ``extends = name`` names, or a ParameterError.
 
-    Every refusal is decided from the name and the resolved path alone, before the target is opened.
+    Every refusal is decided from the name and the resolved path alone (the rule of
+    :func:`trikedyn._reading.named_file`), before the target is opened; none shows where a link points.
     """
     usage = "expected a preset name or a .toml file in this file's folder or below it"
     if not isinstance(name, str) or not name.strip():
@@ -347,30 +396,20 @@ def _extended(name, where: str, folder: Path | None) -> tuple[str, str, Path | N
     if folder is None:
         tip = did_you_mean(name, presets)
         raise ParameterError(f"extends: no preset '{shown}'{tip} (a preset extends presets only)", where=where)
-    rel = PurePosixPath(name)
-    refused = (
-        "an absolute path" if rel.is_absolute() or name.startswith("~") else
-        "a path with '..'" if ".." in rel.parts else
-        "a name with a backslash or a control character" if "\\" in name or any(ord(c) < 32 for c in name) else
-        "a name too long" if len(name) > 1024 or any(len(p.encode()) > 255 for p in rel.parts) else None
-    )
-    if refused:
-        raise ParameterError(f"extends: '{shown}' is {refused}; {usage}", where=where)
+    named = named_file(name, folder, expected="a preset name or a .toml file", where=where, key="extends",
+                       error=ParameterError)
     if not name.endswith(".toml"):
         tip = did_you_mean(name, presets)
         raise ParameterError(f"extends: no preset '{shown}'{tip} ({usage})", where=where)
-    try:
-        target = (folder / rel).resolve()
-    except (OSError, RuntimeError, ValueError):  # a loop of symbolic links
-        raise ParameterError(f"extends: '{shown}' cannot be resolved; {usage}", where=where) from None
-    if not target.is_relative_to(folder):
-        raise ParameterError(f"extends: '{shown}' leads out of this file's folder (a symbolic link); {usage}",
-                             where=where)
-    if not is_file(target):
+    problem = file_problem(named.real)
+    if problem == "no such file":
         raise ParameterError(f"extends: no preset or file '{shown}' (looked in {_shown(str(folder), 60)})",
                              where=where)
-    origin = str(folder / rel)
-    return read_text(target, _shown(origin), error=ParameterError), origin, target.parent, ("file", str(target))
+    if problem is not None:
+        raise ParameterError(f"extends: no preset or file '{shown}' (it {problem})", where=where)
+    origin = str(named.path)
+    text = read_text(named.real, _shown(origin), error=ParameterError)
+    return text, origin, named.real.parent, ("file", str(named.real))
 
 
 def _deep_merge(base, over):

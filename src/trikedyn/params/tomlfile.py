@@ -1,7 +1,7 @@
 """Bounded reading of the TOML files a user gives trikedyn: vehicle parameter files, weighing records.
 
 A file is read only if it is a regular file (not a folder, a device or a pipe) of at most
-:data:`MAX_FILE_BYTES`, in UTF-8. Its TOML may nest tables and arrays at most :data:`MAX_NESTING` deep and
+:data:`MAX_FILE_BYTES`, in UTF-8, by the one bounded reader (:mod:`trikedyn._reading`). Its TOML may nest tables and arrays at most :data:`MAX_NESTING` deep and
 hold integers of at most 64 bits, keys of at most :data:`MAX_KEY_CHARS` characters and texts of at most
 :data:`MAX_TEXT_CHARS`. Each breach is an :class:`~trikedyn.errors.InputError` (of the subclass the caller
 chooses) naming the file and, where it applies, the key; none shows the file's content.
@@ -10,10 +10,10 @@ chooses) naming the file and, where it applies, the key; none shows the file's c
 from __future__ import annotations
 
 import os
-import stat
 import tomllib
 from pathlib import Path
 
+from .._reading import read_text as _bounded_text
 from ..errors import InputError, did_you_mean
 
 __all__ = ["MAX_FILE_BYTES", "MAX_KEY_CHARS", "MAX_NESTING", "MAX_TEXT_CHARS", "builtin_names", "builtin_or_file",
@@ -60,9 +60,7 @@ def builtin_or_file(name_or_path: str | Path, folder, kind: str, where: str) -> 
     text = str(name_or_path)
     path = Path(text)
     if path.suffix == ".toml" or "/" in text or os.sep in text or is_file(path):
-        if not is_file(path):
-            raise InputError(f"no such {kind} file", where=text)
-        return read_text(path, text), path
+        return read_text(path, text, missing=f"no such {kind} file"), path
     names = builtin_names(folder)
     if text not in names:
         tip = did_you_mean(text, names)
@@ -72,30 +70,15 @@ def builtin_or_file(name_or_path: str | Path, folder, kind: str, where: str) -> 
 
 
 def read_text(path: Path, where: str, *, error: type[InputError] = InputError,
-              max_bytes: int = MAX_FILE_BYTES) -> str:
+              max_bytes: int = MAX_FILE_BYTES, missing: str = "no such file") -> str:
     """The UTF-8 text of the regular file ``path`` of at most ``max_bytes``; ``error(..., where)`` else.
 
-    The file is opened without blocking and checked to be a regular file before anything is read, so a
-    pipe or a device named in place of a file is refused, not waited on or read without end.
+    Read by the one bounded reader (:func:`trikedyn._reading.read_text`): a pipe, a device or a folder named
+    in place of a file is refused before it is opened, never waited on or read without end. ``missing`` is
+    the message for a file that does not exist.
     """
-    try:
-        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
-    except (OSError, ValueError) as exc:
-        raise error(f"cannot open it: {_reason(exc)}", where=where) from None
-    try:
-        with os.fdopen(fd, "rb") as fh:
-            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
-                raise error("is not a regular file", where=where)
-            raw = fh.read(max_bytes + 1)
-    except OSError as exc:
-        raise error(f"cannot read it: {_reason(exc)}", where=where) from None
-    if len(raw) > max_bytes:
-        raise error(f"larger than {max_bytes / 1024:g} KiB; expected a small TOML file", where=where)
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise error(f"not UTF-8 text ({exc.reason} at byte {exc.start})", where=where) from None
-    return text.removeprefix("\ufeff")
+    return _bounded_text(path, where, max_bytes=max_bytes, error=error, missing=missing,
+                   too_large=lambda _: f"larger than {max_bytes / 1024:g} KiB; expected a small TOML file")
 
 
 def parse_toml(text: str, where: str, *, error: type[InputError] = InputError) -> dict:
@@ -131,9 +114,3 @@ def _check_bounds(data: dict, where: str, error: type[InputError]) -> None:
             raise error(f"{path}: integer beyond 64 bits; expected a number in physical units", where=where)
         elif isinstance(node, str) and len(node) > MAX_TEXT_CHARS:
             raise error(f"{path}: a text of {len(node)} characters; at most {MAX_TEXT_CHARS}", where=where)
-
-
-def _reason(exc: Exception) -> str:
-    """The reason of a file-system error, without the file name (which ``where`` gives)."""
-    reason = getattr(exc, "strerror", None) or str(exc) or exc.__class__.__name__
-    return reason[0].lower() + reason[1:]

@@ -15,7 +15,11 @@ A small TOML file, or a built-in name such as ``battery-layout`` (``study/specs/
     #           criterion = "course" (or "lift-off", "both"), speed_control = "driver" (or "ideal")
 
 The knobs are :mod:`trikedyn.params.knobs`' (``component.NAME.x_m|y_m|z_m``, ``track_m``, ``wheelbase_m``,
-...). Parsed with pydantic; a mistake is an :class:`~trikedyn.errors.InputError` naming the file and key.
+...). A manoeuvre may be a path ``.csv`` file (the ``path`` manoeuvre): a file the spec names, so the one rule
+holds (:mod:`trikedyn._reading`): relative to the spec's folder, in it or below it once symbolic links are
+resolved (no absolute path, no ``..``; a built-in spec names shipped files only). It is read and checked when
+the spec is loaded, and the spec carries its absolute path. Parsed with pydantic; a mistake is an
+:class:`~trikedyn.errors.InputError` naming the file and key.
 """
 
 from __future__ import annotations
@@ -133,9 +137,11 @@ class OptimiseSpec:
 
     @property
     def names(self) -> list[str]:
+        """The knobs' names, in the spec's order."""
         return [k[0] for k in self.knobs]
 
     def to_dict(self) -> dict:
+        """The spec as plain JSON-ready values (what a run's plan records)."""
         return {"origin": self.origin, "description": self.description,
                 "knobs": {n: [lo, hi] for n, lo, hi in self.knobs}, "manoeuvres": list(self.manoeuvres),
                 "payload_kg": self.payload_kg, "seed": self.seed, "popsize": self.popsize, "maxiter": self.maxiter,
@@ -189,12 +195,23 @@ def load_optimise_spec(name_or_path: str | Path | OptimiseSpec) -> OptimiseSpec:
         return name_or_path
     from ..params.tomlfile import builtin_or_file
 
-    text, _ = builtin_or_file(name_or_path, _spec_dir(), "optimise spec", "--spec")
-    return parse_optimise_spec(text, origin=str(name_or_path))
+    text, path = builtin_or_file(name_or_path, _spec_dir(), "optimise spec", "--spec")
+    if path is None:
+        return _parse(text, str(name_or_path), Path(str(_spec_dir())), "the folder of the built-in specs")
+    return _parse(text, str(name_or_path), path.resolve().parent, "the spec's folder")
 
 
-def parse_optimise_spec(source: str | dict, origin: str = "<string>") -> OptimiseSpec:
-    """Validate an optimise spec given as TOML text or as the dict it parses to (see the module docstring)."""
+def parse_optimise_spec(source: str | dict, origin: str = "<string>", base_dir: str | Path | None = None
+                        ) -> OptimiseSpec:
+    """Validate an optimise spec given as TOML text or as the dict it parses to (see the module docstring).
+
+    ``base_dir``: the folder the spec names its path CSVs in (the working folder if None).
+    """
+    return _parse(source, origin, Path.cwd() if base_dir is None else Path(base_dir), "the spec's folder")
+
+
+def _parse(source: str | dict, origin: str, base_dir: Path, place: str) -> OptimiseSpec:
+    """:func:`parse_optimise_spec` with the folder the spec names its files in and that folder in words."""
     from ..params.tomlfile import parse_toml
 
     raw = parse_toml(source, origin) if isinstance(source, str) else dict(source)
@@ -203,12 +220,29 @@ def parse_optimise_spec(source: str | dict, origin: str = "<string>") -> Optimis
     except ValidationError as exc:
         raise InputError(describe_validation_error(exc, raw, _File), where=origin) from None
     o = model.optimise
+    manoeuvres = tuple(_path_csv(m, base_dir, place, origin) if m.lower().endswith(".csv") else m
+                       for m in o.manoeuvres)
     return OptimiseSpec(knobs=tuple((n, float(lo), float(hi)) for n, (lo, hi) in o.knobs.items()),
-                        manoeuvres=tuple(o.manoeuvres), payload_kg=float(o.payload_kg), seed=int(o.seed),
+                        manoeuvres=manoeuvres, payload_kg=float(o.payload_kg), seed=int(o.seed),
                         popsize=int(o.popsize), maxiter=int(o.maxiter), tol=float(o.tol), step=float(o.step),
                         resolution_kmh=float(o.resolution_kmh), high_kmh=float(o.high_kmh),
                         criterion=o.criterion, speed_control=o.speed_control, description=o.description,
                         origin=origin)
+
+
+def _path_csv(name: str, base_dir: Path, place: str, origin: str) -> str:
+    """The absolute path of a path CSV the spec names (the rule of :func:`trikedyn._reading.named_file`), read
+    and checked as a path now (one line naming the spec and the CSV, not a failure in every evaluation)."""
+    from .._reading import named_file
+    from ..manoeuvres.csv_path import path_from_csv
+
+    named = named_file(name, base_dir, expected="a path .csv file", where=origin, key="optimise.manoeuvres",
+                       place=place, suffixes=(".csv",))
+    try:
+        path_from_csv(named.path)
+    except InputError as exc:
+        raise InputError(f"optimise.manoeuvres: {exc}", where=origin) from None
+    return str(named.path)
 
 
 def population_size(popsize: int, n_knobs: int) -> int:

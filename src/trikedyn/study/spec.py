@@ -4,7 +4,7 @@ A study file::
 
     name = "paper-fig10"
     description = "..."
-    vehicle = "reference-etrike"        # preset name, or a .toml path relative to this file
+    vehicle = "reference-etrike"        # preset name, or a .toml file in this file's folder or below it
     manoeuvres = ["dlc", "slc"]         # registered manoeuvres (`trikedyn manoeuvres`), default options
     metrics = ["threshold"]             # optional (this is the default): what each variation measures
     freight_kg = [0, 50, 100, 150, 200]
@@ -46,6 +46,12 @@ a scenario that two groups share is run once and carries both group names. Every
 scales, overrides, search settings, and the metric with its options unless it is the default threshold,
 so that a spec without ``metrics`` keeps the ids it always had). The id is what the result store is keyed by, so a re-run of the same
 spec finds its finished scenarios, and a changed vehicle file gives new ids instead of stale results.
+
+A vehicle file, and a ``.tir`` given as a ``wheels.NAME.tyre_file`` override, are files a file names: the one
+rule holds (:mod:`trikedyn._reading`): relative to the spec's folder, in it or below it once symbolic links are
+resolved (no absolute path, no ``..``); a built-in spec names presets or shipped files only. A tyre file given
+as an override is read and checked when the spec is loaded (so ``--dry-run`` refuses it), and the scenarios
+carry its absolute path, so a run reads the file that was checked wherever it runs.
 
 :func:`load_spec` does the I/O (reads the file, loads the vehicle once to check override paths and to
 digest it); the expansion into scenarios (:func:`~trikedyn.study.scenarios.expand`,
@@ -276,7 +282,9 @@ def load_spec(name_or_path: str | Path | StudySpec) -> StudySpec:
     from ..params.tomlfile import builtin_or_file
 
     text, path = builtin_or_file(name_or_path, _spec_dir(), "study spec", "study")
-    return parse_spec(text, origin=str(name_or_path), base_dir=None if path is None else path.resolve().parent)
+    if path is None:
+        return _parse(text, str(name_or_path), Path(str(_spec_dir())), "the folder of the built-in specs")
+    return _parse(text, str(name_or_path), path.resolve().parent, "the spec's folder")
 
 
 def parse_spec(source: str | dict, origin: str = "<string>", base_dir: str | Path | None = None) -> StudySpec:
@@ -289,8 +297,14 @@ def parse_spec(source: str | dict, origin: str = "<string>", base_dir: str | Pat
     origin : str
         Name shown in error messages.
     base_dir : path, optional
-        Folder that a relative vehicle path is relative to (the spec file's; the working folder if None).
+        The folder the spec's files are named in (the spec file's; the working folder if None): a vehicle
+        path and a ``tyre_file`` override lie in it or below it.
     """
+    return _parse(source, origin, Path.cwd() if base_dir is None else Path(base_dir), "the spec's folder")
+
+
+def _parse(source: str | dict, origin: str, base_dir: Path, place: str) -> StudySpec:
+    """:func:`parse_spec` with the folder the spec names its files in and that folder in words."""
     from ..params.tomlfile import parse_toml
 
     raw = parse_toml(source, origin) if isinstance(source, str) else dict(source)
@@ -307,7 +321,7 @@ def parse_spec(source: str | dict, origin: str = "<string>", base_dir: str | Pat
     if dup is not None:
         raise InputError(f"groups: the name '{dup}' is used twice; group names must be unique", where=origin)
 
-    vehicle_source = _resolve_vehicle(model.vehicle, base_dir)
+    vehicle_source = _resolve_vehicle(model.vehicle, base_dir, place, origin)
     from ..errors import ParameterError
     from ..params import load_vehicle
 
@@ -316,9 +330,10 @@ def parse_spec(source: str | dict, origin: str = "<string>", base_dir: str | Pat
     except ParameterError as exc:
         raise InputError(f"vehicle: {exc}", where=origin) from None
     plain = pset.params.model_dump(mode="json")
+    overrides = {g.name: _tyre_files(g.name, g.overrides, base_dir, place, origin) for g in model.groups}
     for group in model.groups:
-        for dotted, values in group.overrides.items():
-            problem = _override_problem(pset.params, plain, dotted, values, group.overrides)
+        for dotted, values in overrides[group.name].items():
+            problem = _override_problem(pset.params, plain, dotted, values, overrides[group.name])
             if problem:
                 raise InputError(f"groups[{group.name}].overrides: {problem}", where=origin)
     digest = hashlib.sha256(pset.params.model_dump_json().encode()).hexdigest()[:12]
@@ -329,7 +344,7 @@ def parse_spec(source: str | dict, origin: str = "<string>", base_dir: str | Pat
             name=g.name,
             stiffness_scale=tuple(float(v) for v in g.stiffness_scale),
             damping_scale=tuple(float(v) for v in g.damping_scale),
-            overrides=tuple((k, tuple(norm(v) for v in vals)) for k, vals in g.overrides.items()),
+            overrides=tuple((k, tuple(norm(v) for v in vals)) for k, vals in overrides[g.name].items()),
         )
         for g in model.groups
     )
@@ -373,18 +388,44 @@ def _parse_metrics(entries, origin: str) -> tuple[tuple[str, dict], ...]:
     return tuple(parsed)
 
 
-def _resolve_vehicle(vehicle: str, base_dir: str | Path | None) -> str:
-    """A preset name stays a name; a path is made relative to the spec file's folder."""
+def _resolve_vehicle(vehicle: str, base_dir: Path, place: str, origin: str) -> str:
+    """A preset name stays a name; a path is a file the spec names (the rule of
+    :func:`trikedyn._reading.named_file`), made absolute in the spec's folder."""
+    from .._reading import named_file
     from ..params import list_presets
 
     if vehicle in list_presets() and not vehicle.endswith(".toml"):
         return vehicle
-    path = Path(vehicle)
-    if path.suffix == ".toml" or "/" in vehicle:
-        if not path.is_absolute() and base_dir is not None:
-            path = Path(base_dir) / path
-        return str(path)
+    if Path(vehicle).suffix == ".toml" or "/" in vehicle or "\\" in vehicle:
+        named = named_file(vehicle, base_dir, expected="a preset name or a .toml vehicle file", where=origin,
+                           key="vehicle", place=place)
+        return str(named.path)
     return vehicle  # an unknown name: load_vehicle explains, with a close match
+
+
+def _tyre_files(group: str, overrides: dict, base_dir: Path, place: str, origin: str) -> dict:
+    """A group's overrides with each ``wheels.NAME.tyre_file`` value made the absolute path of a ``.tir`` file
+    the spec names (the rule of :func:`trikedyn._reading.named_file`), read and checked now."""
+    from .._reading import named_file
+    from ..tyre.tir import read_tir
+
+    out = dict(overrides)
+    for dotted, values in overrides.items():
+        keys = dotted.split(".")
+        if not (len(keys) == 3 and keys[0] == "wheels" and keys[2] == "tyre_file"):
+            continue
+        key = f"groups[{group}].overrides.{dotted}"
+        paths = []
+        for value in values:
+            named = named_file(value, base_dir, expected="a .tir file", where=origin, key=key, place=place,
+                               suffixes=(".tir",))
+            try:
+                read_tir(named.path)
+            except InputError as exc:
+                raise InputError(f"{key}: {exc}", where=origin) from None
+            paths.append(str(named.path))
+        out[dotted] = paths
+    return out
 
 
 def _override_problem(params, plain: dict, dotted: str, values, group: dict) -> str | None:

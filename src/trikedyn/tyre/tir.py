@@ -39,6 +39,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
 
+from .._reading import excerpt, read_bytes
 from ..errors import InputError
 
 __all__ = ["MAX_BYTES", "MAX_RADIUS_M", "MIN_RADIUS_M", "TirTable", "TyreProperties", "parse_tir", "read_tir"]
@@ -240,24 +241,15 @@ def read_tir(path: str | Path) -> TyreProperties:
     Raises
     ------
     InputError
-        The file is missing, unreadable, too large, binary, or not a valid property file (naming
-        ``file:line`` and what is wrong).
+        The file is missing, not a regular file (a folder, a pipe, a device: refused before it is opened),
+        unreadable, too large, binary, or not a valid property file (naming ``file:line`` and what is wrong;
+        a line is quoted at most 40 characters, escaped). Read by the one bounded reader
+        (:mod:`trikedyn._reading`).
     """
     path = Path(path)
     where = str(path)
-    try:
-        if path.is_dir():
-            raise InputError("is a folder; expected a .tir file", where=where)
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_BYTES + 1)
-    except FileNotFoundError:
-        raise InputError("no such file", where=where) from None
-    except OSError as exc:
-        from .._files import describe_os_error
-
-        raise InputError(f"cannot read ({describe_os_error(exc)})", where=where) from None
-    if len(data) > MAX_BYTES:
-        raise InputError(f"larger than {MAX_BYTES // 1024} KiB; not a tyre property file", where=where)
+    data = read_bytes(path, where, max_bytes=MAX_BYTES, expected="a .tir tyre property file",
+                      too_large=lambda _: f"larger than {MAX_BYTES // 1024} KiB; not a tyre property file")
     if b"\x00" in data:
         raise InputError("contains NUL bytes: a binary file, not a text .tir property file", where=where)
     encoding = "utf-8"
@@ -301,15 +293,15 @@ def _value(raw: str, key: str, where: str) -> float | str:
         raise InputError(f"{key} has no value", where=where)
     if raw[0] in "'\"":
         if len(raw) < 2 or raw[-1] != raw[0]:
-            raise InputError(f"{key}: unterminated string {raw!r}", where=where)
+            raise InputError(f"{key}: unterminated string {excerpt(raw)}", where=where)
         return raw[1:-1].strip()
     value = _number(raw)
     if value is None:
         if key in _STRINGS and re.fullmatch(r"[A-Za-z0-9_.\- ]+", raw):
             return raw  # an unquoted word
-        raise InputError(f"{key}: expected a number or a quoted string, got {raw[:40]!r}", where=where)
+        raise InputError(f"{key}: expected a number or a quoted string, got {excerpt(raw)}", where=where)
     if not math.isfinite(value):
-        raise InputError(f"{key}: {raw} is not a finite number", where=where)
+        raise InputError(f"{key}: {raw[:40]} is not a finite number", where=where)  # float() read it: printable
     return value
 
 
@@ -329,15 +321,15 @@ def parse_tir(text: str, name: str = "<tir>", *, encoding: str = "utf-8") -> Tyr
         if body.startswith("["):
             match = _SECTION.fullmatch(body)
             if not match:
-                raise InputError(f"malformed section header {body[:40]!r}", where=where)
+                raise InputError(f"malformed section header {excerpt(body)}", where=where)
             section = match.group(1).upper().replace(" ", "_").replace("-", "_")
             sections.setdefault(section, {})
             continue
         if section is None:
-            raise InputError(f"{body[:40]!r} before any [SECTION] header", where=where)
+            raise InputError(f"{excerpt(body)} before any [SECTION] header", where=where)
         if body.startswith("{"):
             if not body.endswith("}"):
-                raise InputError(f"malformed table header {body[:40]!r}", where=where)
+                raise InputError(f"malformed table header {excerpt(body)}", where=where)
             tables[section] = [tuple(body[1:-1].split()), [], number]
             continue
         match = _ASSIGN.fullmatch(body)
@@ -358,13 +350,14 @@ def parse_tir(text: str, name: str = "<tir>", *, encoding: str = "utf-8") -> Tyr
                 raise InputError("table row has a number that is not finite", where=where)
             tables[section][1].append(tuple(values))
             continue
-        raise InputError(f"cannot read {body[:40]!r}: expected KEY = value, [SECTION], a table row or a "
+        raise InputError(f"cannot read {excerpt(body)}: expected KEY = value, [SECTION], a table row or a "
                          "comment (! or $)", where=where)
     return _build(name, sections, lines, tables, encoding)
 
 
 def _build(name, sections, lines, tables, encoding) -> TyreProperties:
     def at(section, key):
+        """``file:line`` of a key of a section."""
         return f"{name}:{lines[(section, key)]}"
 
     notes: list[str] = []
@@ -377,7 +370,7 @@ def _build(name, sections, lines, tables, encoding) -> TyreProperties:
             continue
         factor = table.get(unit, table.get(unit[:-1]) if unit.endswith("s") else None)
         if factor is None:
-            raise InputError(f"unknown {quantity.lower()} unit {unit!r} (known: {', '.join(sorted(table))})",
+            raise InputError(f"unknown {quantity.lower()} unit {excerpt(unit)} (known: {', '.join(sorted(table))})",
                              where=at("UNITS", quantity))
         factors[quantity] = factor
     if "UNITS" not in sections:
@@ -406,7 +399,7 @@ def _build(name, sections, lines, tables, encoding) -> TyreProperties:
         if key in flat:
             value, sec = flat[key]
             if not isinstance(value, float):
-                raise InputError(f"{key} must be a number, got {value!r}", where=at(sec, key))
+                raise InputError(f"{key} must be a number, got {excerpt(str(value))}", where=at(sec, key))
             coefficients[key] = value
         else:
             coefficients[key] = default
@@ -417,7 +410,7 @@ def _build(name, sections, lines, tables, encoding) -> TyreProperties:
     side_entry = flat.get("TYRESIDE")
     side = str(side_entry[0]).strip().upper() if side_entry else "LEFT"
     if side not in ("LEFT", "RIGHT", "SYMMETRIC"):
-        raise InputError(f"TYRESIDE must be 'LEFT', 'RIGHT' or 'SYMMETRIC', got {side_entry[0]!r}",
+        raise InputError(f"TYRESIDE must be 'LEFT', 'RIGHT' or 'SYMMETRIC', got {excerpt(str(side_entry[0]))}",
                          where=at(side_entry[1], "TYRESIDE"))
     if side_entry is None:
         notes.append("no TYRESIDE: the tyre is taken as measured on the LEFT")
@@ -461,7 +454,8 @@ def _family(name, flat, sections, at) -> tuple[str, str]:
     if "FITTYP" in flat:
         value, sec = flat["FITTYP"]
         if not isinstance(value, float) or int(value) != value or int(value) not in _FITTYP:
-            raise InputError(f"FITTYP {value!r} is not a Magic Formula 5.2/6.x model (6, 21, 61 or 62)",
+            shown = repr(value) if isinstance(value, float) else excerpt(str(value))
+            raise InputError(f"FITTYP {shown} is not a Magic Formula 5.2/6.x model (6, 21, 61 or 62)",
                              where=at(sec, "FITTYP"))
         return _FITTYP[int(value)], f"FITTYP={int(value)}"
     if "PROPERTY_FILE_FORMAT" not in flat:
@@ -469,7 +463,7 @@ def _family(name, flat, sections, at) -> tuple[str, str]:
     value, sec = flat["PROPERTY_FILE_FORMAT"]
     family = _FORMATS.get(re.sub(r"[\s_\-]", "", str(value).upper()))
     if family is None:
-        raise InputError(f"PROPERTY_FILE_FORMAT {value!r} is not supported; expected {accepted}",
+        raise InputError(f"PROPERTY_FILE_FORMAT {excerpt(str(value))} is not supported; expected {accepted}",
                          where=at(sec, "PROPERTY_FILE_FORMAT"))
     return family, str(value)
 
@@ -478,6 +472,7 @@ def _check(c: dict[str, float], flat, at, length_unit: str) -> None:
     """Values the equations cannot work with, and a radius no tyre has (lengths in another unit)."""
 
     def where(key):
+        """``file:line`` of a key, or the key when the file lacks it."""
         return at(flat[key][1], key) if key in flat else key
 
     for key in ("FNOMIN", "UNLOADED_RADIUS", "LFZO"):
@@ -485,7 +480,7 @@ def _check(c: dict[str, float], flat, at, length_unit: str) -> None:
             raise InputError(f"{key} must be > 0, got {c[key]:g}", where=where(key))
     if not MIN_RADIUS_M <= c["UNLOADED_RADIUS"] <= MAX_RADIUS_M:
         raise InputError(f"UNLOADED_RADIUS {c['UNLOADED_RADIUS']:g} m is no tyre's ({MIN_RADIUS_M:g} to "
-                         f"{MAX_RADIUS_M:g} m); are the file's lengths in {length_unit!r}, its [UNITS] LENGTH?",
+                         f"{MAX_RADIUS_M:g} m); are the file's lengths in {excerpt(length_unit)}, its [UNITS] LENGTH?",
                          where=where("UNLOADED_RADIUS"))
     if c["LMUY"] == 0.0:
         raise InputError("LMUY must not be 0 (the aligning-torque stiffness divides by it)", where=where("LMUY"))
