@@ -6,6 +6,13 @@ Every file trikedyn writes for a user goes through here:
 - :func:`check_output` / :func:`check_output_folder` check an output before any work is done (so a long
   run does not end in a refusal): not one of the command's inputs, not an existing file unless ``force``,
   in a folder that exists and can be written;
+- an input is every file the command reads (:func:`inputs_of`): each one named in ``reads`` and, for a
+  vehicle file, the files it reads in turn (the chain of files it ``extends``, every wheel's ``.tir``:
+  :func:`trikedyn.params.files.vehicle_files`). An output folder is checked against the names the command
+  writes in it (:func:`check_not_inputs`: ``sensitivity-samples.csv``, ``fig_*.png``, ...), so that a path CSV
+  or an identification JSON that sits in ``--out`` under such a name is never replaced, not even with
+  ``force`` (which only allows replacing earlier outputs). Two names are one file when they are the same
+  file on disk (:func:`os.path.samefile`: symbolic and hard links) or resolve to the same path;
 
 - :func:`ensure_folder` creates the folder; a path that cannot be a writable folder (its parent is a
   file, no permission, a read-only file system) is an :class:`~trikedyn.errors.InputError` naming it;
@@ -31,8 +38,8 @@ from typing import IO
 
 from .errors import InputError
 
-__all__ = ["atomic_write", "check_output", "check_output_folder", "describe_os_error",
-           "ensure_folder", "open_nofollow", "refuse_symlink"]
+__all__ = ["atomic_write", "check_not_inputs", "check_output", "check_output_folder", "describe_os_error",
+           "ensure_folder", "inputs_of", "open_nofollow", "refuse_symlink"]
 
 
 def describe_os_error(exc: OSError) -> str:
@@ -195,6 +202,89 @@ def _same_file(a: Path, b: Path) -> bool:
         return False
 
 
+def _resolved(path: Path) -> Path:
+    try:
+        return path.resolve()
+    except (OSError, RuntimeError, ValueError):  # a loop of symbolic links, a name the system refuses
+        return path.absolute()
+
+
+def _is_one(a: Path, b: Path) -> bool:
+    """Whether the names ``a`` and ``b`` are one file: the same file on disk, or the same resolved path."""
+    return _same_file(a, b) or _resolved(a) == _resolved(b)
+
+
+def inputs_of(reads: Iterable) -> list[tuple[Path, str | None]]:
+    """Every file behind the inputs ``reads`` of a command, each with what it is (None: as named).
+
+    ``reads`` holds paths (None entries are skipped). A ``.toml`` file among them is taken as a vehicle file:
+    the files it reads are added (:func:`trikedyn.params.files.vehicle_files`: its ``extends`` chain and
+    its wheels' tyre files). A file that is no vehicle file adds nothing.
+    """
+    found: list[tuple[Path, str | None]] = []
+    for source in reads:
+        if source is None:
+            continue
+        path = Path(os.fspath(source))
+        found.append((path, None))
+        if path.suffix.lower() == ".toml":
+            from .params.files import vehicle_files
+
+            found += [(file, why) for file, why in vehicle_files(path)[1:]]
+    return found
+
+
+def _refuse_input(path: Path, inputs: list[tuple[Path, str | None]], option: str | None) -> None:
+    for source, why in inputs:
+        if _is_one(path, source):
+            what = f" ({why})" if why else ""
+            other = f"; use another {option}" if option else ""
+            raise InputError(f"is also an input of this command{what}; not writing onto it, not even with "
+                             f"--force{other}", where=str(path))
+
+
+def check_not_inputs(folder: str | os.PathLike, writes: Iterable[str], reads: Iterable = (),
+                     option: str | None = "--out") -> None:
+    """Refuse an output folder in which a file the command would write is one of the files it reads.
+
+    Parameters
+    ----------
+    folder : path
+        The output folder (it need not exist).
+    writes : iterable of str
+        The names the command writes in ``folder``; a name may be a pattern (``fig_*.png``,
+        :mod:`fnmatch`).
+    reads : iterable of path
+        The command's inputs, expanded by :func:`inputs_of`.
+    option : str, optional
+        The option that names the folder, for the message.
+
+    Raises
+    ------
+    InputError
+        Naming the output file that is an input, and what it is (``is an input of this command (extended by
+        child.toml)``); regardless of ``force``.
+    """
+    import fnmatch
+    import glob
+
+    folder = Path(folder)
+    inputs = inputs_of(reads)
+    if not inputs:
+        return
+    here = _resolved(folder)
+    for name in writes:
+        if not glob.has_magic(name):
+            _refuse_input(folder / name, inputs, option)
+            continue
+        for source, _ in inputs:  # an input named by this pattern, in this folder
+            if fnmatch.fnmatchcase(source.name, name) and _resolved(source).parent == here:
+                _refuse_input(folder / source.name, inputs, option)
+        with contextlib.suppress(OSError):  # an existing output that is an input by another name (a link)
+            for existing in (folder.glob(name) if folder.is_dir() else ()):
+                _refuse_input(existing, inputs, option)
+
+
 def check_output(path: str | os.PathLike, *, force: bool = False, reads: Iterable = (),
                  option: str | None = None) -> Path:
     """``path`` checked as an output file.
@@ -202,14 +292,13 @@ def check_output(path: str | os.PathLike, *, force: bool = False, reads: Iterabl
     Raises
     ------
     InputError
-        When it is one of the files the command reads (``reads``), exists and ``force`` is not given, is a
-        folder, or its folder does not exist.
+        When it is one of the files the command reads (``reads``, expanded by :func:`inputs_of`: a vehicle
+        file's ``extends`` chain and tyre files count; even with ``force``), exists and ``force`` is not
+        given, is a folder, or its folder does not exist.
     """
     path = Path(path)
     where = str(path)
-    for source in reads:
-        if source is not None and (_same_file(path, Path(source)) or path.resolve() == Path(source).resolve()):
-            raise InputError(f"is also an input of this command; not writing onto it{_named(option)}", where=where)
+    _refuse_input(path, inputs_of(reads), option)
     if path.is_dir():
         raise InputError("is a folder; expected a file name", where=where)
     refuse_symlink(path)
@@ -224,10 +313,13 @@ def check_output(path: str | os.PathLike, *, force: bool = False, reads: Iterabl
     return path
 
 
-def check_output_folder(path: str | os.PathLike, *, force: bool = False, option: str | None = None) -> Path:
+def check_output_folder(path: str | os.PathLike, *, force: bool = False, option: str | None = None,
+                        reads: Iterable = (), writes: Iterable[str] = ()) -> Path:
     """``path`` checked as an output folder: created if missing; an existing non-empty one only with
-    ``force`` (its files may be replaced)."""
+    ``force`` (its files may be replaced); never one in which a name of ``writes`` is a file of ``reads``
+    (:func:`check_not_inputs`, whatever ``force``)."""
     path = Path(path)
+    check_not_inputs(path, writes, reads, option)
     if path.exists() and not path.is_dir():
         raise InputError("exists and is not a folder", where=str(path))
     if path.is_dir() and any(path.iterdir()) and not force:
@@ -240,6 +332,3 @@ def check_output_folder(path: str | os.PathLike, *, force: bool = False, option:
         raise InputError("is not writable", where=str(path))
     return path
 
-
-def _named(option: str | None) -> str:
-    return f" ({option})" if option else ""

@@ -1,13 +1,18 @@
 """The ``trikedyn`` command: a thin command map over the Python API.
 
 Every command has ``--help`` and ``--json``. A user's mistake (file, field, value) prints one line,
-``trikedyn: error: WHERE: WHAT``, and exits with code 2; nothing else is printed.
+``trikedyn: error: WHERE: WHAT``, and exits with code 2; nothing else is printed. Ctrl-C (SIGINT) prints one
+line, ``trikedyn: interrupted`` (and what was kept, where a command says so: :func:`~trikedyn.commands._common.
+on_interrupt`), under ``--json`` also a JSON object ``{"error": "interrupted...", "where": "SIGINT",
+"interrupted": true}`` on stdout, and exits with code 130.
 """
 
 from __future__ import annotations
 
 import json
+import signal
 import sys
+import threading
 from typing import Annotated
 
 import typer
@@ -59,7 +64,7 @@ from .commands import (  # noqa: E402
     uncertainty,
     vehicle,
 )
-from .commands._common import WARNINGS, emit  # noqa: E402
+from .commands._common import INTERRUPT_NOTES, WARNINGS, emit  # noqa: E402
 
 app.add_typer(vehicle.vehicle_app, name="vehicle")
 app.add_typer(cg.cg_app, name="cg")
@@ -98,6 +103,47 @@ def _fail(message: str, as_json: bool, where: str | None = None) -> int:
     return 2
 
 
+def _interrupted(as_json: bool) -> int:
+    """One line ``trikedyn: interrupted`` on stderr, with what the command kept (and, under --json, a JSON
+    object on stdout saying so); exit code 130."""
+    line = "; ".join(["interrupted", *(" ".join(n.split()) for n in INTERRUPT_NOTES)])
+    typer.echo(f"trikedyn: {line}", err=True)
+    if as_json:
+        typer.echo(json.dumps({"error": line, "where": "SIGINT", "interrupted": True}, allow_nan=False))
+    return 130
+
+
+class _SigintSeen:
+    """While a command runs, SIGINT raises the KeyboardInterrupt Python's own handler would, and is noted.
+
+    The CLI library turns a KeyboardInterrupt into a silent exit code 130 (``typer``: ``Exit(130)``, returned
+    as the command's result): the note is how :func:`main` tells an interrupt from a command that returned 130,
+    and says so. Installed only over Python's default handler, in the main thread (a SIGINT ignored by the
+    shell that started us stays ignored); a handler a command installs for itself (the study's: stop after
+    the scenarios in flight) takes over while it runs.
+    """
+
+    def __init__(self):
+        self.seen = False
+        self._installed = False
+
+    def _handler(self, signum, frame):  # noqa: ARG002
+        self.seen = True
+        raise KeyboardInterrupt
+
+    def __enter__(self):
+        if threading.current_thread() is threading.main_thread() and \
+                signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+            signal.signal(signal.SIGINT, self._handler)
+            self._installed = True
+        return self
+
+    def __exit__(self, *exc):
+        if self._installed:
+            signal.signal(signal.SIGINT, signal.default_int_handler)
+            self._installed = False
+
+
 def _show_warning(message, category, filename, lineno, file=None, line=None):  # noqa: ARG001
     text = " ".join(str(message).split())
     WARNINGS.append(text)
@@ -110,20 +156,31 @@ def main(argv: list[str] | None = None) -> int:
     A user's mistake or environment (a bad file, field or value; a file that cannot be written; a
     simulation that cannot start or that fails) prints one line ``trikedyn: error: WHERE: WHAT`` on stderr
     and exits with code 2; with ``--json`` the same error is also a JSON object ``{"error", "where"}`` on
-    stdout. Warnings print as one line each. A genuine bug keeps its traceback (exit code 1).
+    stdout. Warnings print as one line each. Ctrl-C (SIGINT) prints one line ``trikedyn: interrupted`` (with
+    what the command kept), under ``--json`` also a JSON object saying so, and exits with code 130. A genuine
+    bug keeps its traceback (exit code 1).
     """
     import warnings
 
     args = list(sys.argv[1:] if argv is None else argv)
     as_json = "--json" in args
     WARNINGS.clear()
+    INTERRUPT_NOTES.clear()
     from .errors import SimulationError
 
-    with warnings.catch_warnings():
+    with warnings.catch_warnings(), _SigintSeen() as sigint:
         warnings.simplefilter("default")
         warnings.showwarning = _show_warning
         try:
-            result = app(args=args, prog_name="trikedyn", standalone_mode=False)
+            try:
+                result = app(args=args, prog_name="trikedyn", standalone_mode=False)
+            except Exception as exc:  # a Ctrl-C in compiled code comes back as an error caused by it
+                from .study.sample_runs import raise_interrupt
+
+                raise_interrupt(exc)
+                raise
+            if sigint.seen and result == 130:  # the CLI library's silent exit for a KeyboardInterrupt
+                return _interrupted(as_json)
         except InputError as exc:
             return _fail(str(exc), as_json, exc.where)
         except SimulationError as exc:
@@ -136,10 +193,10 @@ def main(argv: list[str] | None = None) -> int:
         except MemoryError:
             return _fail("input: too large to process in memory", as_json, "input")
         except KeyboardInterrupt:
-            typer.echo("trikedyn: interrupted", err=True)
-            return 130
+            return _interrupted(as_json)
         except SystemExit as exc:
-            return exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+            code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+            return _interrupted(as_json) if sigint.seen and code == 130 else code
         except Exception as exc:  # click's usage errors (unknown option, missing argument) and Exit
             if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):
                 ctx = getattr(exc, "ctx", None)
@@ -149,7 +206,7 @@ def main(argv: list[str] | None = None) -> int:
                 typer.echo("trikedyn: aborted", err=True)
                 return 130
             if hasattr(exc, "exit_code") and type(exc).__name__ == "Exit":
-                return int(exc.exit_code)
+                return _interrupted(as_json) if sigint.seen and int(exc.exit_code) == 130 else int(exc.exit_code)
             raise
     return result if isinstance(result, int) else 0
 

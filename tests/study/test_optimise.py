@@ -112,6 +112,8 @@ def test_same_result_in_process_and_resumed_after_a_kill(pool_run, small_spec, t
     for key in ("best_threshold_speed_kmh", "reference_threshold_speed_kmh", "moves", "evaluations"):
         assert serial[key] == pooled[key], key
     log = out / "optimise-evaluations.csv"
+    pool_log = (pool_run[0] / "optimise-evaluations.csv").read_bytes()
+    assert log.read_bytes() == pool_log  # evaluations numbered by generation and place, not finishing order
     lines = log.read_text().splitlines(keepends=True)
     log.write_text("".join(lines[:6]) + lines[6][:10])  # header, reference, 4 layouts, and a row cut short
     code, stdout, err = run_cli(*args[:-1], "--resume", "--json")
@@ -120,9 +122,44 @@ def test_same_result_in_process_and_resumed_after_a_kill(pool_run, small_spec, t
     assert resumed["resumed_evaluations"] == 5
     for key in ("best_threshold_speed_kmh", "moves", "evaluations"):
         assert resumed[key] == serial[key], key
+    assert log.read_bytes() == pool_log  # a resumed run writes the log an uninterrupted one does
     # again, without --resume or --force: refused, one line, nothing run
     code, stdout, err = run_cli(*args[:-1])
     assert code == 2 and stdout == "" and err.count("\n") == 1 and "--force" in err
+
+
+def test_two_runs_on_two_workers_write_the_same_log(pool_run, small_spec, tmp_path):
+    """Issue 21: the log numbered evaluations in the order the workers finished them, so two identical runs
+    on 2 workers wrote different files."""
+    out = tmp_path / "again"
+    done = subprocess.run([sys.executable, "-m", "trikedyn", "optimise", "reference-etrike", "--spec", str(small_spec),
+                           "--manoeuvre", "dlc", "--workers", "2", "--out", str(out), "--json"],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert (out / "optimise-evaluations.csv").read_bytes() == (pool_run[0] / "optimise-evaluations.csv").read_bytes()
+    rows = list(csv.reader((out / "optimise-evaluations.csv").open()))[1:]
+    assert [int(r[0]) for r in rows] == list(range(len(rows)))
+    assert [int(r[1]) for r in rows] == sorted(int(r[1]) for r in rows)  # by generation, the reference first
+
+
+def test_every_evaluation_failed_is_refused_and_the_log_kept(tmp_path):
+    """Issue 21: with every evaluation failed, optimise exited 0 with a best of 0.0 km/h and wrote an
+    "optimised" vehicle. Now: one line, exit 2, no vehicle written, the log of the failures kept."""
+    out = tmp_path / "out"
+    args = ["-m", "trikedyn", "optimise", "reference-etrike", "--spec", "battery-layout", "--manoeuvre", "slc", "-o",
+            "lateral_offset_m=40", "-o", "length_m=2", "--maxiter", "0", "--popsize", "1", "--resolution", "1",
+            "--workers", "0", "--out", str(out)]
+    for json_flag in ([], ["--json"]):
+        done = subprocess.run([sys.executable, *args, *json_flag, "--force"], capture_output=True, text=True,
+                              timeout=60)
+        errors = [line for line in done.stderr.splitlines() if line.startswith("trikedyn:")]
+        assert done.returncode == 2 and len(errors) == 1, done.stderr
+        assert "every one of the 5 layouts failed" in errors[0] and "no optimised vehicle" in errors[0]
+        assert str(out / "optimise-evaluations.csv") in errors[0]
+        assert (strict_json(done.stdout)["error"] if json_flag else done.stdout) in (errors[0][17:], "")
+        assert not list(out.glob("*.toml")) and not (out / "optimise.json").exists()
+        rows = list(csv.reader((out / "optimise-evaluations.csv").open()))[1:]
+        assert len(rows) == 6 and {r[2] for r in rows} == {"failed"} and all("no threshold" in r[-4] for r in rows)
 
 
 def test_worst_case_over_two_manoeuvres(reference):

@@ -13,10 +13,10 @@ import typer
 from .._json import finite, json_default
 from ..errors import InputError
 
-__all__ = ["BandKmhOpt", "BandPercentOpt", "CriterionOpt", "ForceOpt", "FreightAliasOpt", "JsonOpt", "ManoeuvreOpt",
-           "OptionOpt", "PayloadOpt", "SpeedControlOpt", "VehicleArg", "WARNINGS", "choice", "emit", "finite",
-           "json_default", "judging", "key_values", "manoeuvre_options", "payload_kg", "readable", "round_text",
-           "save_figure", "within"]
+__all__ = ["INTERRUPT_NOTES", "WARNINGS", "BandKmhOpt", "BandPercentOpt", "CriterionOpt", "ForceOpt", "FreightAliasOpt",
+           "JsonOpt", "ManoeuvreOpt", "OptionOpt", "PayloadOpt", "SpeedControlOpt", "VehicleArg", "choice", "emit",
+           "finite", "json_default", "judging", "key_values", "manoeuvre_options", "on_interrupt", "payload_kg",
+           "readable", "round_text", "save_figure", "within"]
 
 
 def within(low: float, high: float, unit: str = "", *, above: bool = False):
@@ -77,6 +77,15 @@ def payload_kg(payload: float, freight: float | None) -> float:
 
 WARNINGS: list[str] = []
 """Warnings raised while a command runs (printed as one line each, and listed under ``warnings`` in JSON)."""
+
+INTERRUPT_NOTES: list[str] = []
+"""What a command keeps if it is interrupted from here on (:func:`on_interrupt`), said after ``trikedyn:
+interrupted``."""
+
+
+def on_interrupt(note: str) -> None:
+    """Say ``note`` (what is kept, how to go on) if the command is interrupted (Ctrl-C) from now on."""
+    INTERRUPT_NOTES.append(note)
 
 
 def emit(data, as_json: bool, text=None) -> None:

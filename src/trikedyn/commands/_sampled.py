@@ -38,14 +38,18 @@ def check_resume(out: Path | None, resume: bool, force: bool) -> None:
         raise InputError("give --resume (continue) or --force (start again), not both", where="--resume")
 
 
-def start_output(out: Path, plan: dict, plan_file: str, *, kind: str, resume: bool, force: bool) -> None:
+def start_output(out: Path, plan: dict, plan_file: str, *, kind: str, resume: bool, force: bool,
+                 reads=(), writes=()) -> None:
     """Prepare ``out`` for a run described by ``plan`` (written as ``plan_file``).
 
     With ``resume``, an existing plan must equal ``plan`` (else the folder holds another run); without it, a
-    folder holding a ``kind`` run, or any other output, is replaced only with ``force``.
+    folder holding a ``kind`` run, or any other output, is replaced only with ``force``. In every case, none
+    of the names the run writes in ``out`` (``writes``, and ``plan_file``) may be one of the files it reads
+    (``reads``: :func:`trikedyn._files.check_not_inputs`), with ``--force`` or ``--resume`` too.
     """
-    from .._files import atomic_write, check_output_folder, ensure_folder, refuse_symlink
+    from .._files import atomic_write, check_not_inputs, check_output_folder, ensure_folder, refuse_symlink
 
+    check_not_inputs(out, [plan_file, *writes], reads)
     plan_path = out / plan_file
     if resume and refuse_symlink(plan_path).exists():
         try:
@@ -64,6 +68,9 @@ def start_output(out: Path, plan: dict, plan_file: str, *, kind: str, resume: bo
                              where=str(out))
         check_output_folder(out, force=force)
     atomic_write(plan_path, lambda fh: fh.write(json.dumps(plan, indent=2)), binary=False)
+    from ._common import on_interrupt
+
+    on_interrupt(f"what is done is kept in {out}: the same command with --resume continues it")
 
 
 def write_results(out: Path, data: dict, figure, figure_file: str, json_file: str, *, dpi: int = 110,

@@ -77,7 +77,8 @@ def compare_layouts_cmd(
     if out is not None:
         from .._files import check_output_folder
 
-        check_output_folder(out, force=force, option="--out")
+        check_output_folder(out, force=force, option="--out", reads=[vehicle, *manoeuvres],
+                            writes=["comparison.json", "*-mirror-*.toml", "layouts.png"])
     pset = with_freight(load_vehicle(vehicle), payload)
     result = compare_layouts(pset, manoeuvres, keep=keep, tilt=not no_tilt, low_kmh=low, high_kmh=high,
                              resolution_kmh=resolution, criterion=criterion, speed_control=speed_control)

@@ -74,7 +74,8 @@ def loading_chart_cmd(
     if out is not None:
         from .._files import check_output_folder
 
-        check_output_folder(out, force=force, option="--out")
+        check_output_folder(out, force=force, option="--out", reads=[vehicle, manoeuvre, options.get("file")],
+                            writes=[JSON_FILE, CSV_FILE, FIGURE_FILE])
     search = Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion,
                     speed_control=speed_control).on_course_of(pset)
     chart = lc.run_loading_chart(pset, search, *grid,

@@ -101,9 +101,9 @@ def optimise_cmd(
     the_spec.check(pset)
     searches = tuple(s.on_course_of(pset) for s in searches)  # every layout meets the reference's course
     vehicle_file = out / _file_name(pset.name)
-    if vehicle_file.resolve() == Path(vehicle).resolve():
-        raise InputError("is also the vehicle this command reads; use another --out", where=str(vehicle_file))
-    start_output(out, _plan(pset, the_spec, searches), PLAN_FILE, kind="an optimise", resume=resume, force=force)
+    reads = [vehicle, spec, *the_spec.manoeuvres, *(s.options.get("file") for s in searches)]
+    start_output(out, _plan(pset, the_spec, searches), PLAN_FILE, kind="an optimise", resume=resume, force=force,
+                 reads=reads, writes=[JSON_FILE, LOG_FILE, FIGURE_FILE, vehicle_file.name])
     log = opt.EvaluationLog(out / LOG_FILE, the_spec.names, the_spec.manoeuvres)
     result = opt.run_optimise(pset, the_spec, searches, workers=workers, log=log, resume=resume,
                               progress=ProgressLine("optimise", "evaluations", every_s=5.0))

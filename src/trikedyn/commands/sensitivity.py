@@ -129,7 +129,8 @@ def sensitivity_cmd(
     plan = json.loads(json.dumps(_plan(pset, search, factors, method, n, seed, fraction)))
     log = None
     if out is not None:
-        start_output(out, plan, PLAN_FILE, kind="a sensitivity", resume=resume, force=force)
+        start_output(out, plan, PLAN_FILE, kind="a sensitivity", resume=resume, force=force,
+                     reads=[vehicle, manoeuvre, options.get("file")], writes=[JSON_FILE, SAMPLES_FILE, FIGURE_FILE])
         log = sa.SampleLog(out / SAMPLES_FILE, factors, sa.group_size(method, len(factors)))
     result = sa.run_sensitivity(pset, search, factors, method=method, samples=n, seed=seed, fraction=fraction,
                                 excluded=excluded, workers=workers, log=log, resume=resume, progress=ProgressLine("sensitivity"))

@@ -24,6 +24,7 @@ def study_cmd(
     out: Annotated[Path, typer.Option("--out", help="Output folder (its store makes a re-run resume).")] = Path("study-output"),
     dry_run: Annotated[bool, typer.Option("--dry-run", help="Check the spec and count its scenarios; run nothing.")] = False,
     max_scenarios: Annotated[int, typer.Option("--max-scenarios", callback=within(1, 1e9), help="Refuse a spec with more scenarios than this.")] = 10_000,
+    force: Annotated[bool, typer.Option("--force", help="Write into an existing --out folder that holds other files but no study (its results.csv, results.parquet and fig_*.png are replaced). A study's folder needs none: the run resumes it.")] = False,
     as_json: JsonOpt = False,
 ):
     """Parametric study: vehicle variations x manoeuvres x metrics (threshold by default); parallel, resumable, CSV, Parquet and figures."""
@@ -43,7 +44,7 @@ def study_cmd(
                                       f"({', '.join(loaded.manoeuvres)}; {', '.join(metrics)}); nothing run"))
         return
     run_study_cmd(spec, out, workers=workers, dask_local=dask_local, scheduler=scheduler, max_scenarios=max_scenarios,
-                  as_json=as_json)
+                  as_json=as_json, force=force)
 
 
 def study_summary_text(s: dict) -> str:
@@ -65,13 +66,15 @@ def study_summary_text(s: dict) -> str:
 
 
 def run_study_cmd(spec, out, *, workers=None, dask_local=None, scheduler=None, max_scenarios=10_000,
-                  as_json=False) -> dict:
+                  as_json=False, force=False) -> dict:
     """Run or resume a study, print its summary (text or JSON) and progress (a bar on a terminal, a line every
     few seconds otherwise); SIGINT/SIGTERM -> exit 130, lost workers -> exit 1 (each with one line on stderr)."""
     from ..study.runner import StudyIncomplete, StudyInterrupted, execute_study
+    from ._common import on_interrupt
 
+    on_interrupt(f"the scenarios finished are stored in {out}: the same command resumes")
     run = execute_study(spec, out, workers=workers, dask_local=dask_local, scheduler=scheduler, progress=True,
-                        max_scenarios=max_scenarios)
+                        max_scenarios=max_scenarios, force=force)
     if as_json:
         typer.echo(json.dumps(run.summary, indent=2))
     else:

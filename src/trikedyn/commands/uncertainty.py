@@ -93,6 +93,19 @@ def _far_from_measured(pset, measured, stds) -> list[str]:
     return notes
 
 
+def _identification_files(items: list[str]) -> list[Path]:
+    """Every file an ``--identification [NAME=]FILE`` may read: the name with and without ``NAME=``, and for a
+    folder the JSON files in it (more rather than fewer: they are only kept from being written onto)."""
+    found = []
+    for item in items:
+        for name in sorted({item.strip(), item.partition("=")[2].strip()} - {""}):
+            path = Path(name)
+            found.append(path)
+            if path.is_dir():
+                found += sorted(path.glob("*.json"))
+    return found
+
+
 def uncertainty_cmd(
     vehicle: VehicleArg,
     manoeuvre: ManoeuvreOpt = "dlc",
@@ -131,7 +144,9 @@ def uncertainty_cmd(
     plan = json.loads(json.dumps(_plan(pset, search, inputs, int(samples), seed, fraction)))
     log = None
     if out is not None:
-        start_output(out, plan, PLAN_FILE, kind="an uncertainty", resume=resume, force=force)
+        reads = [vehicle, manoeuvre, options.get("file"), weighing, *_identification_files(identification)]
+        start_output(out, plan, PLAN_FILE, kind="an uncertainty", resume=resume, force=force, reads=reads,
+                     writes=[JSON_FILE, SAMPLES_FILE, FIGURE_FILE])
         log = ua.SampleLog(out / SAMPLES_FILE, [i.factor for i in inputs], 1)
     result = ua.run_uncertainty(pset, search, inputs, samples=int(samples), seed=seed, fraction=fraction,
                                 excluded=excluded, workers=workers, log=log, resume=resume,

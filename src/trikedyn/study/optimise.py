@@ -135,7 +135,7 @@ class _Evaluator:
         self.resumed = 0
         self.done = 0
         self.known = {e.values: e for e in known if e.values is not None}
-        self.next_index = max((e.index for e in known), default=-1) + 1
+        self.next_index = 0  # the reference is evaluation 0; then each generation's new layouts in its order
 
     def close(self, abandon: bool = False):
         """Shut the pool down; ``abandon``: now, the calls in flight lost (Ctrl-C)."""
@@ -153,22 +153,27 @@ class _Evaluator:
             self.progress(self.done, self.total)
 
     def run(self, layouts: list[tuple]) -> None:
-        """Evaluate the layouts not in the cache (or the log of an earlier run)."""
+        """Evaluate the layouts not in the cache (or the log of an earlier run).
+
+        Each layout new to the run is numbered by its place in the generation, whatever order the workers
+        finish in: the same run numbers its evaluations the same on any number of processes, and a resumed run
+        as an uninterrupted one."""
+        fresh = [values for values in dict.fromkeys(layouts) if values not in self.cache]
+        index = {values: self.next_index + k for k, values in enumerate(fresh)}
+        self.next_index += len(fresh)
         todo = []
-        for values in dict.fromkeys(layouts):
-            if values in self.cache:
-                continue
+        for values in fresh:
             if values in self.known:
                 old = self.known.pop(values)
                 self.resumed += 1
-                self.record(Evaluation(old.index, old.generation, values, old.thresholds, old.error), logged=True)
+                self.record(Evaluation(index[values], self.generation, values, old.thresholds, old.error),
+                            logged=True)
             else:
                 todo.append(values)
 
         def finished(values, result):
             thresholds, error = result
-            self.record(Evaluation(self.next_index, self.generation, values, thresholds, error))
-            self.next_index += 1
+            self.record(Evaluation(index[values], self.generation, values, thresholds, error))
 
         def died(values):
             finished(values, (tuple(None for _ in self.searches), "a worker process died on this layout (twice)"))
@@ -190,6 +195,17 @@ class _Evaluator:
         """What differential evolution minimises: minus the worst threshold of the (rounded) layout."""
         ev = self.cache[_rounded(x, self.spec)]
         return -ev.worst
+
+
+def _check_found(layouts: list[Evaluation], log: EvaluationLog | None) -> None:
+    """Refuse a run in which no layout was searched on every manoeuvre: its "best" would be a failure (a
+    worst threshold of 0 km/h), not an optimised vehicle."""
+    if any(all(t is not None for t in e.thresholds) for e in layouts):
+        return
+    first = next((e.error for e in layouts if e.error), None)
+    why = f" (the first: {' '.join(first.split())[:300]})" if first else ""
+    kept = f"; each is logged in {log.path}" if log is not None else ""
+    raise SimulationError(f"every one of the {len(layouts)} layouts failed{why}: no optimised vehicle{kept}")
 
 
 def _least_move(candidates: list[Evaluation], spec: OptimiseSpec, ref: tuple[float, ...]) -> Evaluation:
@@ -232,6 +248,16 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
     ------
     InputError
         A knob the vehicle does not have, bounds outside a knob's own, too many evaluations, a bad manoeuvre.
+    SimulationError
+        No layout could be searched on every manoeuvre (every evaluation failed: there is no optimised
+        vehicle; ``log`` keeps them), or worker processes kept dying (``log`` keeps what finished).
+
+    Notes
+    -----
+    Evaluations are numbered in a fixed order: the reference 0, then each generation's new layouts in their
+    place in it, however many processes run them and in whatever order they finish. ``log`` gets each row as
+    it finishes (what a resumed run reads) and, at the end, is written again in that order: two runs of the
+    same vehicle and spec write the same file.
     """
     from scipy.optimize import differential_evolution
 
@@ -265,11 +291,11 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
         old_ref = next((e for e in known if e.generation < 0), None)
         if old_ref is not None:
             evaluator.resumed += 1
-            evaluator.record(old_ref, logged=True)
+            evaluator.record(Evaluation(0, -1, None, old_ref.thresholds, old_ref.error), logged=True)
         else:
             thresholds, error = evaluate_layout(pset, {}, searches, spec.payload_kg)
-            evaluator.record(Evaluation(evaluator.next_index, -1, None, thresholds, error))
-            evaluator.next_index += 1
+            evaluator.record(Evaluation(0, -1, None, thresholds, error))
+        evaluator.next_index = 1
         reference = evaluator.evaluations[0]
         bounds = [(lo, hi) for _, lo, hi in spec.knobs]
         x0 = _rounded(ref_values, spec)
@@ -289,9 +315,13 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
         if log is not None:
             log.close()
     evaluator.close()
+    evaluations = sorted(evaluator.evaluations, key=lambda e: e.index)
+    if log is not None:  # in evaluation order: two runs of the same spec write the same file
+        log.rewrite(evaluations)
     if progress is not None:
         progress(evaluator.done, evaluator.done)  # the last line: every evaluation made (repeats are made once)
-    layouts = [e for e in evaluator.evaluations if e.generation >= 0]
+    layouts = [e for e in evaluations if e.generation >= 0]
+    _check_found(layouts, log)
     top = max(e.worst for e in layouts)
     best = _least_move([e for e in layouts if e.worst == top], spec, ref_values)
     from ..params.knobs import apply_knobs
@@ -304,6 +334,6 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
     vehicle = vehicle.with_params(params, origin=f"{pset.origin} (optimised)")
     return OptimiseResult(
         vehicle_name=pset.name, spec=spec, searches=searches, reference=reference, best=best,
-        reference_values=ref_values, evaluations=evaluator.evaluations, vehicle=vehicle,
+        reference_values=ref_values, evaluations=evaluations, vehicle=vehicle,
         generations=evaluator.generation, message=" ".join(str(result.message).split()),
         resumed=evaluator.resumed, workers=int(workers), wall_time_s=time.perf_counter() - start)

@@ -43,7 +43,8 @@ class Evaluation:
 # the log (CSV, a row appended and flushed as each layout finishes)
 # ------------------------------------------------------------------------------------------------
 class EvaluationLog(AppendedCsv):
-    """Every evaluation of a run as a CSV file, a row appended as it finishes.
+    """Every evaluation of a run as a CSV file, a row appended as it finishes (and the whole file written again
+    in evaluation order at the end of the run, :meth:`rewrite`).
 
     Columns: ``evaluation``, ``generation`` (-1: the reference vehicle), ``status`` (``ok`` or ``failed``),
     ``worst_threshold_speed_kmh``, ``threshold_MANOEUVRE_kmh`` per manoeuvre, ``error``, then each knob's
@@ -78,12 +79,30 @@ class EvaluationLog(AppendedCsv):
             out.append(Evaluation(index, generation, values, thresholds, row[4 + n_m] or None))
         return out
 
-    def append(self, ev: Evaluation) -> None:
+    def _row(self, ev: Evaluation) -> list:
         status = "ok" if all(t is not None for t in ev.thresholds) else "failed"
         values = [""] * len(self.knobs) if ev.values is None else [repr(float(v)) for v in ev.values]
-        self.write([ev.index, ev.generation, status, repr(ev.worst),
-                    *("" if t is None else repr(float(t)) for t in ev.thresholds),
-                    " ".join((ev.error or "").split()), *values])
+        return [ev.index, ev.generation, status, repr(ev.worst),
+                *("" if t is None else repr(float(t)) for t in ev.thresholds),
+                " ".join((ev.error or "").split()), *values]
+
+    def append(self, ev: Evaluation) -> None:
+        """Log one finished evaluation (flushed at once)."""
+        self.write(self._row(ev))
+
+    def rewrite(self, evaluations: Sequence[Evaluation]) -> None:
+        """Write the whole log again with ``evaluations`` in their order (atomically: a kill leaves the old
+        file). The log must be closed."""
+        import csv
+
+        from .._files import atomic_write
+
+        def fill(fh):
+            writer = csv.writer(fh)
+            writer.writerow(self.columns)
+            writer.writerows(self._row(ev) for ev in evaluations)
+
+        atomic_write(self.path, fill, binary=False)
 
 
 # ------------------------------------------------------------------------------------------------

@@ -63,8 +63,8 @@ from .scenarios import SCENARIO_KEYS, count_scenarios, expand
 from .spec import StudySpec, load_spec
 from .store import RESULT_KEYS, StudyStore
 
-__all__ = ["MAX_SCENARIOS", "StudyIncomplete", "StudyInterrupted", "StudyRun", "execute_study", "run_scenario",
-           "run_study"]
+__all__ = ["MAX_SCENARIOS", "STUDY_FILES", "StudyIncomplete", "StudyInterrupted", "StudyRun", "check_study_folder",
+           "execute_study", "run_scenario", "run_study"]
 
 MAX_SCENARIOS = 10_000
 """Default limit on a study's scenarios (:func:`run_study`'s ``max_scenarios``)."""
@@ -230,6 +230,44 @@ def _check_size(spec: StudySpec, max_scenarios) -> None:
                          f"pass --max-scenarios {n} to run it", where=spec.origin)
 
 
+STUDY_FILES = ("study.sqlite", "study.sqlite-wal", "study.sqlite-shm", "study.sqlite-journal", "study.lock",
+               "results.csv", "results.parquet", "fig_*.png")
+"""What a study writes in its folder (``fig_*.png``: a pattern); none may be a file the study reads."""
+
+
+def check_study_folder(out_dir: str | Path, spec: StudySpec, force: bool = False) -> None:
+    """``out_dir`` checked as a study's folder before anything is written in it.
+
+    A missing or empty folder, or a study's (one with its ``study.sqlite``: a re-run resumes it), is fine.
+    An existing folder that holds other files is not a study: its ``results.csv``, ``results.parquet`` and
+    ``fig_*.png`` would be replaced, so it is refused unless ``force``. Whatever ``force``, no file the study
+    writes there may be one it reads (the spec, its vehicle with the files that one reads, a path CSV, a
+    ``tyre_file`` override: :func:`trikedyn._files.check_not_inputs`).
+
+    Raises
+    ------
+    InputError
+        Naming the folder, or the output file that is an input.
+    """
+    from .._files import check_not_inputs
+
+    folder = Path(out_dir)
+    tyres = [value for group in spec.groups for key, values in group.overrides if key.endswith(".tyre_file")
+             for value in values if isinstance(value, str)]
+    check_not_inputs(folder, STUDY_FILES, [spec.origin, spec.vehicle_source, *spec.manoeuvres, *tyres])
+    if force or not folder.is_dir() or (folder / "study.sqlite").exists():
+        return
+    try:
+        others = sorted(p.name for p in folder.iterdir() if p.name not in STUDY_FILES)
+    except OSError:  # not readable: the store says why
+        return
+    if others:
+        shown = ", ".join(others[:3]) + (f" and {len(others) - 3} more" if len(others) > 3 else "")
+        raise InputError(f"holds files ({shown}) but no study (no study.sqlite): its results.csv, results.parquet "
+                         "and fig_*.png would be replaced; use another --out, or pass --force to write into it",
+                         where=str(folder))
+
+
 def _warm_imports(figures: bool) -> None:
     """Import what the table's export (pandas, pyarrow) and the figures (matplotlib) need, in a thread of the
     main process while it waits for the workers: about a second off the study's wall time."""
@@ -243,7 +281,7 @@ def _warm_imports(figures: bool) -> None:
 
 def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers: int | None = None,
                   dask_local: int | None = None, scheduler: str | None = None, progress=True,
-                  max_scenarios: int | None = MAX_SCENARIOS, figures: bool = True) -> StudyRun:
+                  max_scenarios: int | None = MAX_SCENARIOS, figures: bool = True, force: bool = False) -> StudyRun:
     """Run (or resume) a study into ``out_dir``; an interrupted or incomplete run is returned, not raised.
 
     Takes the arguments of :func:`run_study`. Returns a :class:`StudyRun` (its ``raise_unfinished()`` raises
@@ -257,6 +295,7 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
     _check_limit(max_scenarios)
     spec = load_spec(spec)
     _check_size(spec, max_scenarios)
+    check_study_folder(out_dir, spec, force)
     scenarios = expand(spec)
     order = [s["scenario_id"] for s in scenarios]
     token = uuid.uuid4().hex[:12]
@@ -380,7 +419,7 @@ def _figures(frame, out_dir: Path, title: str) -> list[Path]:
 
 def run_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers: int | None = None,
               dask_local: int | None = None, scheduler: str | None = None, progress=True,
-              max_scenarios: int | None = MAX_SCENARIOS, figures: bool = True):
+              max_scenarios: int | None = MAX_SCENARIOS, figures: bool = True, force: bool = False):
     """Run (or resume) a study into ``out_dir`` and return its results table.
 
     Parameters
@@ -406,6 +445,10 @@ def run_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers: int
         no limit.
     figures : bool
         Draw the study's figures once every scenario is stored.
+    force : bool
+        Write into an existing folder that holds other files but no study (its ``results.csv``,
+        ``results.parquet`` and ``fig_*.png`` are replaced; :func:`check_study_folder`). A folder with a
+        ``study.sqlite`` needs no ``force``: the run resumes it.
 
     Returns
     -------
@@ -419,13 +462,14 @@ def run_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers: int
     InputError
         Bad spec, more scenarios than ``max_scenarios``, two executors chosen, an output folder that cannot
         be created or written, a symbolic link where the study keeps a file, the folder held by another
-        study or another run.
+        study or another run, an existing folder with other files but no study (without ``force``), an
+        output that is one of the study's inputs.
     StudyInterrupted
         SIGINT/SIGTERM: the finished scenarios are stored; re-run to resume.
     StudyIncomplete
         Workers died; the other scenarios are stored; re-run to retry the lost ones.
     """
     result = execute_study(spec, out_dir, workers=workers, dask_local=dask_local, scheduler=scheduler,
-                           progress=progress, max_scenarios=max_scenarios, figures=figures)
+                           progress=progress, max_scenarios=max_scenarios, figures=figures, force=force)
     result.raise_unfinished()
     return result.table

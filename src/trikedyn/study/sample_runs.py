@@ -17,8 +17,8 @@ from .csv_log import AppendedCsv
 from .factors import Factor, apply_factors
 from .pool_runs import MAX_RESTARTS, ResilientPool, WorkersKeptDying
 
-__all__ = ["LIMITS", "MAX_RESTARTS", "SampleLog", "Search", "evaluate_sample", "limit_counts", "limits_line", "regimes",
-           "run_logged_samples", "run_samples"]
+__all__ = ["LIMITS", "MAX_RESTARTS", "SampleLog", "Search", "evaluate_sample", "limit_counts", "limits_line",
+           "raise_interrupt", "regimes", "run_logged_samples", "run_samples"]
 
 
 
@@ -115,10 +115,24 @@ class Search:
                     raise
                 result = self.run(pset, dt_s=(self.dt_s or DEFAULT_DT_S) / 2)
         except Exception as exc:  # noqa: BLE001 - a vehicle that cannot be searched is reported, the study goes on
+            raise_interrupt(exc)
             return None, one_line(exc), ""
         if result.threshold_speed_kmh is None:
             return None, f"no threshold: {' '.join(str(result.detail).split())}", ""
         return float(result.threshold_speed_kmh), None, result.limit or ""
+
+
+def raise_interrupt(exc: BaseException) -> None:
+    """Raise KeyboardInterrupt if ``exc`` came of one: a Ctrl-C that lands in compiled code (numba) comes back
+    as a ``SystemError`` ("returned a result with an exception set") caused by it, which a search must not
+    report as a failed sample: the run was interrupted, the sample is not done."""
+    seen: BaseException | None = exc
+    for _ in range(32):  # the chain of causes, bounded
+        if seen is None:
+            return
+        if isinstance(seen, KeyboardInterrupt):
+            raise KeyboardInterrupt from exc
+        seen = seen.__cause__ or seen.__context__
 
 
 LIMITS = ("lift-off", "tracking", "cone strike", "path lost", "spin", "speed not held", "top speed")

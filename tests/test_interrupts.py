@@ -1,0 +1,130 @@
+"""Issue 21: Ctrl-C of a long command says so. ``sensitivity``, ``uncertainty`` and ``optimise`` exited 130 with
+no line and an empty ``--json`` output (the CLI library turns a KeyboardInterrupt into a silent exit 130), and a
+Ctrl-C that landed in compiled code came back as a failed sample (a ``SystemError``) and the run went on.
+
+Each command runs in a subprocess (its own session); once its progress line is on stderr it gets SIGINT. It
+must then print one ``trikedyn: interrupted`` line, valid JSON under ``--json``, exit 130 within 60 s, and leave
+no process of its session behind.
+"""
+
+from __future__ import annotations
+
+import os
+import queue
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from .conftest import strict_json
+from .study import warm_numba_cache, write_spec
+
+
+@pytest.fixture(scope="module", autouse=True)
+def warm():
+    warm_numba_cache()  # the subprocesses load the compiled code instead of compiling it
+
+
+def _lines(stream, into: queue.Queue) -> None:
+    for line in iter(stream.readline, ""):
+        into.put(line)
+    into.put(None)
+
+
+def _group_gone(pgid: int, timeout_s: float = 15.0) -> bool:
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        try:
+            os.killpg(pgid, 0)
+        except ProcessLookupError:
+            return True
+        time.sleep(0.1)
+    return False
+
+
+def interrupt(cwd: Path, label: str, *args) -> tuple[int, str, list[str]]:
+    """Run ``trikedyn ARGS``, SIGINT it once ``LABEL: done/total`` is on stderr; (exit code, stdout, stderr lines)."""
+    proc = subprocess.Popen([sys.executable, "-m", "trikedyn", *map(str, args)], cwd=cwd, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True)
+    err: list[str] = []
+    lines: queue.Queue = queue.Queue()
+    reader = threading.Thread(target=_lines, args=(proc.stderr, lines), daemon=True)
+    reader.start()
+    try:
+        deadline = time.monotonic() + 60.0
+        while True:
+            line = lines.get(timeout=max(0.1, deadline - time.monotonic()))
+            assert line is not None, f"ended before its progress line: {''.join(err)}"
+            err.append(line)
+            if line.startswith(f"{label}: ") and "/" in line:
+                break
+        os.kill(proc.pid, signal.SIGINT)
+        started = time.monotonic()
+        out = proc.stdout.read()
+        proc.wait(timeout=60)
+        assert time.monotonic() - started < 60
+        reader.join(timeout=10)
+        while (line := lines.get(timeout=1)) is not None:
+            err.append(line)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+    assert _group_gone(proc.pid), "a process of the command's session outlived it"
+    return proc.returncode, out, [line.rstrip("\n") for line in err]
+
+
+def said_interrupted(code: int, out: str, err: list[str], as_json: bool) -> str:
+    said = [line for line in err if "interrupted" in line]
+    assert code == 130, (code, out, err)
+    assert len(said) == 1 and said[0].startswith("trikedyn: interrupted"), err
+    assert not [line for line in err if line.startswith("trikedyn: error") or "Traceback" in line], err
+    if as_json:
+        data = strict_json(out)
+        assert isinstance(data, dict) and ("interrupted" in data or data.get("outcome") == "interrupted"), out
+    return said[0]
+
+
+FAST = ["--resolution", "1"]
+
+
+def test_sensitivity_in_this_process(tmp_path):
+    """--workers 0: the Ctrl-C lands in compiled code; it was counted as a failed sample and the run went on."""
+    code, out, err = interrupt(tmp_path, "sensitivity", "sensitivity", "reference-etrike", "--samples", "4", *FAST,
+                               "--workers", "0", "--out", "out", "--json")
+    line = said_interrupted(code, out, err, as_json=True)
+    assert "--resume" in line and strict_json(out)["interrupted"] is True
+    log = (tmp_path / "out" / "sensitivity-samples.csv").read_text()
+    assert "SystemError" not in log and "KeyboardInterrupt" not in log  # no sample failed by the interrupt
+    assert not (tmp_path / "out" / "sensitivity.json").exists()
+
+
+def test_uncertainty_on_a_pool(tmp_path):
+    code, out, err = interrupt(tmp_path, "uncertainty", "uncertainty", "reference-etrike", "--samples", "64", *FAST,
+                               "--workers", "2", "--out", "out", "--json")
+    said_interrupted(code, out, err, as_json=True)
+
+
+def test_optimise(tmp_path):
+    code, out, err = interrupt(tmp_path, "optimise", "optimise", "reference-etrike", "--spec", "battery-layout",
+                               "--maxiter", "3", "--popsize", "3", *FAST, "--workers", "0", "--out", "out", "--json")
+    said_interrupted(code, out, err, as_json=True)
+    assert not list((tmp_path / "out").glob("*.toml"))  # no vehicle from a run cut short
+
+
+def test_loading_chart_in_text(tmp_path):
+    code, out, err = interrupt(tmp_path, "loading-chart", "loading-chart", "reference-etrike", *FAST,
+                               "--workers", "0")
+    said_interrupted(code, out, err, as_json=False)
+    assert out == ""
+
+
+def test_study(tmp_path):
+    """The study stops after the scenario in flight and says how many are stored (its own line, once)."""
+    spec = write_spec(tmp_path, name="sixteen", freight=(0, 50, 100, 150), stiffness=(0.8, 0.9, 1.1, 1.2))
+    code, out, err = interrupt(tmp_path, "study", "study", spec, "--out", "out", "--workers", "0", "--json")
+    line = said_interrupted(code, out, err, as_json=True)
+    assert "scenarios stored" in line and strict_json(out)["outcome"] == "interrupted"
