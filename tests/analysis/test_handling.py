@@ -104,7 +104,7 @@ def test_handling_diagram_plot():
     d = handling_diagram(*circle_run(), radius_m=R, wheelbase_m=L)
     fig = d.plot()
     assert len(fig.axes) == 3 and all("[deg]" in ax.get_ylabel() for ax in fig.axes)
-    assert "[m/s^2]" in fig.axes[-1].get_xlabel()
+    assert "[m/s²]" in fig.axes[-1].get_xlabel()
     assert any(line.get_linestyle() == "--" for line in fig.axes[0].lines)
     plt.close(fig)
 

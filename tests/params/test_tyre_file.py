@@ -1,4 +1,5 @@
-"""A wheel's ``tyre_file`` (.tir): relative to the file that names it, checked at load, written back relative."""
+"""A wheel's ``tyre_file`` (.tir): relative to the file that names it, in its folder or below it (the rule for every
+file a file names, issue 21), checked at load, written back relative (copied beside a file written elsewhere)."""
 
 import json
 import shutil
@@ -19,10 +20,9 @@ needs_tir = pytest.mark.skipif(TIR is None, reason=f"no shared .tir file in {TYR
 
 @pytest.fixture
 def folder(tmp_path):
-    """tmp/tyres/<the shared .tir>, tmp/vehicles/ (where the vehicle files go)."""
-    (tmp_path / "tyres").mkdir()
-    shutil.copy(TIR, tmp_path / "tyres" / TIR.name)
-    (tmp_path / "vehicles").mkdir()
+    """tmp/vehicles/ (where the vehicle files go), tmp/vehicles/tyres/<the shared .tir>."""
+    (tmp_path / "vehicles" / "tyres").mkdir(parents=True)
+    shutil.copy(TIR, tmp_path / "vehicles" / "tyres" / TIR.name)
     return tmp_path
 
 
@@ -45,46 +45,51 @@ def test_default_is_none_and_the_name_must_be_a_tir():
 
 @needs_tir
 def test_resolved_relative_to_the_vehicle_file(folder):
-    file = _vehicle(folder / "vehicles" / "v.toml", {"rear": f'"../tyres/{TIR.name}"',
-                                                     "front_left": f'{{ value = "../tyres/{TIR.name}", source = "lab" }}'})
+    file = _vehicle(folder / "vehicles" / "v.toml", {"rear": f'"tyres/{TIR.name}"',
+                                                     "front_left": f'{{ value = "tyres/{TIR.name}", source = "lab" }}'})
     pset = load_vehicle(file)
     for name in ("rear", "front_left"):
         path = Path(pset.params.wheel(name).tyre_file)
-        assert path.is_absolute() and path.is_file() and path.samefile(folder / "tyres" / TIR.name)
+        assert path.is_absolute() and path.is_file() and path.samefile(folder / "vehicles" / "tyres" / TIR.name)
     assert pset.params.wheel("front_right").tyre_file is None
     assert pset.notes["wheels.front_left.tyre_file"] == {"source": "lab"}
 
 
 @needs_tir
 def test_an_extended_file_names_its_tyre_relative_to_itself(folder, monkeypatch):
-    """base.toml in vehicles/sub/ names ../../tyres/X.tir; the child in vehicles/ extends it (and the load
-    runs from elsewhere): the tyre file is found relative to base.toml, not to the child or the cwd."""
-    (folder / "vehicles" / "sub").mkdir()
-    _vehicle(folder / "vehicles" / "sub" / "base.toml", {"rear": f'"../../tyres/{TIR.name}"'})
+    """base.toml in vehicles/sub/ names tyres/X.tir (vehicles/sub/tyres/); the child in vehicles/ extends it (and
+    the load runs from elsewhere): the tyre file is found relative to base.toml, not to the child or the cwd."""
+    (folder / "vehicles" / "sub" / "tyres").mkdir(parents=True)
+    shutil.copy(TIR, folder / "vehicles" / "sub" / "tyres" / TIR.name)
+    _vehicle(folder / "vehicles" / "sub" / "base.toml", {"rear": f'"tyres/{TIR.name}"'})
     child = folder / "vehicles" / "child.toml"
     child.write_text('extends = "sub/base.toml"\nname = "child"\n', encoding="utf-8")
-    monkeypatch.chdir(folder / "tyres")
+    monkeypatch.chdir(folder / "vehicles" / "tyres")
     rear = load_vehicle(child).params.wheel("rear")
-    assert Path(rear.tyre_file).samefile(folder / "tyres" / TIR.name)
+    assert Path(rear.tyre_file).samefile(folder / "vehicles" / "sub" / "tyres" / TIR.name)
 
 
 @needs_tir
 def test_parse_vehicle_text_is_relative_to_its_origin(folder):
-    text = f'extends = "reference-tadpole"\n[[wheels]]\nname = "rear"\ntyre_file = "../tyres/{TIR.name}"\n'
+    text = f'extends = "reference-tadpole"\n[[wheels]]\nname = "rear"\ntyre_file = "tyres/{TIR.name}"\n'
     rear = parse_vehicle(text, origin=str(folder / "vehicles" / "v.toml")).params.wheel("rear")
-    assert Path(rear.tyre_file).samefile(folder / "tyres" / TIR.name)
+    assert Path(rear.tyre_file).samefile(folder / "vehicles" / "tyres" / TIR.name)
+    with pytest.raises(ParameterError, match="is a path with '..'"):
+        parse_vehicle(text.replace("tyres/", "../tyres/"), origin=str(folder / "vehicles" / "v.toml"))
 
 
 @needs_tir
 def test_save_writes_a_path_that_still_resolves(folder):
-    pset = load_vehicle(_vehicle(folder / "vehicles" / "v.toml", {"rear": f'"../tyres/{TIR.name}"'}))
+    pset = load_vehicle(_vehicle(folder / "vehicles" / "v.toml", {"rear": f'"tyres/{TIR.name}"'}))
     (folder / "elsewhere" / "deeper").mkdir(parents=True)
-    for target in (folder / "elsewhere" / "deeper" / "copy.toml", folder / "copy.toml"):
+    for target, named in ((folder / "copy.toml", f"vehicles/tyres/{TIR.name}"),  # in its folder: named in place
+                          (folder / "elsewhere" / "deeper" / "copy.toml", TIR.name)):  # outside: copied beside
         save_vehicle(pset, target)
         written = [line for line in target.read_text().splitlines() if line.startswith("tyre_file")]
-        assert len(written) == 1 and not Path(written[0].split('"')[1]).is_absolute(), written
+        assert written == [f'tyre_file = "{named}"'], written
         again = load_vehicle(target)
-        assert again.params == pset.params
+        assert Path(again.params.wheel("rear").tyre_file).read_bytes() == TIR.read_bytes()
+        assert again.params.model_copy(update={"wheels": pset.params.wheels}) == pset.params
 
 
 def test_a_missing_tyre_file_names_the_wheel_and_the_vehicle_file(tmp_path):

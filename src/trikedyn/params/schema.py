@@ -230,8 +230,8 @@ class WheelSpec(_Spec):
     braked: bool = True
     tyre_file: str | None = Field(
         default=None, min_length=1, max_length=1000,
-        description="Adams/MF-Tyre .tir property file for this wheel, relative to the vehicle file; "
-        "None: the [tyre] section's similarity model",
+        description="Adams/MF-Tyre .tir property file for this wheel, relative to the vehicle file, in its folder "
+        "or below it; None: the [tyre] section's similarity model",
     )
 
     @field_validator("tyre_file")
