@@ -139,6 +139,9 @@ def run_scenario(scenario: dict, vehicle=None, run_token: str | None = None) -> 
         row.update({"status": "ok", **dict.fromkeys(RESULT_KEYS), "unit": metric.unit, **result, "error": None,
                     "traceback": None})
     except Exception as exc:  # the scenario's own failure is a result, not a crash
+        from .sample_runs import raise_interrupt
+
+        raise_interrupt(exc)  # a Ctrl-C that landed in compiled code is an interrupt, not a failed scenario
         row.update(status="error", **dict.fromkeys(RESULT_KEYS), error=_one_line(exc),
                    traceback=traceback.format_exc())
     row.update(wall_time_s=time.perf_counter() - start, worker=f"{socket.gethostname()}:{os.getpid()}",
