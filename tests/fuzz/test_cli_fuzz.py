@@ -1,6 +1,7 @@
 """Fuzzing the command line with mutated real inputs: logs, vehicle files, weighing files, path CSVs and
-study specs. Every case must exit 0 or 2; an error is one line on stderr; `--json` output is always valid
-JSON (no NaN or Infinity); nothing hangs.
+study specs (run files and ``.tir`` files: ``test_run_files.py``, ``test_tir_files.py``; pipes, devices and huge
+files: ``test_special_files.py``). Every case must exit 0 or 2; an error is one line on stderr; `--json`
+output is always valid JSON (no NaN or Infinity); nothing hangs (:mod:`tests.fuzz.contract`).
 
 Each input kind starts from a valid seed (the real WitMotion logs when ``shared/data`` is at hand) and
 applies a few random edits: delete, duplicate or swap spans and lines, replace characters, insert
@@ -9,75 +10,14 @@ troublesome tokens (``nan``, ``1e308``, ``-0``, huge integers, ``../``), truncat
 
 from __future__ import annotations
 
-import contextlib
-import io
-import time
 from pathlib import Path
 
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from trikedyn.cli import main
-
-from ..conftest import SHARED, WEIGHING, strict_json
-
-TOKENS = ["nan", "inf", "-inf", "1e308", "-1e308", "1e-300", "0", "-0", "-1", "99999999999999999999999999",
-          "1e9", "''", '""', "[]", "{}", "true", "../../../../etc/passwd", "/etc/passwd", "\x00", "é", ",", "=",
-          "\n", "[", "]", "#", '"', "0x1F", "1_000", "NaN"]
-LIMIT_S = 60.0
-"""A case taking longer than this counts as a hang."""
-
-
-@st.composite
-def mutated(draw, seed: bytes) -> bytes:
-    data = bytearray(seed)
-    for _ in range(draw(st.integers(1, 4))):
-        kind = draw(st.sampled_from(["delete", "duplicate", "replace", "token", "truncate", "swap_lines"]))
-        n = len(data)
-        i = draw(st.integers(0, max(n - 1, 0)))
-        j = min(n, i + draw(st.integers(1, 40)))
-        if kind == "delete":
-            del data[i:j]
-        elif kind == "duplicate":
-            data[i:i] = data[i:j]
-        elif kind == "replace" and n:
-            data[i] = draw(st.integers(0, 255))
-        elif kind == "token":
-            data[i:i] = draw(st.sampled_from(TOKENS)).encode("utf-8")
-        elif kind == "truncate":
-            del data[i:]
-        elif kind == "swap_lines":
-            lines = bytes(data).split(b"\n")
-            if len(lines) > 2:
-                a = draw(st.integers(0, len(lines) - 1))
-                b = draw(st.integers(0, len(lines) - 1))
-                lines[a], lines[b] = lines[b], lines[a]
-                data = bytearray(b"\n".join(lines))
-    return bytes(data)
-
-
-def run_cli(args: list[str]) -> tuple[int, str, str]:
-    out, err = io.StringIO(), io.StringIO()
-    start = time.perf_counter()
-    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = main(args)
-    assert time.perf_counter() - start < LIMIT_S, f"{args}: took {time.perf_counter() - start:.0f} s"
-    return code, out.getvalue(), err.getvalue()
-
-
-def check_contract(args: list[str]) -> int:
-    code, out, err = run_cli(args)
-    ok = (0, 1, 2) if args[:2] == ["vehicle", "check"] else (0, 2)  # vehicle check: 1 = inconsistent findings
-    assert code in ok, f"{args}: exit {code}\n{err[-3000:]}"
-    lines = [line for line in err.splitlines() if line]
-    assert all(line.startswith(("trikedyn: error: ", "trikedyn: warning: ")) for line in lines), err[-3000:]
-    assert "Traceback" not in err
-    if code == 2:
-        assert sum(line.startswith("trikedyn: error: ") for line in lines) == 1, err
-    if "--json" in args:
-        strict_json(out)
-    return code
+from ..conftest import SHARED, WEIGHING
+from .contract import check_contract, mutated
 
 
 # ----------------------------------------------------------------------------------------------------------

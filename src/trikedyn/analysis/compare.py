@@ -147,6 +147,7 @@ def compare(measured: pd.DataFrame, simulated: pd.DataFrame, *, channels=None, a
                          where="align_on")
 
     def values(frame, t, side, name):
+        """The checked values of channel ``name`` of one side."""
         return checked_values(frame[name].to_numpy(), t.size, f"{side} {name!r}", t)
 
     xm = {c: values(measured, t_m, labels[0], c) for c in used}
@@ -182,7 +183,9 @@ def load_table(path) -> tuple[pd.DataFrame, str]:
         ``.parquet``/``.pq``: a run file (Parquet with a ``time_s`` column or index). Otherwise a CSV whose
         header holds ``time_s`` and whose ``time_s`` is numeric is read as it is (a run file, or a log
         converted to SI CSV); any other file is read by :func:`trikedyn.measure.logs.read_log` (format
-        detected).
+        detected). Run tables are read and checked by :func:`trikedyn.simulate.runcheck.read_run_table`
+        (bounded read, every column numbers, time finite and increasing), as ``plot`` and ``animate`` read
+        them.
 
     Returns
     -------
@@ -195,50 +198,20 @@ def load_table(path) -> tuple[pd.DataFrame, str]:
     Raises
     ------
     InputError
-        The file is missing, unreadable, has no ``time_s`` or a bad time (LogFormatError for IMU logs).
+        The file is missing, not a regular file, too large, unreadable, has no ``time_s`` or a bad time, or a
+        column that is not numbers (LogFormatError for IMU logs).
     """
+    from .._reading import file_problem
+    from ..simulate.runcheck import read_run_table
+
     path = Path(path)
-    where = str(path)
     if path.suffix.lower() in (".parquet", ".pq"):
-        if not path.is_file():
-            raise InputError("file not found; expected a Parquet run file", where=where)
-        try:
-            frame = pd.read_parquet(path)
-        except ImportError:
-            raise InputError("reading Parquet needs pyarrow or fastparquet, which are not installed; install "
-                             "one or write the run as CSV", where=where) from None
-        except Exception as e:  # any reader failure is a bad file here
-            raise InputError(f"cannot read as Parquet ({type(e).__name__}: {e})", where=where) from None
-        return _run_table(frame, where), "run-parquet"
+        return read_run_table(path, as_run=False)
+    problem = file_problem(path)
+    if problem is not None:  # before anything is opened: a pipe or a device is refused unopened
+        raise InputError("file not found" if problem == "no such file" else problem, where=str(path))
+    found = read_run_table(path, as_run=False)  # None: no numeric time_s in a CSV header, an IMU log then
+    if found is not None:
+        return found
     fmt = detect_format(path)
-    if fmt == "csv":
-        frame = _read_run_csv(path)
-        if frame is not None:
-            return _run_table(frame, where), "run-csv"
     return read_log(path, fmt).data, fmt
-
-
-def _read_run_csv(path: Path) -> pd.DataFrame | None:
-    """The CSV as it is if its header holds ``time_s`` and that column is numeric, else None."""
-    with path.open("r", encoding="utf-8", errors="replace") as f:
-        first = next((line for line in f if line.strip()), "")
-    sep = next((s for s in ",;\t" if s in first), None)
-    if sep is None or TIME not in [h.strip().lstrip("\ufeff") for h in first.split(sep)]:
-        return None
-    try:
-        frame = pd.read_csv(path, sep=sep, skipinitialspace=True, encoding="utf-8-sig")
-    except (ValueError, UnicodeDecodeError, pd.errors.ParserError) as e:
-        raise InputError(f"cannot read as CSV ({e})".replace("\n", " "), where=str(path)) from None
-    frame.columns = [str(c).strip() for c in frame.columns]
-    if not pd.api.types.is_numeric_dtype(frame[TIME]):
-        return None
-    return frame
-
-
-def _run_table(frame: pd.DataFrame, where: str) -> pd.DataFrame:
-    if TIME not in frame.columns and frame.index.name == TIME:
-        frame = frame.reset_index()
-    if TIME not in frame.columns:
-        raise InputError(f"no 'time_s' column; columns: {', '.join(map(str, frame.columns))}", where=where)
-    checked_time(frame[TIME].to_numpy(), f"{where}: {TIME!r}", min_samples=1)
-    return frame[[TIME, *(c for c in frame.columns if c != TIME)]].reset_index(drop=True)

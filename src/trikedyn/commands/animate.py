@@ -1,8 +1,9 @@
 """``trikedyn animate``: a run file as an animation (the trike through the cones, or its roll from behind).
 
-A run file (``trikedyn simulate --out run.parquet``, or ``.csv``) is read back with its vehicle and course
-as :mod:`trikedyn.simulate.runfile` rebuilds them. A course that cannot be rebuilt (a path CSV gone, an
-unknown manoeuvre) leaves the animation without cones, with a warning.
+A run file (``trikedyn simulate --out run.parquet``, or ``.csv``) is read back and checked, with its vehicle
+and course, as :mod:`trikedyn.simulate.runfile` reads and rebuilds them. A course that cannot be rebuilt (a
+path CSV gone, an unknown manoeuvre) leaves the animation without cones, with a warning. At most
+:data:`trikedyn.report.animation.MAX_FRAMES` frames are drawn (counted before any is).
 """
 
 from __future__ import annotations
@@ -19,44 +20,37 @@ from ._common import ForceOpt, JsonOpt, emit, within
 
 __all__ = ["animate_cmd", "load_run"]
 
-RUN_SUFFIXES = (".parquet", ".pq", ".csv")
 
+def load_run(run: Path, every_s: float | None = None):
+    """A run file as a :class:`~trikedyn.report.animation.Scene`, and notes on how its vehicle and course
+    were found.
 
-def load_run(run: Path):
-    """A run file as a :class:`~trikedyn.report.animation.Scene`, and notes on how its course was rebuilt.
+    Everything that can refuse the run is checked before the vehicle and the course are rebuilt (which may
+    warn): the file and its metadata (:func:`trikedyn.simulate.runcheck.read_run`), the channels drawn
+    (:func:`trikedyn.report.animation.scene_channels`) and, given ``every_s``, the number of frames
+    (:func:`trikedyn.report.animation.check_frames`). So a refusal is one line, never after a warning.
 
     Raises
     ------
     InputError
-        The file is missing, is not a run file (suffix, columns), or cannot be read.
+        The file is missing, is not a run file (suffix, columns, values, metadata), cannot be read, or would
+        take more than :data:`~trikedyn.report.animation.MAX_FRAMES` frames.
     """
-    from ..analysis.compare import load_table
-    from ..report.animation import scene_from
-    from ..simulate.runfile import run_course, run_meta, run_vehicle
+    from ..report.animation import check_frames, scene_channels, scene_from
+    from ..simulate.runcheck import read_run
+    from ..simulate.runfile import run_course, run_vehicle
 
     where = str(run)
-    if not run.is_file():
-        raise InputError("file not found; expected a run file written by `trikedyn simulate --out`", where=where)
-    if run.suffix.lower() not in RUN_SUFFIXES:
-        raise InputError("expected a run file (.parquet or .csv) written by `trikedyn simulate --out`", where=where)
-    frame, kind = load_table(run)
-    if not kind.startswith("run-"):
-        raise InputError(f"not a run file (read as a '{kind}' log)", where=where)
-    missing = [c for c in ("x_m", "y_m", "yaw_rad", "speed_mps") if c not in frame.columns]
-    if missing:
-        raise InputError(f"not a run of trikedyn: no channel '{missing[0]}'", where=where)
-    meta = run_meta(run, frame.attrs)
-    names = meta.get("wheels")
-    if not (isinstance(names, list) and names and all(f"{n}_fz_N" in frame.columns for n in names)):
-        names = [c[: -len("_fz_N")] for c in frame.columns if str(c).endswith("_fz_N")]
-    if not names:
-        raise InputError("not a run of trikedyn: no wheel loads ('<wheel>_fz_N')", where=where)
+    found = read_run(run)
+    table, meta = found.table, dict(found.meta)
+    channels, names = scene_channels({c: table[c].to_numpy() for c in table.columns}, meta, where)
+    if every_s is not None:
+        check_frames(channels["time_s"], every_s)
     meta["wheels"] = names
     params, vehicle_note = run_vehicle(meta, names)
-    manoeuvre, course_note = run_course(meta, params)
+    manoeuvre, course_note = run_course(meta, params, run)
     if manoeuvre is None:
         warnings.warn(f"{where}: no course drawn; {course_note}", stacklevel=2)
-    channels = {c: frame[c].to_numpy() for c in frame.columns}
     scene = scene_from(channels, meta, params=params, manoeuvre=manoeuvre, where=where)
     return scene, {"vehicle": vehicle_note, "course": course_note}
 
@@ -71,13 +65,15 @@ def animate_cmd(
     fps: Annotated[int, typer.Option("--fps", callback=within(1, 60, "frames/s"), help="Frames per second of the "
                                      "animation [1/s].")] = 10,
     every_s: Annotated[float, typer.Option("--every-s", callback=within(0.001, 60, "s"), help="Simulated time "
-                                           "between frames [s] (0.1 s at 10 fps plays in real time).")] = 0.1,
+                                           "between frames [s] (0.1 s at 10 fps plays in real time); at most "
+                                           "2000 frames are drawn, a longer run needs a larger time.")] = 0.1,
     force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
     """Animate a run: the trike (body outline, wheels shaded by their load, red when lifted) through the cones
     with time and speed, seen from behind rolling with its wheel loads as bars, or in 3d. GIF by default."""
     from .._files import check_output
+    from .._reading import file_problem
     from ..report.animation import FORMATS, VIEWS, animate, ffmpeg_available
 
     if view not in VIEWS:
@@ -88,10 +84,12 @@ def animate_cmd(
     if target.suffix.lower() == ".mp4" and not ffmpeg_available():
         raise InputError("writing .mp4 needs ffmpeg, which is not installed; write a .gif or .html instead",
                          where=str(target))
-    if not run.is_file():  # before the output checks: a missing run is the first thing to say
-        raise InputError("file not found; expected a run file written by `trikedyn simulate --out`", where=str(run))
+    problem = file_problem(run)
+    if problem is not None:  # before the output checks: a missing run is the first thing to say
+        what = "file not found" if problem == "no such file" else problem
+        raise InputError(f"{what}; expected a run file written by `trikedyn simulate --out`", where=str(run))
     check_output(target, force=force, reads=[run, run.with_suffix(".json")], option="--out")
-    scene, notes = load_run(run)
+    scene, notes = load_run(run, every_s)
     frames = animate(scene, target, view=view, fps=fps, every_s=every_s)
     duration = float(scene.time_s[-1] - scene.time_s[0])
     data = {"wrote": str(target), "view": view, "frames": frames, "fps": fps, "every_s": every_s,

@@ -28,16 +28,18 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from ._drawing import CONE, LIFTED, load_bars, plain
 
-__all__ = ["FORMATS", "VIEWS", "Scene", "animate", "ffmpeg_available", "frame_indices", "scene_from"]
+__all__ = ["CONE", "FORMATS", "LIFTED", "MAX_FRAMES", "VIEWS", "Scene", "animate", "check_frames", "ffmpeg_available",
+           "frame_indices", "scene_channels", "scene_from"]
 
 VIEWS = ("plan", "rear", "3d")
 FORMATS = (".gif", ".html", ".mp4")
-MAX_FRAMES = 5000  # most frames in one animation (a longer run needs a larger time between frames)
+MAX_FRAMES = 2000
+"""Most frames of one animation: a few minutes to draw, a few hundred MB of GIF frames in memory; a longer run
+takes a larger time between frames (``--every-s``)."""
 FIGSIZE_IN = (6.0, 4.0)
 FOLLOW_HALF_SPAN_M = (11.0, 7.0)  # half the plan view's window along x and y [m], centred ahead of the vehicle
-LIFTED = "#d62728"
-CONE = "#ff7f0e"
 TYRE_WIDTH_M = 0.2
 
 
@@ -105,6 +107,60 @@ class Scene:
         return self.x_m + cx * c - cy * s, self.y_m + cx * s + cy * c
 
 
+def scene_channels(channels: Mapping, meta: Mapping, where: str = "run") -> tuple[dict, list[str]]:
+    """The channels an animation draws, checked before anything is rebuilt from the run: ``time_s`` (at least
+    2 samples), ``x_m``, ``y_m``, ``yaw_rad``, ``speed_mps`` and each wheel's ``<wheel>_fz_N`` as finite
+    floats; ``roll_rad``, ``pitch_rad`` and ``steer_rad`` too when recorded (0 otherwise).
+
+    Returns
+    -------
+    channels : dict of str to numpy.ndarray
+    wheels : list of str
+        The wheels: ``meta["wheels"]`` when the run has each one's load, else every ``<wheel>_fz_N`` channel.
+
+    Raises
+    ------
+    InputError
+        A channel missing, not numbers, not finite or of another length than the time; fewer than 2 samples;
+        no wheel loads.
+    """
+    if "time_s" not in channels:
+        raise InputError("not a run of trikedyn: no channel 'time_s'", where=where)
+    try:
+        n = len(channels["time_s"])
+    except TypeError:
+        raise InputError("channel 'time_s' is not a sequence of times", where=where) from None
+    if n < 2:
+        raise InputError("fewer than 2 samples; nothing to animate", where=where)
+
+    def channel(name, default=None):
+        """The channel ``name`` as finite floats (``default`` throughout when it is not recorded)."""
+        if name not in channels:
+            if default is not None:
+                return np.full(n, default)
+            raise InputError(f"not a run of trikedyn: no channel '{name}'", where=where)
+        try:
+            values = np.asarray(channels[name], dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"channel '{name}' holds values that are not numbers", where=where) from None
+        if values.shape != (n,):
+            raise InputError(f"channel '{name}' has {values.size} values for {n} times", where=where)
+        if not np.all(np.isfinite(values)):
+            raise InputError(f"channel '{name}' holds NaN or infinite values", where=where)
+        return values
+
+    out = {name: channel(name) for name in ("time_s", "x_m", "y_m", "yaw_rad", "speed_mps")}
+    out |= {name: channel(name, 0.0) for name in ("roll_rad", "pitch_rad", "steer_rad")}
+    listed = meta.get("wheels")
+    names = [str(w) for w in listed] if isinstance(listed, list | tuple) and listed and all(
+        f"{w}_fz_N" in channels for w in listed) else [str(c)[: -len("_fz_N")] for c in channels
+                                                         if str(c).endswith("_fz_N")]
+    if not names:
+        raise InputError("not a run of trikedyn: no wheel loads ('<wheel>_fz_N')", where=where)
+    out |= {f"{w}_fz_N": channel(f"{w}_fz_N") for w in names}
+    return out, names
+
+
 def scene_from(channels: Mapping, meta: Mapping, *, params, manoeuvre=None, where: str = "run") -> Scene:
     """A :class:`Scene` from a run's channels and metadata.
 
@@ -112,7 +168,8 @@ def scene_from(channels: Mapping, meta: Mapping, *, params, manoeuvre=None, wher
     ----------
     channels : mapping of str to array_like
         ``time_s`` [s], ``x_m``, ``y_m`` [m], ``yaw_rad``, ``speed_mps`` [m/s], and per wheel
-        ``<wheel>_fz_N`` [N]; ``roll_rad``, ``pitch_rad`` and ``steer_rad`` [rad] if recorded.
+        ``<wheel>_fz_N`` [N]; ``roll_rad``, ``pitch_rad`` and ``steer_rad`` [rad] if recorded
+        (:func:`scene_channels`).
     meta : mapping
         The run's metadata: ``wheels``, ``vehicle``, ``manoeuvre`` (each optional; for the title).
     params : VehicleParameters
@@ -127,32 +184,20 @@ def scene_from(channels: Mapping, meta: Mapping, *, params, manoeuvre=None, wher
     Raises
     ------
     InputError
-        A channel the animation needs is missing or not finite, or there are no samples.
+        A channel the animation needs is missing or not finite, there are fewer than 2 samples, or the vehicle
+        has none of the run's wheels.
     """
-
-    def channel(name, default=None):
-        if name not in channels:
-            if default is not None:
-                return np.full(len(channels["time_s"]), default)
-            raise InputError(f"not a run of trikedyn: no channel '{name}'", where=where)
-        values = np.asarray(channels[name], dtype=float)
-        if not np.all(np.isfinite(values)):
-            raise InputError(f"channel '{name}' holds NaN or infinite values", where=where)
-        return values
-
-    t = channel("time_s")
-    if t.size < 2:
-        raise InputError("fewer than 2 samples; nothing to animate", where=where)
-    names = list(meta.get("wheels") or [c[: -len("_fz_N")] for c in channels if str(c).endswith("_fz_N")])
-    if not names:
-        raise InputError("not a run of trikedyn: no wheel loads ('<wheel>_fz_N')", where=where)
-    loads = {n: channel(f"{n}_fz_N") for n in names}
+    data, names = scene_channels(channels, meta, where)
+    t = data["time_s"]
+    loads = {n: data[f"{n}_fz_N"] for n in names}
     overhang = max(params.body.overall_length_m - params.wheelbase_m, 0.0) / 2  # as closed_loop.footprint
     footprint = (-overhang, params.wheelbase_m + overhang, params.body.overall_width_m / 2)
     wheels = {w.name: (w.x_m, w.y_m, w.radius_m, w.steered) for w in params.wheels if w.name in loads}
+    if not wheels:
+        raise InputError(f"the vehicle has none of the run's wheels ({', '.join(names)})", where=where)
     cg = (params.mass.cg_x_m, params.mass.cg_y_m, params.mass.cg_z_m)
     path = getattr(manoeuvre, "path", None)
-    x, y, yaw = channel("x_m"), channel("y_m"), channel("yaw_rad")
+    x, y, yaw = data["x_m"], data["y_m"], data["yaw_rad"]
     from ..manoeuvres.judging import cone_strikes  # the judge's own test: the footprint touches the cone
 
     hits = np.full(0 if path is None else path.cones.shape[0], np.inf)
@@ -160,16 +205,50 @@ def scene_from(channels: Mapping, meta: Mapping, *, params, manoeuvre=None, wher
         hits[strike["cone"]] = strike["time_s"]
     title = " - ".join(str(v) for v in (meta.get("vehicle"), getattr(manoeuvre, "title", None)
                                        or meta.get("manoeuvre")) if v)
-    return Scene(t, x, y, yaw, channel("roll_rad", 0.0), channel("speed_mps"), channel("steer_rad", 0.0), loads,
+    return Scene(t, x, y, yaw, data["roll_rad"], data["speed_mps"], data["steer_rad"], loads,
                  wheels, footprint, cg,
                  None if path is None else np.column_stack((path.x_m, path.y_m)),
                  np.zeros((0, 2)) if path is None else np.asarray(path.cones, dtype=float),
                  tuple((c.x_start_m, c.x_end_m, c.y_min_m, c.y_max_m) for c in getattr(path, "corridors", ())),
-                 hits, title, channel("pitch_rad", 0.0))
+                 hits, title, data["pitch_rad"])
 
 
-def frame_indices(time_s, every_s: float) -> np.ndarray:
-    """Sample indices nearest to ``t0, t0 + every_s, ...`` up to the end of the run (the last one included)."""
+def check_frames(time_s, every_s: float, max_frames: int = MAX_FRAMES) -> int:
+    """The number of frames ``t0, t0 + every_s, ...`` over ``time_s`` [s], counted before any is made.
+
+    Raises
+    ------
+    InputError
+        More than ``max_frames`` (``where="every_s"``), saying the time between frames that fits.
+    """
+    t = np.asarray(time_s, dtype=float)
+    span = float(t[-1] - t[0]) if t.size else 0.0
+    wanted = math.floor(span / every_s + 1e-9) + 1 if math.isfinite(span / every_s) else math.inf
+    if wanted > max_frames:
+        fits = span / (max_frames - 1)
+        raise InputError(f"{span:.6g} s of run every {every_s:g} s is {wanted:.6g} frames, more than the "
+                         f"{max_frames} drawn; take a time between frames of at least {_up(fits)} s",
+                         where="every_s")
+    return int(wanted)
+
+
+def _up(x: float) -> str:
+    """``x`` rounded up to 3 significant digits, as text."""
+    if x <= 0:
+        return "0"
+    scale = 10 ** (math.floor(math.log10(x)) - 2)
+    return f"{math.ceil(x / scale - 1e-9) * scale:.6g}"
+
+
+def frame_indices(time_s, every_s: float, max_frames: int = MAX_FRAMES) -> np.ndarray:
+    """Sample indices nearest to ``t0, t0 + every_s, ...`` up to the end of the run (the last one included).
+
+    Raises
+    ------
+    InputError
+        More than ``max_frames`` times asked for (:func:`check_frames`).
+    """
+    check_frames(time_s, every_s, max_frames)
     t = np.asarray(time_s, dtype=float)
     wanted = np.arange(t[0], t[-1] + 1e-9, every_s)
     idx = np.clip(np.searchsorted(t, wanted), 0, t.size - 1)
@@ -193,31 +272,6 @@ def _rotate(points, angle, dx=0.0, dy=0.0):
 
 def _box(x0, x1, half):
     return np.array([(x0, -half), (x1, -half), (x1, half), (x0, half)])
-
-
-def _load_bars(ax, scene, positions, width):
-    """Bars of the wheel loads [kN] on ``ax``; returns ``update(i)`` and ``colour(fz)`` (a shade of blue
-    darker with the load [N], red when lifted)."""
-    from matplotlib import colormaps
-
-    names, cmap = list(scene.loads_N), colormaps["Blues"]
-    top = max(float(max(v.max() for v in scene.loads_N.values())), 1.0)
-
-    def colour(fz):
-        return LIFTED if fz <= 0.0 else cmap(0.35 + 0.65 * min(fz / top, 1.0))
-
-    bars = ax.bar(positions, [0.0] * len(names), width=width, color="0.5")
-    ax.set_ylim(0.0, 1.15 * top / 1000)
-    ax.set_xticks(positions, ["".join(p[0].upper() for p in n.split("_")) for n in names])  # RL
-    ax.tick_params(labelsize=7)
-
-    def update(i):
-        for bar, name in zip(bars, names, strict=True):
-            fz = float(scene.loads_N[name][i])
-            bar.set_height(fz / 1000 if fz > 0.0 else 0.03 * top / 1000)  # a lifted wheel: a red stub
-            bar.set_color(colour(fz))
-
-    return update, colour
 
 
 def _axes(ax, xlabel, ylabel, title=None):
@@ -260,7 +314,7 @@ def _plan(fig, scene):
     (x0, y0), (x1, y1) = points.min(axis=0) - 2.0, points.max(axis=0) + 2.0
     over.set(xlim=(x0, x1), ylim=(y0, y1))
     over.tick_params(labelsize=6)
-    over.set_title(scene.title or "run", fontsize=8, pad=2)
+    over.set_title(plain(scene.title or "run"), fontsize=8, pad=2)
     dot, = over.plot([], [], "o", ms=4, color="k", zorder=5)
     half_x, half_y = FOLLOW_HALF_SPAN_M
     window = over.add_patch(Rectangle((0, 0), 2 * half_x, 2 * half_y, fill=False, lw=0.6, color="k"))
@@ -272,11 +326,12 @@ def _plan(fig, scene):
     tyres = {n: ax.add_patch(Polygon(np.zeros((4, 2)), closed=True, ec="k", lw=0.5, zorder=5)) for n in scene.wheels}
     text = _axes(ax, "x [m]", "y [m]")
     ax.grid(alpha=0.25)
-    bars, colour = _load_bars(side, scene, list(range(len(scene.loads_N))), 0.7)
+    bars, colour = load_bars(side, scene, list(range(len(scene.loads_N))), 0.7)
     side.yaxis.tick_right()
     side.set_title("Fz [kN]", fontsize=7, pad=2)
 
     def update(i):
+        """Draw sample ``i``."""
         t, x, y, yaw = scene.time_s[i], scene.x_m[i], scene.y_m[i], scene.yaw_rad[i]
         body.set_xy(_rotate(outline, yaw, x, y))
         lifted = []
@@ -297,7 +352,7 @@ def _plan(fig, scene):
         dot.set_data([cgx[i]], [cgy[i]])
         lines = [f"t = {t:6.2f} s", f"v = {3.6 * scene.speed_mps[i]:6.1f} km/h"]
         lines += [f"cones struck {int(np.sum(scene.cone_hit_s <= t))}"] if scene.cones_xy.shape[0] else []
-        lines += [f"LIFT: {', '.join(lifted)}"] if lifted else []
+        lines += [plain(f"LIFT: {', '.join(lifted)}")] if lifted else []
         text.set_text("\n".join(lines))
         text.get_bbox_patch().set_edgecolor(LIFTED if lifted else "0.6")
 
@@ -321,17 +376,18 @@ def _rear(fig, scene):
     ax.axhline(0.0, color="0.4", lw=1.0)
     body = ax.add_patch(Polygon(np.zeros((4, 2)), closed=True, fc="#c7c7c7", ec="k", lw=1.0, alpha=0.9, zorder=2))
     cg, = ax.plot([], [], "o", ms=5, color="k", zorder=3)
-    text = _axes(ax, "<- left   lateral [m]   right ->  (seen from behind)", "height [m]", scene.title or "run")
+    text = _axes(ax, "<- left   lateral [m]   right ->  (seen from behind)", "height [m]", plain(scene.title or "run"))
     ax.set_xlim(-half - 0.6, half + 0.6)
     ax.set_ylim(-0.1, height + 0.35)
     positions = [-w[1] for w in scene.wheels.values()]
     if len(set(np.round(positions, 3))) < len(positions):
         positions = list(np.linspace(-half, half, len(positions)))
-    bars, _ = _load_bars(low, scene, positions, 0.25)
+    bars, _ = load_bars(low, scene, positions, 0.25)
     low.set_xlim(ax.get_xlim())
     low.set_title("wheel loads Fz [kN] (red: lifted)", fontsize=7, pad=2)
 
     def update(i):
+        """Draw sample ``i``."""
         phi = float(scene.roll_rad[i])  # about x forward: y' = y cos - z sin, z' = y sin + z cos
         turned = _rotate(outline, phi, 0.0, pivot)
         body.set_xy(np.column_stack((-turned[:, 0], turned[:, 1])))
@@ -341,7 +397,7 @@ def _rear(fig, scene):
         lifted = [n for n, fz in scene.loads_N.items() if fz[i] <= 0.0]
         lines = [f"t = {scene.time_s[i]:6.2f} s   v = {3.6 * scene.speed_mps[i]:5.1f} km/h",
                  f"roll = {math.degrees(phi):+5.2f} deg"]
-        lines += [f"LIFT: {', '.join(lifted)}"] if lifted else []
+        lines += [plain(f"LIFT: {', '.join(lifted)}")] if lifted else []
         text.set_text("\n".join(lines))
 
     return update
@@ -359,7 +415,10 @@ def _writer(suffix: str, fps: int):
     from PIL import Image
 
     class SmallGif(animation.PillowWriter):
+        """Pillow's GIF writer keeping each frame as a 64-colour palette image."""
+
         def grab_frame(self, **savefig_kwargs):
+            """Grab the frame and quantise it."""
             super().grab_frame(**savefig_kwargs)
             self._frames[-1] = self._frames[-1].convert("RGB").quantize(64, method=Image.Quantize.FASTOCTREE)
 
@@ -395,7 +454,8 @@ def animate(result, path, view: str = "plan", fps: int = 10, every_s: float = 0.
     Raises
     ------
     InputError
-        Unknown view or format, fps or every_s out of range, too many frames, MP4 without ffmpeg.
+        Unknown view or format, fps or every_s out of range, more than :data:`MAX_FRAMES` frames (counted
+        before any is drawn), MP4 without ffmpeg.
     """
     from .._files import atomic_write
 
@@ -412,11 +472,10 @@ def animate(result, path, view: str = "plan", fps: int = 10, every_s: float = 0.
     if suffix == ".mp4" and not ffmpeg_available():
         raise InputError("writing .mp4 needs ffmpeg, which is not installed; write a .gif or .html instead",
                          where=str(path))
+    if not isinstance(result, Scene):
+        check_frames(result.time_s, every_s)  # before the scene is made
     scene = result if isinstance(result, Scene) else Scene.from_result(result)
     frames = frame_indices(scene.time_s, every_s)
-    if frames.size > MAX_FRAMES:
-        raise InputError(f"{frames.size} frames (more than {MAX_FRAMES}); take a larger time between frames",
-                         where="every_s")
     from matplotlib.figure import Figure  # no pyplot: the user's backend and figures are left alone
 
     fig = Figure(figsize=FIGSIZE_IN, dpi=dpi, facecolor="white")

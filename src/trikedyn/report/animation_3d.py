@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from .animation import CONE, LIFTED, _load_bars
+from ._drawing import CONE, LIFTED, load_bars, plain
 
 __all__ = ["ELEVATION_DEG", "HALF_SPAN_M", "draw_3d"]
 
@@ -82,7 +82,7 @@ def draw_3d(fig, scene):
                             bottom=0.06)
     ax, side = fig.add_subplot(grid[0, 0], projection="3d"), fig.add_subplot(grid[0, 1])
     ax.computed_zorder = False  # drawn in this order: ground, course, wheels, the see-through body
-    ax.set_title(scene.title or "run", fontsize=8, pad=0)
+    ax.set_title(plain(scene.title or "run"), fontsize=8, pad=0)
     ax.set_box_aspect((2 * HALF_SPAN_M, 2 * HALF_SPAN_M, HEIGHT_M), zoom=1.75)  # one scale on all axes
     ax.tick_params(labelsize=6, pad=0)
     ax.set_zticks([0.0, 1.0, 2.0])
@@ -103,7 +103,7 @@ def draw_3d(fig, scene):
     text = ax.text2D(0.01, 0.97, "", transform=ax.transAxes, va="top", fontsize=8, family="monospace",
                      bbox={"fc": "white", "ec": "0.6", "alpha": 0.85, "pad": 2})
 
-    bars, colour = _load_bars(side, scene, list(range(len(scene.loads_N))), 0.7)
+    bars, colour = load_bars(side, scene, list(range(len(scene.loads_N))), 0.7)
     side.yaxis.tick_right()
     side.set_title("Fz [kN]", fontsize=7, pad=2)
 
@@ -119,6 +119,7 @@ def draw_3d(fig, scene):
     cone_faces = [_cone(x, y) for x, y in scene.cones_xy]
 
     def update(i):
+        """Draw sample ``i``."""
         t, x, y, yaw = scene.time_s[i], scene.x_m[i], scene.y_m[i], float(scene.yaw_rad[i])
         roll, theta = float(scene.roll_rad[i]), float(pitch[i])
         cx, cy = x + AHEAD * HALF_SPAN_M * math.cos(yaw), y + AHEAD * HALF_SPAN_M * math.sin(yaw)
@@ -159,7 +160,7 @@ def draw_3d(fig, scene):
         lines = [f"t = {t:6.2f} s   v = {3.6 * scene.speed_mps[i]:5.1f} km/h",
                  f"roll = {math.degrees(roll):+5.2f} deg  pitch = {math.degrees(theta):+5.2f} deg"]
         lines += [f"cones struck {int(np.sum(scene.cone_hit_s <= t))}"] if scene.cones_xy.shape[0] else []
-        lines += [f"LIFT: {', '.join(lifted)}"] if lifted else []
+        lines += [plain(f"LIFT: {', '.join(lifted)}")] if lifted else []
         text.set_text("\n".join(lines))
         text.get_bbox_patch().set_edgecolor(LIFTED if lifted else "0.6")
 

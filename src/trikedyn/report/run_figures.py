@@ -23,9 +23,10 @@ from collections.abc import Mapping
 import numpy as np
 
 from ..errors import InputError, did_you_mean
+from ._drawing import plain
 
 __all__ = ["KINDS", "figure", "figure_gg", "figure_plan", "figure_roll", "figure_time", "figure_wheel_loads",
-           "lift_spans", "title_of"]
+           "MAX_FOOTPRINTS", "lift_spans", "title_of"]
 
 G = 9.80665  # standard gravity [m/s²]
 LIFT = "#d62728"
@@ -62,6 +63,8 @@ SUFFIXES = (("_radps", "deg/s", math.degrees(1.0)), ("_rad", "deg", math.degrees
             ("_mps", "m/s", 1.0), ("_Nm", "N·m", 1.0), ("_N", "N", 1.0), ("_m", "m", 1.0), ("_s", "s", 1.0),
             ("_kmh", "km/h", 1.0))
 TIME_CHANNELS = ("speed_mps", "ay_mps2", "yaw_rate_radps", "roll_rad", "ri")
+MAX_FOOTPRINTS = 200
+"""Most footprints drawn in the plan view."""
 
 
 def label_of(name: str) -> tuple[str, float]:
@@ -79,20 +82,27 @@ def label_of(name: str) -> tuple[str, float]:
 # --- the run as channels and metadata -------------------------------------------------------------------------
 
 def _source(source, meta) -> tuple[dict, dict]:
-    """``(channels, meta)`` of a Result, a DataFrame or a mapping; channels hold ``time_s``."""
+    """``(channels, meta)`` of a Result, a DataFrame or a mapping; channels hold ``time_s``. A table or a mapping
+    is checked as a run file is (:func:`trikedyn.simulate.runcheck.check_run_table`: numbers, finite increasing
+    time, ...), and so is metadata that does not come with a Result (:func:`~trikedyn.simulate.runcheck.check_meta`)."""
+    from ..simulate.runcheck import check_meta, check_run_table
+
     if hasattr(source, "time_s") and hasattr(source, "channels") and not isinstance(source, Mapping):
         channels = {"time_s": np.asarray(source.time_s, dtype=float), **dict(source.channels)}
-        meta = dict(source.meta or {}) if meta is None else dict(meta)
-    elif hasattr(source, "columns") and hasattr(source, "attrs"):  # a pandas DataFrame (a run file's table)
-        channels = {str(c): source[c].to_numpy() for c in source.columns}
-        meta = dict(source.attrs) if meta is None else dict(meta)
-    elif isinstance(source, Mapping):
-        channels, meta = dict(source), dict(meta or {})
-    else:
+        return channels, dict(source.meta or {}) if meta is None else check_meta(meta, "meta")
+    if isinstance(source, Mapping):
+        import pandas as pd
+
+        try:
+            source = pd.DataFrame({str(k): np.asarray(v).reshape(-1) for k, v in source.items()})
+        except (TypeError, ValueError) as exc:
+            raise InputError(f"the channels are not one table ({' '.join(str(exc).split())[:120]})",
+                             where="run") from None
+    if not (hasattr(source, "columns") and hasattr(source, "attrs")):
         raise InputError(f"expected a run (Result, table or channels), got {type(source).__name__}", where="run")
-    if "time_s" not in channels:
-        raise InputError("not a run of trikedyn: no channel 'time_s'", where="run")
-    return channels, meta
+    table = check_run_table(source, "run")
+    meta = check_meta(table.attrs if meta is None else meta, "meta")
+    return {c: table[c].to_numpy() for c in table.columns}, meta
 
 
 def _need(channels: dict, name: str) -> np.ndarray:
@@ -120,7 +130,7 @@ def title_of(meta: Mapping) -> str:
         text += f" at {float(speed):g} km/h"
     if payload:
         text += f" (payload {float(payload):g} kg)"
-    return text
+    return plain(text)
 
 
 def _window(channels: dict) -> tuple[float, float] | None:
@@ -193,8 +203,8 @@ def figure_time(source, meta=None, channels: list[str] | None = None):
         if name.endswith("_fz_N") or name == "min_wheel_load_N":
             ax.axhline(0.0, color=LIFT, ls=":", lw=0.8)
         quantity, _, unit = label.rpartition(" [")
-        ax.set_title(quantity[:1].upper() + quantity[1:], fontsize=9, loc="left", pad=2)
-        ax.set_ylabel(f"[{unit}", fontsize=8)
+        ax.set_title(plain(quantity[:1].upper() + quantity[1:]), fontsize=9, loc="left", pad=2)
+        ax.set_ylabel(plain(f"[{unit}"), fontsize=8)
         _grid(ax)
     axes[-1].set_xlabel("time [s]")
     note = "; grey: judged window (entry to exit gate)" if window else ""
@@ -226,7 +236,7 @@ def figure_wheel_loads(source, meta=None):
         ax.axhline(0.0, color="k", lw=0.6)
         lift_s = sum(b - a for a, b in spans)
         extra = f"; lifted {len(spans)}x, {lift_s:.2f} s in all, first at {spans[0][0]:.2f} s" if spans else ""
-        ax.set_title(f"{name.replace('_', ' ')} wheel{extra}", fontsize=9, loc="left", pad=2)
+        ax.set_title(plain(f"{name.replace('_', ' ')} wheel{extra}"), fontsize=9, loc="left", pad=2)
         ax.set_ylabel("vertical load [N]", fontsize=8)
         _grid(ax)
         if spans or (window and ax is axes[0]):
@@ -246,22 +256,22 @@ def _scene(source, data: dict, meta: dict):
     if getattr(source, "params", None) is not None and hasattr(source, "states"):
         return Scene.from_result(source)
     from ..simulate.runfile import run_course, run_vehicle
+    from .animation import scene_channels
 
-    names = _wheels(data, meta)
-    if not names:
-        raise InputError("not a run of trikedyn: no wheel loads ('<wheel>_fz_N')", where="run")
+    channels, names = scene_channels(data, meta)  # every refusal before the rebuilding, which may warn
     meta = {**meta, "wheels": names}
     params, _ = run_vehicle(meta, names)
     manoeuvre, note = run_course(meta, params)
     if manoeuvre is None:
         warnings.warn(f"no course drawn; {note}", stacklevel=3)
-    return scene_from(data, meta, params=params, manoeuvre=manoeuvre)
+    return scene_from(channels, meta, params=params, manoeuvre=manoeuvre)
 
 
 def figure_plan(source, meta=None, every_s: float = 1.0):
     """Plan view: the CG path [m] through the lanes (grey) and cones (orange, red when struck), the reference
-    line dashed, and the vehicle's footprint every ``every_s`` seconds. The lateral scale is stretched (stated
-    in the axis label) so that a lane change is visible over a course 100 m long.
+    line dashed, and the vehicle's footprint every ``every_s`` seconds (or so many more that at most
+    :data:`MAX_FOOTPRINTS` are drawn). The lateral scale is stretched (stated in the axis label, at most
+    x1000) so that a lane change is visible over a course 100 m long.
 
     ``source`` may also be a :class:`~trikedyn.report.animation.Scene`."""
     from matplotlib.patches import Polygon
@@ -279,10 +289,12 @@ def figure_plan(source, meta=None, every_s: float = 1.0):
         ax.scatter(scene.cones_xy[hit, 0], scene.cones_xy[hit, 1], marker="^", s=36, c=LIFT, edgecolors="k",
                    linewidths=0.5, zorder=4, label="cone struck")
     outline = _box(*scene.footprint_m)
+    span = float(scene.time_s[-1] - scene.time_s[0])
+    every_s = max(float(every_s), span / (MAX_FOOTPRINTS - 1))
     for k, i in enumerate(frame_indices(scene.time_s, every_s)):
         corners = _rotate(outline, float(scene.yaw_rad[i]), float(scene.x_m[i]), float(scene.y_m[i]))
         ax.add_patch(Polygon(corners, closed=True, fill=False, lw=0.7, ec="C0", zorder=2, gid="footprint",
-                             label=f"footprint every {every_s:g} s" if k == 0 else None))
+                             label=f"footprint every {every_s:.3g} s" if k == 0 else None))
     ax.plot(cgx, cgy, color="k", lw=1.1, zorder=3, label="CG path")
     if scene.path_xy is not None:
         ax.plot([], [], ls="--", lw=0.6, color="0.55", label="reference line")
@@ -295,7 +307,7 @@ def figure_plan(source, meta=None, every_s: float = 1.0):
     ax.set_xlim(x0 - 3.0, x1 + 3.0)
     ax.set_ylim(y0 - pad_y, y1 + pad_y)
     span_x, span_y = (x1 - x0) + 6.0, (y1 - y0) + 2 * pad_y
-    stretch = max(1, round((span_x / span_y) * (3.0 / 10.0)))  # fits a 10 in x 3 in box
+    stretch = min(max(1, round((span_x / span_y) * (3.0 / 10.0))), 1000)  # fits a 10 in x 3 in box
     ax.set_aspect(stretch, adjustable="box")
     ax.set_xlabel("x [m]")
     ax.set_ylabel(f"y [m]{f' (scale ×{stretch})' if stretch > 1 else ''}")
@@ -320,12 +332,15 @@ def figure_gg(source, meta=None):
         inside = np.asarray(data["judged"], dtype=float) > 0.5
         ax.plot(np.where(inside, ay_g, np.nan), np.where(inside, ax_g, np.nan), lw=1.1, color="C0",
                 label="judged window")
-    reach = max(float(np.nanmax(np.hypot(ax_g, ay_g))), 0.25)
+    total = np.hypot(ax_g, ay_g)
+    if not np.isfinite(total).any():
+        raise InputError("no sample with both accelerations (ax_mps2, ay_mps2) a number", where="run")
+    reach = max(float(np.nanmax(total)), 0.25)
     top = math.ceil(reach / 0.25) * 0.25
     angle = np.linspace(0.0, 2 * math.pi, 181)
     for r in np.arange(0.25, top + 1e-9, 0.25):
         ax.plot(r * np.cos(angle), r * np.sin(angle), lw=0.5, color="0.8", zorder=0)
-    k = int(np.nanargmax(np.hypot(ax_g, ay_g)))
+    k = int(np.nanargmax(total))
     ax.plot(ay_g[k], ax_g[k], "o", color=LIFT, ms=4, label=f"peak {reach:.2f} g")
     ax.axhline(0.0, color="k", lw=0.5)
     ax.axvline(0.0, color="k", lw=0.5)
@@ -356,7 +371,9 @@ def figure_roll(source, meta=None):
         ax.plot(ay[~down], roll[~down], ".", ms=2.5, color=LIFT, label="a wheel lifted", gid="lift")
     ok = down & np.isfinite(ay) & np.isfinite(roll)
     if ok.sum() >= 3 and np.ptp(ay[ok]) > 1e-6:
-        slope, offset = np.polyfit(ay[ok], roll[ok], 1)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # a poorly conditioned fit is still the best line; no warning
+            slope, offset = np.polyfit(ay[ok], roll[ok], 1)
         line = np.array([ay[ok].min(), ay[ok].max()])
         ax.plot(line, slope * line + offset, "--", color="k", lw=0.9,
                 label=f"roll gradient {slope:.2f} deg/(m/s²) ({slope * G:.1f} deg/g)")

@@ -1,17 +1,24 @@
-"""Run files: a run saved as a table (``.parquet`` or ``.csv``) with a ``.json`` sidecar, and rebuilt from them.
+"""Run files: a run saved as a table (``.parquet`` or ``.csv``) with a ``.json`` sidecar, and its vehicle and
+course rebuilt from them.
 
 ``trikedyn simulate --out run.parquet`` writes every channel (:meth:`Result.to_pandas`) and, beside it,
 ``run.json``: the run's metadata (vehicle name, wheels, time step, manoeuvre name and target speed, footprint,
 speed control), its summary (the verdict and the figures of :func:`trikedyn.analysis.metrics.summary`), the
-manoeuvre as built (``manoeuvre_spec``) and the **vehicle as driven** (``vehicle_params``: every parameter,
-payload included), so that a run can be drawn again with its own vehicle and course wherever it is read
-(``trikedyn plot``, ``trikedyn animate``, the report).
+manoeuvre as built (``manoeuvre_spec``, its path CSV named relative to the run's folder when it lies there) and
+the **vehicle as driven** (``vehicle_params``: every parameter, payload included), so that a run can be drawn
+again with its own vehicle and course wherever it is read (``trikedyn plot``, ``trikedyn animate``, the
+report).
 
-Reading back (:func:`run_meta`, :func:`run_vehicle`, :func:`run_course`): the vehicle is the one recorded;
-for a file from before the vehicle was recorded, the preset of its name when that preset's outline matches the
-recorded footprint, else a stand-in made from the footprint (the courses of the lane changes depend on the
-vehicle's width only). The cones are not stored: the course is rebuilt with
-:func:`trikedyn.manoeuvres.registry.build` from the manoeuvre's name, options and target speed.
+Reading back is checked once, where it is read: :mod:`trikedyn.simulate.runcheck` (:func:`read_run`,
+:func:`run_meta`, ...; imported here too).
+
+Rebuilding (:func:`run_vehicle`, :func:`run_course`): the vehicle is the one recorded; for a file from
+before the vehicle was recorded (or a recorded one that does not have the run's wheels), the preset of its
+name when that preset's outline matches the recorded footprint, else a stand-in made from the footprint (the
+courses of the lane changes depend on the vehicle's width only). The cones are not stored: the course is
+rebuilt with :func:`trikedyn.manoeuvres.registry.build` from the manoeuvre's name, options and target speed;
+a path CSV the record names is a file named in a file, so it follows the rule of
+:func:`trikedyn._reading.named_file` (relative to the run's folder, in it or below it).
 """
 
 from __future__ import annotations
@@ -23,14 +30,31 @@ from pathlib import Path
 from types import SimpleNamespace
 
 from ..errors import InputError
+from .runcheck import (  # noqa: F401  (the reading API, importable from here as before)
+    MAX_ABS_VALUE,
+    MAX_RUN_BYTES,
+    MAX_RUN_COLUMNS,
+    MAX_RUN_ROWS,
+    MAX_RUN_S,
+    MAX_SIDECAR_BYTES,
+    MAX_WHEELS,
+    READ_FROM,
+    RUN_SUFFIXES,
+    RunFile,
+    check_meta,
+    check_run_table,
+    read_run,
+    read_run_table,
+    run_meta,
+)
 
-__all__ = ["MAX_SIDECAR_BYTES", "check_run_file", "footprint_of", "run_course", "run_meta", "run_vehicle", "stand_in",
+__all__ = ["MAX_ABS_VALUE", "MAX_RUN_BYTES", "MAX_RUN_COLUMNS", "MAX_RUN_ROWS", "MAX_RUN_S", "MAX_SIDECAR_BYTES",
+           "MAX_WHEELS", "READ_FROM", "RUN_SUFFIXES", "RunFile", "check_meta", "check_run_file", "check_run_table",
+           "footprint_of", "read_run", "read_run_table", "run_course", "run_meta", "run_vehicle", "stand_in",
            "write_run"]
 
 WHEEL_RADIUS_M = 0.27
 """Drawn radius of a wheel of a stand-in vehicle [m]."""
-MAX_SIDECAR_BYTES = 16 * 2**20
-"""Largest ``.json`` sidecar read [bytes]: a run's is a few kB; a bigger one is not read (and said so)."""
 
 
 def check_run_file(out: Path, force: bool, reads=()) -> None:
@@ -57,30 +81,30 @@ def write_run(result, out: Path, summary: dict) -> None:
         atomic_write(out, lambda fh: frame.to_csv(fh, index=False), binary=False)
     meta = {k: v for k, v in result.meta.items() if k != "driver"} | {"summary": summary}
     if result.manoeuvre is not None:
-        meta["manoeuvre_spec"] = result.manoeuvre.to_dict()
+        meta["manoeuvre_spec"] = _relative_file(result.manoeuvre.to_dict(), out)
     if result.params is not None and hasattr(result.params, "model_dump"):
         meta["vehicle_params"] = result.params.model_dump(mode="json")
     text = json.dumps(finite(meta)[0], indent=2, default=json_default, allow_nan=False)
     atomic_write(out.with_suffix(".json"), lambda fh: fh.write(text), binary=False)
 
 
-def run_meta(run: Path, attrs: dict) -> dict:
-    """A run's metadata: the table's own (Parquet) metadata ``attrs``, completed by the ``.json`` beside it (a
-    sidecar that cannot be read, or over :data:`MAX_SIDECAR_BYTES`, is left out with a warning)."""
-    meta = dict(attrs)
-    side = Path(run).with_suffix(".json")
-    if side.is_file():
+def _relative_file(spec: dict, out: Path) -> dict:
+    """The manoeuvre's record with its path CSV (``parameters.file``) named relative to the run's folder when it
+    lies in it or below (the rule a file named in a file is read by); as given otherwise."""
+    params = spec.get("parameters")
+    file = params.get("file") if isinstance(params, dict) else None
+    if isinstance(file, str):
         try:
-            if side.stat().st_size > MAX_SIDECAR_BYTES:
-                raise ValueError(f"over {MAX_SIDECAR_BYTES // 2**20} MiB")
-            found = json.loads(side.read_text(encoding="utf-8"))
-        except (OSError, UnicodeDecodeError, ValueError) as exc:
-            warnings.warn(f"{side}: not read ({type(exc).__name__}: {exc}); going on without it", stacklevel=2)
-        else:
-            meta = {**found, **meta} if isinstance(found, dict) else meta
-    return meta
+            rel = Path(file).resolve().relative_to(Path(out).resolve().parent)
+        except (OSError, ValueError, RuntimeError):
+            return spec
+        return {**spec, "parameters": {**params, "file": rel.as_posix()}}
+    return spec
 
 
+# ------------------------------------------------------------------------------------------------------------
+# rebuilding a run's vehicle and course
+# ------------------------------------------------------------------------------------------------------------
 def footprint_of(meta: dict) -> tuple[float, float, float] | None:
     """The recorded ``(x_rear, x_front, half_width)`` [m] of the vehicle's outline, or None."""
     try:
@@ -105,8 +129,9 @@ def stand_in(names: list[str], footprint) -> SimpleNamespace:
 
 
 def run_vehicle(meta: dict, names: list[str]):
-    """The vehicle a run drove, and how it was found (a note): the one recorded in its sidecar; else the preset
-    of its name if that preset's outline matches the recorded footprint; else a :func:`stand_in`."""
+    """The vehicle a run drove, and how it was found (a note): the one recorded in its sidecar (when it has the
+    run's wheels); else the preset of its name if that preset's outline matches the recorded footprint; else a
+    :func:`stand_in`."""
     from ..params import list_presets, load_vehicle
     from ..params.schema import VehicleParameters
 
@@ -114,6 +139,9 @@ def run_vehicle(meta: dict, names: list[str]):
     if isinstance(recorded, dict):
         try:
             params = VehicleParameters.model_validate(recorded)
+            theirs = sorted(w.name for w in params.wheels)
+            if theirs != sorted(names):
+                raise ValueError(f"its wheels ({', '.join(theirs)}) are not the run's ({', '.join(names)})")
             return params, f"the vehicle recorded with the run ('{params.name}')"
         except (ValueError, TypeError, InputError) as exc:  # e.g. its .tir file has gone
             first = " ".join(str(exc).split())[:200]
@@ -124,14 +152,27 @@ def run_vehicle(meta: dict, names: list[str]):
         params = load_vehicle(name).params
         overhang = max(params.body.overall_length_m - params.wheelbase_m, 0.0) / 2
         mine = (-overhang, params.wheelbase_m + overhang, params.body.overall_width_m / 2)
-        if footprint is None or all(abs(a - b) < 1e-6 for a, b in zip(mine, footprint, strict=True)):
+        if sorted(w.name for w in params.wheels) == sorted(names) and (
+                footprint is None or all(abs(a - b) < 1e-6 for a, b in zip(mine, footprint, strict=True))):
             return params, f"preset '{name}'"
     return stand_in(names, footprint), "a stand-in vehicle from the run's footprint (wheels placed approximately)"
 
 
-def run_course(meta: dict, params):
+def run_course(meta: dict, params, run=None):
     """The manoeuvre rebuilt from a run's record (name, options, target speed) for ``params``, or None; and a
-    note saying how (or why not)."""
+    note saying how (or why not).
+
+    Parameters
+    ----------
+    meta : dict
+        The run's metadata (:func:`check_meta`).
+    params : VehicleParameters or SimpleNamespace
+        The vehicle (:func:`run_vehicle`).
+    run : str or Path, optional
+        The run file (default: the one :func:`run_meta` read the metadata for). A path CSV the record names
+        (``manoeuvre_spec.parameters.file``) is a file named in a file: relative to the run's folder, in it or
+        below it (:func:`trikedyn._reading.named_file`); without a run file it is not read.
+    """
     from ..manoeuvres.registry import build, get
 
     spec = meta.get("manoeuvre_spec") if isinstance(meta.get("manoeuvre_spec"), dict) else {}
@@ -139,14 +180,28 @@ def run_course(meta: dict, params):
     speed = meta.get("target_speed_kmh") or (meta.get("summary") or {}).get("speed_kmh")
     if not name or not speed:
         return None, "none: the run file names no manoeuvre and speed"
+    run = run if run is not None else meta.get(READ_FROM)
     try:
         kind = get(str(name))
         if isinstance(params, SimpleNamespace) and not kind.closed_loop:
             return None, f"none: '{name}' steers open loop (no course to draw) and the run's vehicle is not recorded"
         declared = {o.name for o in kind.options}
         options = {k: v for k, v in (spec.get("parameters") or {}).items() if k in declared}
+        if "file" in options:
+            options["file"] = _named_path_csv(options["file"], run)
         manoeuvre = build(str(name), params, float(speed), **options)
-    except (InputError, AttributeError, KeyError, TypeError, ValueError) as exc:
-        return None, f"none: '{name}' could not be rebuilt ({exc})"
+    except (InputError, AttributeError, KeyError, TypeError, ValueError, ArithmeticError) as exc:
+        return None, f"none: '{name}' could not be rebuilt ({' '.join(str(exc).split())[:300]})"
     told = ", ".join(f"{k}={v}" for k, v in options.items())
     return manoeuvre, f"'{name}' rebuilt at {float(speed):g} km/h" + (f" with {told}" if told else "")
+
+
+def _named_path_csv(name, run) -> str:
+    """A path CSV named in a run's record, by the rule for files named in files (relative to the run's folder)."""
+    from .._reading import named_file
+
+    if run is None:
+        raise InputError("its path CSV is named relative to the run file, which is not known here",
+                         where="manoeuvre_spec.parameters.file")
+    return str(named_file(name, Path(run).parent, expected="a path .csv", where="manoeuvre_spec.parameters.file",
+                          place="the run file's folder", suffixes=(".csv",)).path)

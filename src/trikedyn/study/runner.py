@@ -319,8 +319,6 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
         stop = _StopSignal(getattr(report, "note", None))
         running: dict = {}
         abandoned = False
-        if report is not None:
-            report(n_done, len(order))
 
         def collect(fut):
             nonlocal n_done, computed
@@ -339,7 +337,9 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
                 report(n_done, len(order))
 
         try:
-            with stop:
+            with stop:  # the first progress line once a signal is ours: a Ctrl-C on seeing it stops the study
+                if report is not None:
+                    report(n_done, len(order))
                 while todo or running:
                     if stop.requested:
                         todo.clear()
