@@ -1,8 +1,13 @@
-"""``trikedyn loading-chart``: the safe speed for operators over freight mass and freight position."""
+"""``trikedyn loading-chart``: the safe speed for operators over freight mass and freight position.
+
+With ``--out``, each cell is logged (``loading-chart-cells.csv``) as it finishes, beside the run's plan
+(``loading-chart-plan.json``); ``--resume`` continues a run that was killed or interrupted: the cells logged
+are not run again (:class:`trikedyn.study.loading.CellLog`)."""
 
 from __future__ import annotations
 
 import csv
+import json
 import math
 from pathlib import Path
 from typing import Annotated
@@ -22,9 +27,12 @@ from ._common import (
     manoeuvre_options,
     within,
 )
-from ._sampled import ProgressLine, write_results
+from ._sampled import ProgressLine, check_resume, start_output, write_results
 
 JSON_FILE, CSV_FILE, FIGURE_FILE = "loading-chart.json", "loading-chart.csv", "loading-chart.png"
+CELLS_FILE, PLAN_FILE = "loading-chart-cells.csv", "loading-chart-plan.json"
+
+
 def _numbers(text: str | None, option: str) -> list[float] | None:
     """A comma-separated list of finite numbers (None: the default grid)."""
     if text is None:
@@ -55,7 +63,8 @@ def loading_chart_cmd(
     criterion: CriterionOpt = "course",
     speed_control: SpeedControlOpt = "driver",
     workers: Annotated[int, typer.Option("--workers", callback=within(0, 256), help="Processes (0: in this process).")] = 2,
-    out: Annotated[Path | None, typer.Option("--out", help="Folder for loading-chart.json, .csv and .png (a printable figure).")] = None,
+    out: Annotated[Path | None, typer.Option("--out", help="Folder for loading-chart.json, .csv and .png (a printable figure), and the cells as they finish (loading-chart-cells.csv).")] = None,
+    resume: Annotated[bool, typer.Option("--resume", help="Continue an interrupted run in --out: cells in its log are not run again.")] = False,
     force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
@@ -69,24 +78,31 @@ def loading_chart_cmd(
     grid = [_numbers(masses, "--masses"), _numbers(x, "--x"), _numbers(z, "--z")]
     if grid[0] is not None and any(m < 0 for m in grid[0]):
         raise InputError("freight masses must be >= 0 kg", where="--masses")
+    check_resume(out, resume, force)
     options = manoeuvre_options(manoeuvre, option)
     pset = load_vehicle(vehicle)
-    if out is not None:
-        from .._files import check_output_folder
-
-        check_output_folder(out, force=force, option="--out", reads=[vehicle, manoeuvre, options.get("file")],
-                            writes=[JSON_FILE, CSV_FILE, FIGURE_FILE])
     search = Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion,
                     speed_control=speed_control).on_course_of(pset)
+    log = None
+    if out is not None:
+        masses_kg, x_m, z_m = lc.grid_cells(pset, *grid)
+        plan = json.loads(json.dumps({"vehicle": pset.name, **search.to_dict(), "masses_kg": masses_kg, "x_m": x_m,
+                                      "z_m": z_m}))
+        start_output(out, plan, PLAN_FILE, kind="a loading-chart", resume=resume, force=force,
+                     reads=[vehicle, manoeuvre, options.get("file")],
+                     writes=[JSON_FILE, CSV_FILE, FIGURE_FILE, CELLS_FILE])
+        log = lc.CellLog(out / CELLS_FILE)
     chart = lc.run_loading_chart(pset, search, *grid,
                                  margin_kmh=lc.DEFAULT_MARGIN_KMH if margin_kmh is None else margin_kmh,
-                                 margin_fraction=margin_fraction, workers=workers, progress=ProgressLine("loading-chart", "cells", every_s=3.0))
+                                 margin_fraction=margin_fraction, workers=workers, log=log, resume=resume,
+                                 progress=ProgressLine("loading-chart", "cells", every_s=3.0))
     data = chart.to_dict()
     if out is not None:
         from .._files import atomic_write
 
         atomic_write(out / CSV_FILE, lambda fh: csv.writer(fh).writerows(chart.rows()), binary=False)
-        write_results(out, data, chart.plot(), FIGURE_FILE, JSON_FILE, dpi=150, csv=str(out / CSV_FILE))
+        write_results(out, data, chart.plot(), FIGURE_FILE, JSON_FILE, dpi=150, csv=str(out / CSV_FILE),
+                      cells=str(out / CELLS_FILE))
 
     def shown() -> str:
         lines = [chart.table()]

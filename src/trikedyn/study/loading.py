@@ -12,6 +12,10 @@ The **safe speed** is the threshold less a stated margin, never below 0:
 A cell whose vehicle is invalid, or whose search fails or finds no threshold, is null with the reason. The
 cells run on a process pool (:mod:`trikedyn.study.executors`). :func:`run_loading_chart` returns a
 :class:`LoadingChart` (``to_dict``, ``rows`` for a CSV, ``plot``; matplotlib is imported only to plot).
+
+Given a :class:`CellLog`, each cell is appended to it (a CSV, flushed) as it finishes; with ``resume`` the cells
+logged already are read back and not run again, so a chart killed half way goes on where it stopped and ends
+with the table an uninterrupted run gives.
 """
 
 from __future__ import annotations
@@ -23,11 +27,12 @@ from dataclasses import dataclass, field
 
 from ..errors import InputError, ParameterError
 from ..params.io import ParameterSet
+from .csv_log import AppendedCsv
 from .pool_runs import ResilientPool, WorkersKeptDying
 from .sample_runs import Search
 
-__all__ = ["DEFAULT_MARGIN_KMH", "DEFAULT_MASSES_KG", "DEFAULT_X_OFFSETS_M", "DEFAULT_Z_OFFSETS_M", "LoadingChart",
-           "default_grid", "evaluate_cell", "run_loading_chart", "safe_speed"]
+__all__ = ["DEFAULT_MARGIN_KMH", "DEFAULT_MASSES_KG", "DEFAULT_X_OFFSETS_M", "DEFAULT_Z_OFFSETS_M", "CellLog",
+           "LoadingChart", "default_grid", "evaluate_cell", "grid_cells", "run_loading_chart", "safe_speed"]
 
 DEFAULT_MASSES_KG = (0.0, 50.0, 100.0, 150.0, 200.0)
 DEFAULT_X_OFFSETS_M = (-0.2, 0.0, 0.2)
@@ -43,6 +48,74 @@ def default_grid(pset: ParameterSet) -> tuple[list[float], list[float], list[flo
     site = pset.params.freight
     return (list(DEFAULT_MASSES_KG), [round(site.x_m + d, 9) for d in DEFAULT_X_OFFSETS_M],
             [round(site.z_m + d, 9) for d in DEFAULT_Z_OFFSETS_M])
+
+
+def grid_cells(pset: ParameterSet, masses_kg: Sequence[float] | None = None, x_m: Sequence[float] | None = None,
+               z_m: Sequence[float] | None = None) -> tuple[list[float], list[float], list[float]]:
+    """The chart's grid: masses [kg], x [m] and z [m], each as given (None: :func:`default_grid`'s) with
+    repeats dropped; the cells run in the order ``z``, mass, ``x`` (:meth:`LoadingChart.keys`).
+
+    Raises
+    ------
+    InputError
+        A value that is not finite, a negative mass, or more than :data:`MAX_CELLS` cells.
+    """
+    masses, xs, zs = default_grid(pset)
+    masses = list(dict.fromkeys(float(v) for v in (masses if masses_kg is None else masses_kg)))
+    xs = list(dict.fromkeys(float(v) for v in (xs if x_m is None else x_m)))
+    zs = list(dict.fromkeys(float(v) for v in (zs if z_m is None else z_m)))
+    for name, values in (("masses", masses), ("x", xs), ("z", zs)):
+        if not values or not all(math.isfinite(v) for v in values):
+            raise InputError("needs finite numbers", where=f"--{name}")
+    if any(m < 0 for m in masses):
+        raise InputError("freight masses must be >= 0 kg", where="--masses")
+    if len(masses) * len(xs) * len(zs) > MAX_CELLS:
+        raise InputError(f"{len(masses) * len(xs) * len(zs)} cells; at most {MAX_CELLS}", where="grid")
+    return masses, xs, zs
+
+
+class CellLog(AppendedCsv):
+    """The cells of a chart as a CSV file, one row appended (and flushed) as each cell finishes.
+
+    Columns: ``cell`` (its index in :meth:`LoadingChart.keys` order), ``freight_kg`` [kg], ``status`` (``ok``
+    or ``failed``), ``threshold_speed_kmh`` [km/h], ``x_m`` and ``z_m`` [m] (the freight's position) and
+    ``error``.
+    """
+
+    COLUMNS = ["cell", "freight_kg", "status", "threshold_speed_kmh", "x_m", "z_m", "error"]
+
+    def __init__(self, path):
+        super().__init__(path, self.COLUMNS)
+
+    def read(self, keys: list[tuple[float, float, float]]) -> dict:
+        """The cells logged already: ``(mass, x, z)`` -> ``(threshold [km/h] or None, error or None)``.
+
+        A row cut short by a kill is skipped (run again).
+
+        Raises
+        ------
+        InputError
+            The file's columns, or a row's cell, are not this chart's.
+        """
+        known = {}
+        for row in self.logged_rows("use another --out or --force (another grid?)"):
+            try:
+                i, key = int(row[0]), (float(row[1]), float(row[4]), float(row[5]))
+                value = float(row[3]) if row[2] == "ok" else None
+            except ValueError:
+                continue
+            if not 0 <= i < len(keys) or keys[i] != key:
+                raise InputError(f"cell {i} is not this chart's (another grid?); use another --out or --force",
+                                 where=str(self.path))
+            known[key] = (value, row[6] or None)
+        return known
+
+    def append(self, index: int, key: tuple[float, float, float], threshold: float | None,
+               error: str | None) -> None:
+        """Log one finished cell (flushed at once)."""
+        mass, x, z = key
+        self.write([index, repr(mass), "ok" if threshold is not None else "failed",
+                    "" if threshold is None else repr(float(threshold)), repr(x), repr(z), error or ""])
 
 
 def safe_speed(threshold_kmh: float | None, margin_kmh: float | None = DEFAULT_MARGIN_KMH,
@@ -100,6 +173,10 @@ class LoadingChart:
     site_m: tuple = (0.0, 0.0, 0.0)
     workers: int = 2
     wall_time_s: float = 0.0
+    resumed: int = 0
+    """Cells read from the log of an earlier, interrupted run (not run again)."""
+    computed: int = 0
+    """Cells run by this call."""
 
     @property
     def margin_text(self) -> str:
@@ -131,7 +208,8 @@ class LoadingChart:
             "criterion": self.search.criterion, "speed_control": self.search.speed_control,
             "freight_site_m": list(self.site_m), "masses_kg": list(self.masses_kg), "x_m": list(self.x_m),
             "z_m": list(self.z_m), "cells": self.cells(), "failed": self.failed, "at_search_limit": at_limit,
-            "workers": self.workers, "wall_time_s": self.wall_time_s,
+            "workers": self.workers, "wall_time_s": self.wall_time_s, "cells_resumed": self.resumed,
+            "cells_computed": self.computed,
         }
 
     def rows(self) -> list[list]:
@@ -200,19 +278,16 @@ def _blank(value):
 def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[float] | None = None,
                       x_m: Sequence[float] | None = None, z_m: Sequence[float] | None = None, *,
                       margin_kmh: float | None = DEFAULT_MARGIN_KMH, margin_fraction: float | None = None,
-                      workers: int = 2, progress: Callable | None = None) -> LoadingChart:
-    """The loading chart of ``pset`` (default grid: :func:`default_grid`); cells on ``workers`` processes
-    (0: in this process); ``progress(done, total)`` is called about once a second and at the end."""
+                      workers: int = 2, progress: Callable | None = None, log: CellLog | None = None,
+                      resume: bool = False) -> LoadingChart:
+    """The loading chart of ``pset`` (grid: :func:`grid_cells`); cells on ``workers`` processes (0: in this
+    process); ``progress(done, total)`` is called about once a second and at the end.
+
+    Each finished cell is appended to ``log`` if given; with ``resume`` the cells in it already
+    (:meth:`CellLog.read`) are taken as they are and not run again. Cells left out by workers that kept
+    dying are null and not logged: a resumed run tries them again."""
     start = time.perf_counter()
-    masses, xs, zs = default_grid(pset)
-    masses = list(dict.fromkeys(float(v) for v in (masses if masses_kg is None else masses_kg)))
-    xs = list(dict.fromkeys(float(v) for v in (xs if x_m is None else x_m)))
-    zs = list(dict.fromkeys(float(v) for v in (zs if z_m is None else z_m)))
-    for name, values in (("masses", masses), ("x", xs), ("z", zs)):
-        if not values or not all(math.isfinite(v) for v in values):
-            raise InputError("needs finite numbers", where=f"--{name}")
-    if any(m < 0 for m in masses):
-        raise InputError("freight masses must be >= 0 kg", where="--masses")
+    masses, xs, zs = grid_cells(pset, masses_kg, x_m, z_m)
     if margin_fraction is not None and not 0 <= margin_fraction < 1:
         raise InputError("must be >= 0 and < 1", where="--margin-fraction")
     if margin_fraction is None and (margin_kmh is None or not 0 <= margin_kmh < 1000):
@@ -222,31 +297,42 @@ def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[fl
     search = search.on_course_of(pset)  # every cell meets the reference vehicle's course
     manoeuvre_builder(search.manoeuvre, dict(search.options))  # a bad manoeuvre fails before any process starts
     keys = [(m, x, z) for z in zs for m in masses for x in xs]
-    if len(keys) > MAX_CELLS:
-        raise InputError(f"{len(keys)} cells; at most {MAX_CELLS}", where="grid")
-    threshold: dict = {}
-    errors: dict = {}
+    index = {key: i for i, key in enumerate(keys)}
+    known = log.read(keys) if log is not None and resume else {}
+    threshold: dict = {key: value for key, (value, _) in known.items()}
+    errors: dict = {key: error for key, (_, error) in known.items()}
+    computed = 0
     if progress is not None:
-        progress(0, len(keys))
+        progress(len(threshold), len(keys))
 
     def record(key, value):
-        threshold[key], errors[key] = value
+        nonlocal computed
+        speed, error = value
+        error = None if error is None else " ".join(str(error).split())
+        threshold[key], errors[key] = speed, error
+        computed += 1
+        if log is not None:
+            log.append(index[key], key, speed, error)
         if progress is not None:
             progress(len(threshold), len(keys))
 
+    if log is not None:
+        log.open(fresh=not resume)
     pool = ResilientPool(workers)
     try:
-        pool.run(evaluate_cell, ((key, (pset, *key, search)) for key in keys), record,
+        pool.run(evaluate_cell, ((key, (pset, *key, search)) for key in keys if key not in known), record,
                  lambda key: record(key, (None, "a worker process died on this cell (a crash, or out of memory)")))
     except WorkersKeptDying as exc:  # the cells not run are null
         for key in exc.remaining:
             threshold[key], errors[key] = None, "worker processes kept dying; cell not run"
     finally:
         pool.close()
+        if log is not None:
+            log.close()
     if progress is not None:
         progress(len(threshold), len(keys))
     site = pset.params.freight
     return LoadingChart(pset.name, search.manoeuvre, masses, xs, zs, threshold, errors, margin_kmh=margin_kmh
                         if margin_fraction is None else None, margin_fraction=margin_fraction, search=search,
                         site_m=(site.x_m, site.y_m, site.z_m), workers=int(workers),
-                        wall_time_s=time.perf_counter() - start)
+                        wall_time_s=time.perf_counter() - start, resumed=len(known), computed=computed)
