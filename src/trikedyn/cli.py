@@ -159,6 +159,16 @@ def main(argv: list[str] | None = None) -> int:
     stdout. Warnings print as one line each. Ctrl-C (SIGINT) prints one line ``trikedyn: interrupted`` (with
     what the command kept), under ``--json`` also a JSON object saying so, and exits with code 130. A genuine
     bug keeps its traceback (exit code 1).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name; ``sys.argv[1:]`` by default.
+
+    Returns
+    -------
+    int
+        The exit code: 0 on success, 2 on a user's error, 130 on an interrupt, else the code a command exits with.
     """
     import warnings
 

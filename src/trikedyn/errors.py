@@ -67,7 +67,22 @@ class SimulationError(TrikedynError):
 
 def did_you_mean(name: str, choices, cutoff: float = 0.6) -> str:
     """``"; did you mean 'X'?"`` for the closest of ``choices`` to a mistyped ``name``, or ``""`` (for the end
-    of an error message; :func:`difflib.get_close_matches` with ``cutoff``)."""
+    of an error message; :func:`difflib.get_close_matches` with ``cutoff``).
+
+    Parameters
+    ----------
+    name : str
+        What the user typed.
+    choices : iterable
+        The valid names (converted with ``str``).
+    cutoff : float
+        Similarity ratio a match must reach, 0 to 1, dimensionless.
+
+    Returns
+    -------
+    str
+        The hint, or an empty string when nothing is close enough.
+    """
     from difflib import get_close_matches
 
     hint = get_close_matches(str(name), [str(c) for c in choices], n=1, cutoff=cutoff)

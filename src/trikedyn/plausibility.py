@@ -42,7 +42,18 @@ symbol, factor to the field's unit, the field's unit)."""
 
 def unit_of(key) -> str | None:
     """The unit suffix of a field name (``'axis_angle_deg'`` -> ``'_deg'``), one of :data:`UNIT_SLIPS`, or
-    None."""
+    None.
+
+    Parameters
+    ----------
+    key : str or object
+        A field name; anything but a string has no unit.
+
+    Returns
+    -------
+    str or None
+        The longest matching suffix, or None.
+    """
     if not isinstance(key, str):
         return None
     found = [suffix for suffix in UNIT_SLIPS if key.endswith(suffix)]
@@ -89,6 +100,11 @@ def unit_slip_hint(exc: ValidationError, data, model: type[BaseModel],
     unit : callable, optional
         ``loc -> unit suffix`` for fields whose name carries no unit (a scale reading under ``[level]``); by
         default the suffix of the last named part of the location (:func:`unit_of`).
+
+    Returns
+    -------
+    str
+        The hint for the end of an error message, or an empty string.
     """
     errors = exc.errors()
     if any(e["type"] == "extra_forbidden" for e in errors):

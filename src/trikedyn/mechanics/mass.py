@@ -58,7 +58,24 @@ class MassProperties:
 
 
 def combine(parts) -> MassProperties:
-    """Combine rigidly attached parts into one :class:`MassProperties` (parallel-axis theorem)."""
+    """Combine rigidly attached parts into one :class:`MassProperties` (parallel-axis theorem).
+
+    Parameters
+    ----------
+    parts : iterable of MassProperties, PointMass, Box or Payload
+        The parts, each in vehicle axes; anything with a ``mass_properties()`` method is reduced to its
+        :class:`MassProperties` first.
+
+    Returns
+    -------
+    MassProperties
+        Total mass [kg], combined CG [m] and inertia about that CG [kg m^2].
+
+    Raises
+    ------
+    InputError
+        If the total mass is not positive.
+    """
     parts = [p.mass_properties() if hasattr(p, "mass_properties") else p for p in parts]
     mass = sum(p.mass_kg for p in parts)
     if mass <= 0:
@@ -83,6 +100,13 @@ class PointMass:
     name: str = "point mass"
 
     def mass_properties(self) -> MassProperties:
+        """The :class:`MassProperties` of the point: its mass [kg] at its position [m], no inertia of its own.
+
+        Returns
+        -------
+        MassProperties
+            Mass [kg], CG at ``position_m`` [m], zero inertia about the CG [kg m^2].
+        """
         return MassProperties(_check_mass(self.mass_kg, self.name), self.position_m)
 
 
@@ -96,6 +120,18 @@ class Box:
     name: str = "box"
 
     def mass_properties(self) -> MassProperties:
+        """The :class:`MassProperties` of the uniform box, inertia m/12 (b^2 + c^2) etc. about its centre.
+
+        Returns
+        -------
+        MassProperties
+            Mass [kg], CG at ``centre_m`` [m], diagonal inertia about the centre [kg m^2].
+
+        Raises
+        ------
+        InputError
+            On a negative or non-finite mass or a negative edge length.
+        """
         m = _check_mass(self.mass_kg, self.name)
         a, b, c = (float(s) for s in self.size_m)
         if min(a, b, c) < 0:
@@ -120,15 +156,50 @@ class Payload:
 
     @property
     def mass_kg(self) -> float:
+        """Total mass of the payload's items [kg]."""
         return float(sum(_check_mass(i.mass_kg, i.name) for i in self.items))
 
     def mass_properties(self) -> MassProperties:
+        """The :class:`MassProperties` of all the items together (zero mass at the origin when empty).
+
+        Returns
+        -------
+        MassProperties
+            Total mass [kg], combined CG [m] and inertia about it [kg m^2].
+        """
         return combine(self.items) if self.mass_kg > 0 else MassProperties(0.0, np.zeros(3))
 
     def added_to(self, base: MassProperties) -> MassProperties:
-        """The assembly ``base`` with this payload aboard."""
+        """The assembly ``base`` with this payload aboard.
+
+        Parameters
+        ----------
+        base : MassProperties
+            The vehicle (or assembly) without the payload: mass [kg], CG [m], inertia [kg m^2].
+
+        Returns
+        -------
+        MassProperties
+            ``base`` plus the payload (``base`` itself for an empty payload).
+        """
         return base if self.mass_kg == 0 else base + self.mass_properties()
 
     def removed_from(self, base: MassProperties) -> MassProperties:
-        """The assembly ``base`` with this payload taken off."""
+        """The assembly ``base`` with this payload taken off.
+
+        Parameters
+        ----------
+        base : MassProperties
+            The vehicle (or assembly) with the payload aboard.
+
+        Returns
+        -------
+        MassProperties
+            ``base`` minus the payload (``base`` itself for an empty payload).
+
+        Raises
+        ------
+        InputError
+            If the payload weighs as much as ``base`` or more.
+        """
         return base if self.mass_kg == 0 else base - self.mass_properties()

@@ -11,7 +11,23 @@ __all__ = ["as_points", "wheel_loads_from_cg"]
 
 
 def as_points(contacts) -> np.ndarray:
-    """Contact points as an ``(n >= 3, 2)`` float array of (x, y) [m]; an InputError otherwise."""
+    """Contact points as an ``(n >= 3, 2)`` float array of (x, y) [m]; an InputError otherwise.
+
+    Parameters
+    ----------
+    contacts : array_like, shape (n, 2)
+        Contact points (x, y) in vehicle axes [m], at least three.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, 2)
+        The points as floats [m].
+
+    Raises
+    ------
+    InputError
+        If the array is not of shape (n >= 3, 2).
+    """
     pts = np.asarray(contacts, dtype=float)
     if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 3:
         raise InputError("contact points must be an (n >= 3, 2) array of (x, y) [m]", where="contacts")
