@@ -64,7 +64,7 @@ def test_register_refuses_duplicates_and_unregister_removes():
         assert formats.get("pothole-logger") is fmt
     finally:
         assert formats.unregister("pothole-logger") is fmt
-    with pytest.raises(KeyError):
+    with pytest.raises(LogFormatError, match="unknown format 'pothole-logger'"):
         formats.get("pothole-logger")
 
 

@@ -6,8 +6,14 @@ it::
     from trikedyn.manoeuvres.registry import Option, register
 
     @register("dlc", "ISO 3888-1 double lane change", options=(Option("run_in_m", 30.0, "m", "..."),))
-    def build(params, speed_kmh, run_in_m=30.0):
+    def build(params, speed_kmh, *, run_in_m):
         ...
+
+Each option is stated once, in ``options`` (:class:`~trikedyn.registry.Option`: default, unit, bounds,
+help): the builder takes it as a keyword without a default (it is always given, the default filled in),
+and the built manoeuvre records every option's value in its ``parameters`` (a value the builder records
+itself, such as a width resolved from the vehicle, takes the place of the option's). Plug-ins from other
+distributions register through the entry-point group ``trikedyn.manoeuvres`` (:mod:`trikedyn.registry`).
 
 ``params`` is the vehicle's :class:`~trikedyn.params.schema.VehicleParameters` (some tests depend on the
 vehicle: lane widths, the steer that gives 0.3 g). The command line (``simulate``, ``threshold``,
@@ -21,45 +27,12 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from difflib import get_close_matches
+from dataclasses import replace as _with
 
-from ..errors import InputError, did_you_mean
+from ..errors import InputError
+from ..registry import Option, Registry, find_option
 
-__all__ = ["ManoeuvreType", "Option", "available", "build", "get", "register", "parse_options"]
-
-
-@dataclass(frozen=True)
-class Option:
-    """One option of a manoeuvre: its name (with the unit in it), default, unit and meaning."""
-
-    name: str
-    default: float | str
-    unit: str = ""
-    help: str = ""
-    choices: tuple[str, ...] = ()
-
-    def parse(self, value, where: str):
-        """``value`` (a number, or text from the command line) checked and converted."""
-        if isinstance(self.default, str):
-            text = str(value)
-            if self.choices and text not in self.choices:
-                raise InputError(f"expected one of {', '.join(self.choices)}, got {text!r}", where=where)
-            return text
-        if isinstance(value, bool):
-            raise InputError(f"expected a number, got {value!r}", where=where)
-        try:
-            number = float(value)
-        except (TypeError, ValueError):
-            raise InputError(f"expected a number, got {value!r}", where=where) from None
-        if not math.isfinite(number):
-            raise InputError(f"expected a finite number, got {value!r}", where=where)
-        return number
-
-    def to_dict(self) -> dict:
-        out = {"name": self.name, "default": self.default, "unit": self.unit, "help": self.help}
-        if self.choices:
-            out["choices"] = list(self.choices)
-        return out
+__all__ = ["MANOEUVRES", "ManoeuvreType", "Option", "available", "build", "get", "register", "parse_options"]
 
 
 @dataclass(frozen=True)
@@ -74,14 +47,8 @@ class ManoeuvreType:
     summary: str = ""
 
     def option(self, name: str) -> Option:
-        for opt in self.options:
-            if opt.name == name:
-                return opt
-        names = [o.name for o in self.options]
-        hint = get_close_matches(name, names, n=1)
-        known = f"; it takes {', '.join(names)}" if names else "; it takes no options"
-        raise InputError(f"manoeuvre '{self.name}' has no option '{name}'"
-                         + (f"; did you mean '{hint[0]}'?" if hint else known), where="manoeuvre options")
+        """The option ``name``; an :class:`InputError` with a close match when it has none."""
+        return find_option(self.options, name, f"manoeuvre '{self.name}'", "manoeuvre options")
 
     def build(self, params, speed_kmh: float, **options):
         """The manoeuvre for a vehicle at a target speed [km/h], options checked against the declared ones."""
@@ -91,19 +58,30 @@ class ManoeuvreType:
         values = {o.name: o.default for o in self.options}
         for key, value in options.items():
             values[key] = self.option(key).parse(value, where=f"{self.name}.{key}")
-        return self.builder(params, speed, **values)
+        man = self.builder(params, speed, **values)
+        # the options are recorded as built; what the builder records itself (a resolved value) wins
+        return _with(man, parameters={**values, **man.parameters})
 
     def to_dict(self) -> dict:
         return {"name": self.name, "title": self.title, "closed_loop": self.closed_loop, "summary": self.summary,
                 "options": [o.to_dict() for o in self.options]}
 
 
-_REGISTRY: dict[str, ManoeuvreType] = {}
+def _load_builtins() -> None:
+    from . import builtin  # noqa: F401  (its modules register themselves)
+
+
+MANOEUVRES: Registry[ManoeuvreType] = Registry("manoeuvre", group="trikedyn.manoeuvres", builtins=_load_builtins,
+                                               where="manoeuvre")
+"""The registered manoeuvres (plug-ins: entry-point group ``trikedyn.manoeuvres``)."""
 
 
 def register(name: str, title: str, *, options: tuple[Option, ...] = (), closed_loop: bool = True,
              summary: str = "", replace: bool = False):
     """Decorator: register ``build(params, speed_kmh, **options)`` under ``name``.
+
+    The builder is called with every option's value (the defaults of :class:`Option` filled in), and the
+    manoeuvre records them in its ``parameters``: an option is stated once, in ``options``.
 
     Raises
     ------
@@ -112,33 +90,28 @@ def register(name: str, title: str, *, options: tuple[Option, ...] = (), closed_
     """
 
     def decorate(builder):
-        if name in _REGISTRY and not replace and _REGISTRY[name].builder is not builder:
-            raise ValueError(f"manoeuvre '{name}' is registered already")
         doc = (builder.__doc__ or "").strip().splitlines()
-        _REGISTRY[name] = ManoeuvreType(name, title, builder, tuple(options), closed_loop,
-                                        summary or (doc[0] if doc else title))
+        MANOEUVRES.register(name, ManoeuvreType(name, title, builder, tuple(options), closed_loop,
+                                                summary or (doc[0] if doc else title)), replace=replace)
         return builder
 
     return decorate
 
 
-def _load_builtins() -> None:
-    from . import builtin  # noqa: F401  (its modules register themselves)
-
-
 def available() -> list[ManoeuvreType]:
     """Every registered manoeuvre, in registration order."""
-    _load_builtins()
-    return list(_REGISTRY.values())
+    return MANOEUVRES.values()
 
 
 def get(name: str) -> ManoeuvreType:
     """The registered manoeuvre ``name``; an :class:`InputError` with a close match when unknown."""
-    _load_builtins()
-    if name in _REGISTRY:
-        return _REGISTRY[name]
-    raise InputError(f"unknown manoeuvre '{name}'" + did_you_mean(name, list(_REGISTRY))
-                     + f" (known: {', '.join(_REGISTRY)}, or a path .csv)", where="manoeuvre")
+    if name in MANOEUVRES:
+        return MANOEUVRES.get(name)
+    try:
+        return MANOEUVRES.get(name)  # a plug-in installed since the first lookup
+    except InputError as exc:
+        raise InputError(f"{exc.reason} (known: {', '.join(MANOEUVRES.names())}, or a path .csv)",
+                         where="manoeuvre") from None
 
 
 def build(name: str, params, speed_kmh: float, **options):

@@ -67,7 +67,6 @@ first row, is an error naming the file, the line and the column.
 from __future__ import annotations
 
 import csv
-import difflib
 import io
 import re
 from collections.abc import Iterator, Mapping
@@ -78,7 +77,7 @@ import numpy as np
 import pandas as pd
 
 from .._reading import read_bytes
-from ..errors import LogFormatError
+from ..errors import LogFormatError, did_you_mean
 from ..units import STANDARD_GRAVITY
 from .clocktime import clock_seconds
 from .limits import LOG_RATE_HZ, MAX_LOG_BYTES
@@ -103,6 +102,8 @@ class _Formats(Mapping):
     """Format key -> one-line description, read live from :mod:`trikedyn.measure.formats`."""
 
     def __getitem__(self, name: str) -> str:
+        if name not in _registry().FORMATS:
+            raise KeyError(name)
         return _registry().get(name).description
 
     def __iter__(self) -> Iterator[str]:
@@ -131,11 +132,6 @@ def _norm(header: str) -> str:
     """A header reduced for matching: lower case, no spaces, ``°``/``℃`` spelled ``deg``/``degc``."""
     h = re.sub(r"\s+", "", header).lower()
     return h.replace("℃", "degc").replace("°", "deg").replace("º", "deg")
-
-
-def _hint(name: str, choices) -> str:
-    close = difflib.get_close_matches(name, list(choices), n=1)
-    return f"; did you mean {close[0]!r}?" if close else ""
 
 
 
@@ -180,7 +176,7 @@ class ImuLog:
         if name not in self.data.columns:
             present = list(self.data.columns)
             raise LogFormatError(f"no channel {name!r}; channels present: {', '.join(present)}"
-                                 f"{_hint(name, present)}", where=self.source)
+                                 f"{did_you_mean(name, present)}", where=self.source)
         return self.data[name].to_numpy(dtype=float, copy=True)
 
 
@@ -366,7 +362,7 @@ def _time_options(columns, units, time_column, time_unit, path: Path) -> tuple[d
         allowed = _KIND_UNITS["s"]
         if time_unit not in allowed:
             raise LogFormatError(f"time_unit={time_unit!r} (--time-unit); expected one of {', '.join(allowed)}"
-                                 f"{_hint(str(time_unit), allowed)}", where=str(path))
+                                 f"{did_you_mean(str(time_unit), allowed)}", where=str(path))
         if units and TIME in units and units[TIME] != time_unit:
             raise LogFormatError(f"time_unit={time_unit!r} and units={{'time_s': {units[TIME]!r}}} disagree",
                                  where=str(path))
@@ -435,7 +431,7 @@ def read_log(path, format: str = "auto", *, columns: dict[str, str] | None = Non
     path = Path(path)
     if format != "auto" and format not in FORMATS:
         raise LogFormatError(f"unknown format {format!r}; known formats: auto, {', '.join(FORMATS)}"
-                             f"{_hint(format, FORMATS)}", where=str(path))
+                             f"{did_you_mean(format, FORMATS)}", where=str(path))
     raw = _read_bytes(path)
     fmt = _detect(raw, path) if format == "auto" else format
     layout = _registry().get(fmt)
@@ -484,7 +480,7 @@ def write_log(log: ImuLog | pd.DataFrame, path, format: str = "witmotion-sdk") -
     data = log.data if isinstance(log, ImuLog) else log
     if format not in FORMATS:
         raise LogFormatError(f"unknown format {format!r}; known formats: {', '.join(FORMATS)}"
-                             f"{_hint(format, FORMATS)}", where=str(path))
+                             f"{did_you_mean(format, FORMATS)}", where=str(path))
     if TIME not in data:
         raise LogFormatError(f"no column 'time_s' to write; columns: {', '.join(map(str, data.columns))}",
                              where=str(path))

@@ -22,8 +22,8 @@ RUN_IN_M = 10.0
 
 
 @register("braking-in-turn", "ISO 7975 braking in a turn", options=OPTIONS)
-def build(params, speed_kmh: float, radius_m: float = 20.0, deceleration_mps2: float = 3.0, settle_s: float = 5.0,
-          final_speed_ratio: float = 0.3, direction: str = "left"):
+def build(params, speed_kmh: float, *, radius_m: float, deceleration_mps2: float, settle_s: float,
+          final_speed_ratio: float, direction: str):
     """Steady on a circle, then the steering held still and the speed brought down at a set deceleration.
 
     Judged from the brake onset to the end of braking (time window); the path (the circle) is kept so the
@@ -44,9 +44,7 @@ def build(params, speed_kmh: float, radius_m: float = 20.0, deceleration_mps2: f
     path = with_run_out(circle, max(0.0, covered - float(circle.s_m[-1])))
     return Manoeuvre("braking-in-turn", "ISO 7975 braking in a turn", profile, t_end + AFTER_EXIT_S * 0.5,
                      Window("time", t_brake, t_end), path=path, steer_hold_s=t_brake,
-                     parameters={"radius_m": radius_m, "deceleration_mps2": deceleration_mps2, "settle_s": settle_s,
-                                 "final_speed_ratio": final_speed_ratio, "direction": direction,
-                                 "brake_start_s": t_brake, "centre_x_m": RUN_IN_M,
+                     parameters={"brake_start_s": t_brake, "centre_x_m": RUN_IN_M,
                                  "centre_y_m": radius_m if direction == "left" else -radius_m},
                      description=(f"ISO 7975 braking in a turn: circle R = {radius_m:g} m at {speed_kmh:g} km/h, "
                                   f"steering held and the target speed falling at {deceleration_mps2:g} m/s^2 from "

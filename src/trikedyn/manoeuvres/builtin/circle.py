@@ -18,8 +18,7 @@ RUN_IN_M = 10.0
 
 
 @register("circle", "ISO 4138 steady circle, constant speed", options=OPTIONS)
-def build(params, speed_kmh: float, radius_m: float = 20.0, laps: float = 1.0, direction: str = "left",
-          settle_s: float = 4.0):
+def build(params, speed_kmh: float, *, radius_m: float, laps: float, direction: str, settle_s: float):
     """Drive round a circle at a constant target speed; judged once the run has settled on the circle.
 
     The window opens ``settle_s`` of driving after the circle's entry (the driver's entry transient dies
@@ -32,5 +31,4 @@ def build(params, speed_kmh: float, radius_m: float = 20.0, laps: float = 1.0, d
     entry_m = RUN_IN_M + settle_m
     return path_manoeuvre("circle", path.name, path, speed.constant(speed_kmh, 1.0), entry_m=entry_m,
                           exit_m=entry_m + laps * lap,
-                          parameters={"radius_m": radius_m, "laps": laps, "direction": direction, "settle_s": settle_s},
                           description=path.description + f" Judged over {laps:g} lap(s) after {settle_s:g} s on the circle.")

@@ -19,8 +19,7 @@ OPTIONS = (
 
 
 @register("dlc", "ISO 3888-1 double lane change", options=OPTIONS)
-def build(params, speed_kmh: float, standard: str = "ISO 3888-1", direction: str = "left", run_in_m: float = 30.0,
-          course_width_m: float = 0.0):
+def build(params, speed_kmh: float, *, standard: str, direction: str, run_in_m: float, course_width_m: float):
     """Double lane change through cones at a constant target speed; lanes from the vehicle's width.
 
     Judged from the entry gate (start of section 1) to the exit gate (end of the last section); the speed
@@ -38,7 +37,6 @@ def build(params, speed_kmh: float, standard: str = "ISO 3888-1", direction: str
     exit_m = float(np.interp(x_exit, path.x_m, path.s_m))
     entry_m = float(np.interp(run_in_m, path.x_m, path.s_m))
     return path_manoeuvre("dlc", path.name, path, speed.constant(speed_kmh, 1.0), entry_m=entry_m, exit_m=exit_m,
-                          parameters={"standard": standard, "direction": direction, "run_in_m": run_in_m,
-                                      "course_width_m": width},
+                          parameters={"course_width_m": width},
                           description=path.description,
                           speed_judged="window" if standard == "ISO 3888-1" else "entry")

@@ -23,9 +23,8 @@ OPTIONS = (
 
 
 @register("fishhook", "Fishhook steer reversal (NHTSA-style)", options=OPTIONS, closed_loop=False)
-def build(params, speed_kmh: float, scale: float = 6.5, ay_ref_g: float = 0.3, ref_speed_kmh: float = 30.0,
-          dwell_s: float = 0.25, hold_s: float = 3.0, rate_deg_per_s: float = 0.0, start_s: float = 1.0,
-          direction: str = "left"):
+def build(params, speed_kmh: float, *, scale: float, ay_ref_g: float, ref_speed_kmh: float, dwell_s: float,
+          hold_s: float, rate_deg_per_s: float, start_s: float, direction: str):
     """Steer to A, dwell, reverse to -A, hold, return to centre; speed held. Judged from the first steer
     to the end of the hold.
 
@@ -60,10 +59,8 @@ def build(params, speed_kmh: float, scale: float = 6.5, ay_ref_g: float = 0.3, r
     steer[:, 1] *= sign
     return Manoeuvre("fishhook", "Fishhook (NHTSA-style)", speed.constant(speed_kmh, 1.0), t4 + 0.5,
                      Window("time", start_s, t4), steer=steer,
-                     parameters={"scale": scale, "ay_ref_g": ay_ref_g, "ref_speed_kmh": ref_speed_kmh,
-                                 "dwell_s": dwell_s, "hold_s": hold_s, "rate_deg_per_s": math.degrees(rate),
-                                 "start_s": start_s, "direction": direction,
-                                 "reference_steer_deg": math.degrees(ref), "amplitude_deg": math.degrees(amplitude)},
+                     parameters={"rate_deg_per_s": math.degrees(rate), "reference_steer_deg": math.degrees(ref),
+                                 "amplitude_deg": math.degrees(amplitude)},
                      description=(f"Fishhook: {math.degrees(amplitude):.2f} deg about the steering axis "
                                   f"({scale:g} x {math.degrees(ref):.2f} deg for {ay_ref_g:g} g at {ref_speed_kmh:g} "
                                   f"km/h{', capped at the lock' if amplitude < scale * ref else ''}), "

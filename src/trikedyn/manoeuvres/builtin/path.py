@@ -17,8 +17,7 @@ OPTIONS = (
 
 
 @register("path", "path from a CSV file", options=OPTIONS)
-def build(params, speed_kmh: float, file: str = "", smoothing_m: float = 0.01, entry_m: float = 0.0,
-          exit_m: float = 0.0):
+def build(params, speed_kmh: float, *, file: str, smoothing_m: float, entry_m: float, exit_m: float):
     """Follow the line of a CSV file at a constant target speed, judged over the whole line by default.
 
     The line is continued straight (or on its end curvature) beyond its end so the driver never runs out.
@@ -31,5 +30,5 @@ def build(params, speed_kmh: float, file: str = "", smoothing_m: float = 0.01, e
     end = float(path.s_m[-1]) if exit_m <= 0 else exit_m
     return path_manoeuvre("path", f"path {FilePath(file).name}", path, speed.constant(speed_kmh, 1.0),
                           entry_m=entry_m, exit_m=end,
-                          parameters={"file": file, "smoothing_m": smoothing_m, "entry_m": entry_m, "exit_m": end},
+                          parameters={"exit_m": end},
                           description=path.description)

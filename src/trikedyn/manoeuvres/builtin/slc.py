@@ -17,8 +17,8 @@ OPTIONS = (
 
 
 @register("slc", "ISO 14791 single lane change", options=OPTIONS)
-def build(params, speed_kmh: float, lateral_offset_m: float = 3.5, length_m: float = 50.0, run_in_m: float = 30.0,
-          lane_width_m: float = 3.5):
+def build(params, speed_kmh: float, *, lateral_offset_m: float, length_m: float, run_in_m: float,
+          lane_width_m: float):
     """One sine period of lateral acceleration at a constant target speed.
 
     Judged from the start of the change to the end of the target lane (30 m after the change).
@@ -28,6 +28,4 @@ def build(params, speed_kmh: float, lateral_offset_m: float = 3.5, length_m: flo
     entry_m = float(np.interp(run_in_m, path.x_m, path.s_m))
     exit_m = float(path.s_m[-1])
     return path_manoeuvre("slc", path.name, path, speed.constant(speed_kmh, 1.0), entry_m=entry_m, exit_m=exit_m,
-                          parameters={"lateral_offset_m": lateral_offset_m, "length_m": length_m,
-                                      "run_in_m": run_in_m, "lane_width_m": lane_width_m},
                           description=path.description)

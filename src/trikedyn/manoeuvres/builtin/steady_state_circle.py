@@ -22,8 +22,8 @@ RUN_IN_M = 10.0
 
 
 @register("steady-state-circle", "ISO 4138 steady-state circular driving (rising speed)", options=OPTIONS)
-def build(params, speed_kmh: float, radius_m: float = 20.0, ay_rate_mps2_per_s: float = 0.1,
-          max_ay_mps2: float = 9.0, settle_s: float = 5.0, direction: str = "left"):
+def build(params, speed_kmh: float, *, radius_m: float, ay_rate_mps2_per_s: float, max_ay_mps2: float,
+          settle_s: float, direction: str):
     """Round a circle from ``speed_kmh``, the speed raised so that ``v^2 / R`` rises slowly and steadily.
 
     Judged from the start of the rise to the end (time window); the run normally ends with a lift-off, a
@@ -50,7 +50,5 @@ def build(params, speed_kmh: float, radius_m: float = 20.0, ay_rate_mps2_per_s: 
     path = with_run_out(circle, 20.0 + AFTER_EXIT_S * float(profile.speed_mps[-1]))
     return Manoeuvre("steady-state-circle", "ISO 4138 steady-state circular driving", profile, t_rise + AFTER_EXIT_S,
                      Window("time", t_start, t_rise), path=path,
-                     parameters={"radius_m": radius_m, "ay_rate_mps2_per_s": ay_rate_mps2_per_s,
-                                 "max_ay_mps2": max_ay_mps2, "settle_s": settle_s, "direction": direction},
                      description=(f"ISO 4138 constant radius R = {radius_m:g} m: {speed_kmh:g} km/h for {settle_s:g} s on the circle, "
                                   f"then v^2/R rising at {ay_rate_mps2_per_s:g} m/s^2 per s up to {max_ay_mps2:g} m/s^2."))

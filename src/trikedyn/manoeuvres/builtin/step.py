@@ -19,8 +19,7 @@ OPTIONS = (
 
 
 @register("step", "ISO 7401 step steer", options=OPTIONS, closed_loop=False)
-def build(params, speed_kmh: float, steer_deg: float = 5.0, start_s: float = 1.0, ramp_s: float = 0.15,
-          hold_s: float = 4.0):
+def build(params, speed_kmh: float, *, steer_deg: float, start_s: float, ramp_s: float, hold_s: float):
     """Straight ahead, then the steering turned to a set angle as a fast ramp and held; speed held.
 
     Judged from the start of the step to the end of the run.
@@ -33,8 +32,7 @@ def build(params, speed_kmh: float, steer_deg: float = 5.0, start_s: float = 1.0
     end = start_s + ramp_s + hold_s
     steer = np.array([[0.0, 0.0], [start_s, 0.0], [start_s + ramp_s, angle], [end + 1.0, angle]])
     return Manoeuvre("step", "ISO 7401 step steer", speed.constant(speed_kmh, 1.0), end, Window("time", start_s, end),
-                     steer=steer, parameters={"steer_deg": steer_deg, "start_s": start_s, "ramp_s": ramp_s,
-                                              "hold_s": hold_s},
+                     steer=steer,
                      description=(f"ISO 7401 step steer: {steer_deg:g} deg about the steering axis at {start_s:g} s, "
                                   f"ramp {ramp_s:g} s, held {hold_s:g} s; the driver holds {speed_kmh:g} km/h, judged at "
                                   f"the start of the step."),

@@ -23,8 +23,8 @@ OPTIONS = (
 
 
 @register("sweep", "ISO 7401 sine-sweep steer (frequency response)", options=OPTIONS, closed_loop=False)
-def build(params, speed_kmh: float, amplitude_deg: float = 1.0, f_start_hz: float = 0.2, f_end_hz: float = 3.0,
-          sweep_s: float = 20.0, start_s: float = 1.0, method: str = "logarithmic"):
+def build(params, speed_kmh: float, *, amplitude_deg: float, f_start_hz: float, f_end_hz: float, sweep_s: float,
+          start_s: float, method: str):
     """A sine sweep of the steer with tapered ends; speed held. Judged over the sweep."""
     end = check_duration("sweep", start_s + sweep_s + 0.5) - 0.5
     t = np.arange(0.0, end + 0.5, 0.005)
@@ -32,7 +32,5 @@ def build(params, speed_kmh: float, amplitude_deg: float = 1.0, f_start_hz: floa
                                            method=method)))
     return Manoeuvre("sweep", "ISO 7401 sine-sweep steer", speed.constant(speed_kmh, 1.0), end + 0.5,
                      Window("time", start_s, end), steer=table,
-                     parameters={"amplitude_deg": amplitude_deg, "f_start_hz": f_start_hz, "f_end_hz": f_end_hz,
-                                 "sweep_s": sweep_s, "start_s": start_s, "method": method},
                      description=(f"{method.capitalize()} sine sweep {f_start_hz:g}-{f_end_hz:g} Hz over {sweep_s:g} s, amplitude "
                                   f"{amplitude_deg:g} deg about the steering axis; the driver holds {speed_kmh:g} km/h."))

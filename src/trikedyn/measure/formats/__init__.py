@@ -21,13 +21,14 @@ from pathlib import Path
 from typing import TYPE_CHECKING, ClassVar
 
 from ...errors import LogFormatError
+from ...registry import Registry
 
 if TYPE_CHECKING:
     import pandas as pd
 
     from ..logs import ImuLog
 
-__all__ = ["Head", "LogFormat", "ReadOptions", "TableFormat", "available", "detect", "get", "register",
+__all__ = ["FORMATS", "Head", "LogFormat", "ReadOptions", "TableFormat", "available", "detect", "get", "register",
            "registered", "unregister"]
 
 HEAD_BYTES = 4096  # how much of a file detection looks at
@@ -165,7 +166,13 @@ class TableFormat(LogFormat):
         return logs._table_log(path, self.name, t, header, cells, lines, spec, set(), notes)
 
 
-_REGISTRY: dict[str, LogFormat] = {}
+def _adopt(registry: Registry, name: str, obj) -> None:
+    """An entry point's object (a :class:`LogFormat` or its class) registered under its own name."""
+    register(obj)
+
+
+FORMATS: Registry[LogFormat] = Registry("format", group="trikedyn.log_formats", adopt=_adopt, error=LogFormatError)
+"""The registered layouts (plug-ins: entry-point group ``trikedyn.log_formats``)."""
 
 
 def register(fmt: LogFormat | type[LogFormat], *, replace: bool = False):
@@ -176,15 +183,13 @@ def register(fmt: LogFormat | type[LogFormat], *, replace: bool = False):
     obj = fmt() if isinstance(fmt, type) else fmt
     if not isinstance(obj, LogFormat) or not obj.name or obj.name == "auto":
         raise ValueError(f"expected a LogFormat with a name (not 'auto'), got {fmt!r}")
-    if obj.name in _REGISTRY and not replace:
-        raise ValueError(f"log format {obj.name!r} is already registered")
-    _REGISTRY[obj.name] = obj
+    FORMATS.register(obj.name, obj, replace=replace)
     return fmt
 
 
 def unregister(name: str) -> LogFormat:
     """Remove the layout ``name`` and return it (KeyError if it is not registered)."""
-    return _REGISTRY.pop(name)
+    return FORMATS.unregister(name)
 
 
 @contextlib.contextmanager
@@ -195,19 +200,20 @@ def registered(fmt: LogFormat | type[LogFormat]) -> Iterator[LogFormat]:
     try:
         yield obj
     finally:
-        if _REGISTRY.get(obj.name) is obj:
-            del _REGISTRY[obj.name]
+        if obj.name in FORMATS and FORMATS.get(obj.name) is obj:
+            FORMATS.unregister(obj.name)
 
 
 def available() -> tuple[str, ...]:
     """The names of the registered layouts, built-ins first in their usual order."""
-    names = list(_REGISTRY)
-    return tuple(sorted(names, key=lambda n: (_REGISTRY[n].order, names.index(n))))
+    entries = FORMATS.items()
+    rank = {name: (fmt.order, i) for i, (name, fmt) in enumerate(entries)}
+    return tuple(sorted(rank, key=rank.__getitem__))
 
 
 def get(name: str) -> LogFormat:
-    """The layout registered as ``name`` (KeyError if none)."""
-    return _REGISTRY[name]
+    """The layout registered as ``name`` (:class:`LogFormatError` with a close match if none)."""
+    return FORMATS.get(name)
 
 
 def detect(data: bytes | str, name: str = "<data>") -> str:

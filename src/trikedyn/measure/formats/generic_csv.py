@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ...errors import LogFormatError
+from ...errors import LogFormatError, did_you_mean
 from .. import logs
 from ..logs import CHANNELS, TEMP, TIME, ImuLog
 from . import LogFormat, ReadOptions, register
@@ -82,10 +82,10 @@ class GenericCsv(LogFormat):
         for si, h in (columns or {}).items():
             if si not in known:
                 raise LogFormatError(f"columns= (--column) maps unknown name {si!r}; expected one of "
-                                     f"{', '.join(known)}{logs._hint(si, known)}", where=str(path))
+                                     f"{', '.join(known)}{did_you_mean(si, known)}", where=str(path))
             if h not in header:
                 raise LogFormatError(f"columns= (--column or --time-column) names column {h!r} (for {si}) which is "
-                                     f"not in the file; columns present: {', '.join(header)}{logs._hint(h, header)}",
+                                     f"not in the file; columns present: {', '.join(header)}{did_you_mean(h, header)}",
                                      where=at_header)
             mapping[si] = h
         spec = {si: (header.index(h), 1.0) for si, h in mapping.items()}

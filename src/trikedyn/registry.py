@@ -1,0 +1,325 @@
+"""The one generic registry: every extension point of trikedyn is a :class:`Registry` of named entries.
+
+Manoeuvres (:mod:`trikedyn.manoeuvres.registry`), IMU log layouts (:mod:`trikedyn.measure.formats`), run
+metrics (:mod:`trikedyn.analysis.metrics`), handling reducers (:mod:`trikedyn.analysis.handling_tests`),
+study metrics (:mod:`trikedyn.study.metrics`) and tyre models (:mod:`trikedyn.tyre.models`) are each one
+:class:`Registry`. They share one set of rules:
+
+- **one name, one entry**: registering a name that is taken raises :class:`ValueError`, unless
+  ``replace=True`` says it is meant;
+- **one error for an unknown name**: :meth:`Registry.get` raises :class:`~trikedyn.errors.InputError`
+  ``unknown manoeuvre 'dcl'; did you mean 'dlc'?`` (one close match, :func:`did_you_mean`);
+- **options with units and bounds**: an entry's options are :class:`Option` (name, default, unit, bounds,
+  choices, help), parsed and checked by :meth:`Option.parse`;
+- **plug-ins by entry point**: an installed distribution that declares an entry point in the group
+  ``trikedyn.<kind>`` (``trikedyn.manoeuvres``, ``trikedyn.log_formats``, ``trikedyn.metrics``,
+  ``trikedyn.handling_reducers``, ``trikedyn.study_metrics``, ``trikedyn.tyre_models``) is loaded on the
+  registry's first lookup or listing (and again for a name not found); loading imports the module, which
+  registers itself, or, if it did not, the loaded object is handed to the registry's ``adopt``. A plug-in
+  that fails to load is a :class:`PluginWarning` naming it, never a crash.
+
+Example::
+
+    from trikedyn.registry import Registry
+
+    shapes = Registry("shape", group="trikedyn.shapes")
+
+    @shapes.register("square")
+    def square(side_m):
+        return side_m**2
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import warnings
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import Any, Generic, TypeVar
+
+from .errors import InputError, did_you_mean
+
+__all__ = ["Option", "PluginWarning", "Registry", "did_you_mean"]
+
+T = TypeVar("T")
+
+
+class PluginWarning(UserWarning):
+    """An entry-point plug-in of trikedyn failed to load (its name and the reason are in the message)."""
+
+
+@dataclass(frozen=True)
+class Option:
+    """One option of a registered entry (a manoeuvre, a study metric): stated once, with its unit and bounds.
+
+    Parameters
+    ----------
+    name : str
+        The option's name, its unit in it where it has one (``run_in_m``).
+    default : float or str or None
+        The value when not given; None: the option is required. Its type is the option's kind (a number or
+        a word) unless ``kind`` says otherwise.
+    unit : str
+        The unit [``m``, ``km/h``, ...], ``""`` for none.
+    help : str
+        What it means, one line.
+    choices : tuple of str
+        The words allowed (a word option), empty for any.
+    minimum, maximum : float, optional
+        Bounds of a number option, inclusive [in ``unit``].
+    kind : type, optional
+        ``float`` or ``str``; by default the type of ``default`` (``float`` when there is none).
+    """
+
+    name: str
+    default: float | str | None = None
+    unit: str = ""
+    help: str = ""
+    choices: tuple[str, ...] = ()
+    minimum: float | None = None
+    maximum: float | None = None
+    kind: type | None = None
+
+    @property
+    def is_word(self) -> bool:
+        """Whether the option takes a word (``str``) rather than a number."""
+        return (self.kind or (str if isinstance(self.default, str) else float)) is str
+
+    @property
+    def required(self) -> bool:
+        """Whether the option has no default."""
+        return self.default is None
+
+    def parse(self, value: Any, where: str, *, text: bool = True) -> float | str:
+        """``value`` checked and converted: a finite number within the bounds, or one of the choices.
+
+        Parameters
+        ----------
+        value : Any
+            The value given (a number, or text from the command line).
+        where : str
+            What the error names (``dlc.run_in_m``).
+        text : bool
+            Whether a number may come as text (``"15"``, the command line); False for typed files (TOML).
+
+        Returns
+        -------
+        float or str
+
+        Raises
+        ------
+        InputError
+            A value that is not a number (word) of the option's kind, not finite, or out of its bounds.
+        """
+        if self.is_word:
+            if not isinstance(value, str) and not text:
+                raise InputError(f"expected a word, got {value!r}", where=where)
+            word = str(value)
+            if self.choices and word not in self.choices:
+                raise InputError(f"expected one of {', '.join(self.choices)}, got {word!r}"
+                                 + did_you_mean(word, self.choices), where=where)
+            return word
+        if isinstance(value, bool) or (not text and not isinstance(value, int | float)):
+            raise InputError(f"expected a number, got {value!r}", where=where)
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            raise InputError(f"expected a number, got {value!r}", where=where) from None
+        if not math.isfinite(number):
+            raise InputError(f"expected a finite number, got {value!r}", where=where)
+        low = -math.inf if self.minimum is None else self.minimum
+        high = math.inf if self.maximum is None else self.maximum
+        if not low <= number <= high:
+            unit = f" {self.unit}" if self.unit else ""
+            bound = (f"within [{low:g}, {high:g}]{unit}" if math.isfinite(low) and math.isfinite(high)
+                     else f">= {low:g}{unit}" if math.isfinite(low) else f"<= {high:g}{unit}")
+            raise InputError(f"must be {bound}, got {number:g}", where=where)
+        return number
+
+    def to_dict(self) -> dict:
+        """The option as JSON-safe data (``trikedyn manoeuvres --json``)."""
+        out = {"name": self.name, "default": self.default, "unit": self.unit, "help": self.help}
+        if self.choices:
+            out["choices"] = list(self.choices)
+        if self.minimum is not None:
+            out["minimum"] = self.minimum
+        if self.maximum is not None:
+            out["maximum"] = self.maximum
+        return out
+
+
+def find_option(options, name: str, owner: str, where: str) -> Option:
+    """The option ``name`` of ``options``; an :class:`InputError` naming ``owner`` with a close match.
+
+    Parameters
+    ----------
+    options : iterable of Option
+    name : str
+    owner : str
+        What has the options, for the message (``manoeuvre 'dlc'``).
+    where : str
+        The error's ``where``.
+    """
+    options = tuple(options)
+    for opt in options:
+        if opt.name == name:
+            return opt
+    names = [o.name for o in options]
+    tip = did_you_mean(name, names) or (f"; it takes {', '.join(names)}" if names else "; it takes no options")
+    raise InputError(f"{owner} has no option '{name}'{tip}", where=where)
+
+
+class Registry(Generic[T]):
+    """Name -> entry, with one duplicate policy, one unknown-name error and entry-point plug-ins.
+
+    Parameters
+    ----------
+    noun : str
+        What an entry is, for messages (``"manoeuvre"``).
+    group : str, optional
+        The entry-point group of plug-ins (``"trikedyn.manoeuvres"``); None: no plug-ins.
+    builtins : callable, optional
+        Called once before the first lookup or listing (imports the built-in entries' modules).
+    where : str, optional
+        The ``where`` of the unknown-name error.
+    adopt : callable, optional
+        ``adopt(registry, name, obj)``: registers an object an entry point loaded when its module did not
+        register ``name`` itself; by default the object is registered as it is.
+    error : type, optional
+        The :class:`~trikedyn.errors.InputError` subclass of the unknown-name error.
+    """
+
+    def __init__(self, noun: str, *, group: str | None = None, builtins: Callable[[], None] | None = None,
+                 where: str | None = None, adopt: Callable[[Registry, str, Any], None] | None = None,
+                 error: type[InputError] = InputError):
+        self.noun = noun
+        self.group = group
+        self.where = where
+        self.error = error
+        self._builtins = builtins
+        self._adopt = adopt
+        self._entries: dict[str, T] = {}
+        self._ready = False
+        self._tried: set[tuple[str, str]] = set()
+
+    # -- registering ---------------------------------------------------------------------------------------
+    def register(self, name: str, entry: T | None = None, *, replace: bool = False):
+        """Register ``entry`` under ``name``; without ``entry``, a decorator registering what it decorates.
+
+        Returns
+        -------
+        The entry (or the decorator).
+
+        Raises
+        ------
+        ValueError
+            ``name`` is empty, or taken and ``replace`` is False.
+        """
+        if entry is None:
+            def decorate(obj):
+                self.register(name, obj, replace=replace)
+                return obj
+
+            return decorate
+        if not isinstance(name, str) or not name:
+            raise ValueError(f"a {self.noun} needs a name, got {name!r}")
+        if name in self._entries and not replace:
+            raise ValueError(f"{self.noun} {name!r} is already registered (replace=True redefines it)")
+        self._entries[name] = entry
+        return entry
+
+    def unregister(self, name: str) -> T:
+        """Remove ``name`` and return its entry (:class:`KeyError` if it is not registered)."""
+        return self._entries.pop(name)
+
+    @contextlib.contextmanager
+    def registered(self, name: str, entry: T) -> Iterator[T]:
+        """Register ``entry`` for the ``with`` block only (tests); yields it."""
+        self.register(name, entry)
+        try:
+            yield entry
+        finally:
+            if self._entries.get(name) is entry:
+                del self._entries[name]
+
+    # -- looking up ----------------------------------------------------------------------------------------
+    def get(self, name: str) -> T:
+        """The entry ``name``.
+
+        Raises
+        ------
+        InputError
+            ``unknown <noun> '<name>'; did you mean '<close>'?`` when it is not registered (after a search of
+            the plug-ins installed since the last one); of the class given as ``error``.
+        """
+        self._load()
+        if name not in self._entries:
+            self._discover()
+        if name in self._entries:
+            return self._entries[name]
+        raise self.error(self.unknown(name), where=self.where)
+
+    def unknown(self, name: str) -> str:
+        """The message for an unknown ``name``: ``unknown <noun> 'x'`` and one close match, if any."""
+        return f"unknown {self.noun} '{name}'" + did_you_mean(str(name), self.names())
+
+    def names(self) -> tuple[str, ...]:
+        """The registered names, in registration order."""
+        self._load()
+        return tuple(self._entries)
+
+    def values(self) -> list[T]:
+        """The registered entries, in registration order."""
+        self._load()
+        return list(self._entries.values())
+
+    def items(self) -> list[tuple[str, T]]:
+        """``(name, entry)`` pairs, in registration order."""
+        self._load()
+        return list(self._entries.items())
+
+    def __contains__(self, name: object) -> bool:
+        self._load()
+        return name in self._entries
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.names())
+
+    def __len__(self) -> int:
+        return len(self.names())
+
+    def __repr__(self) -> str:
+        return f"<registry of {self.noun}s: {', '.join(self._entries)}>"
+
+    # -- built-ins and plug-ins ----------------------------------------------------------------------------
+    def _load(self) -> None:
+        if self._ready:
+            return
+        self._ready = True  # before loading: a module that registers may look things up
+        if self._builtins is not None:
+            self._builtins()
+        self._discover()
+
+    def _discover(self) -> None:
+        """Load the entry points of :attr:`group` not tried yet; one that fails is a warning."""
+        if self.group is None:
+            return
+        from importlib.metadata import entry_points
+
+        for point in entry_points(group=self.group):
+            key = (point.name, point.value)
+            if key in self._tried:
+                continue
+            self._tried.add(key)
+            try:
+                obj = point.load()
+                if point.name not in self._entries:
+                    if self._adopt is not None:
+                        self._adopt(self, point.name, obj)
+                    else:
+                        self.register(point.name, obj)
+            except Exception as exc:  # noqa: BLE001 - a broken plug-in must not stop the program
+                warnings.warn(f"trikedyn: {self.noun} plug-in '{point.name}' ({point.value}, entry point group "
+                              f"{self.group}) failed to load: {type(exc).__name__}: {exc}", PluginWarning,
+                              stacklevel=3)
