@@ -194,6 +194,13 @@ def _returns_value(func) -> tuple[bool, bool]:
     return returns, yields
 
 
+def _physical(param: inspect.Parameter) -> bool:
+    """A parameter that needs a unit: named with a unit suffix or in PHYSICAL, and not a ``bool`` switch."""
+    if param.annotation in (bool, "bool", "bool | None"):
+        return False
+    return param.name.endswith(UNIT_SUFFIXES) or param.name in PHYSICAL
+
+
 def problems(qual: str, kind: str, obj, exempt: bool) -> list[str]:
     """What the docstring of ``obj`` lacks, as ``qualified.name: what`` lines."""
     doc = inspect.getdoc(obj) if kind == "class" else obj.__doc__
@@ -219,7 +226,7 @@ def problems(qual: str, kind: str, obj, exempt: bool) -> list[str]:
             for p in params:
                 if p.name not in entries:
                     out.append(f"{qual}: parameter {p.name!r} not described")
-                elif (p.name.endswith(UNIT_SUFFIXES) or p.name in PHYSICAL) and not UNIT_RE.search(entries[p.name]):
+                elif _physical(p) and not UNIT_RE.search(entries[p.name]):
                     out.append(f"{qual}: parameter {p.name!r} has no unit ([m], [km/h], ... or dimensionless)")
     returns, yields = _returns_value(obj)
     if yields and "Yields" not in found and "Returns" not in found:

@@ -93,7 +93,18 @@ from . import simulate as _simulate_package  # noqa: E402,F401  (light; bound fi
 
 
 def simulate(*args, **kwargs):
-    """Open-loop simulation: :func:`trikedyn.simulate.run.simulate` (imported on first call)."""
+    """Open-loop simulation: :func:`trikedyn.simulate.run.simulate` (imported on first call).
+
+    Parameters
+    ----------
+    *args, **kwargs
+        As :func:`trikedyn.simulate.run.simulate`.
+
+    Returns
+    -------
+    Result
+        The recorded run.
+    """
     from .simulate.run import simulate as _simulate
 
     return _simulate(*args, **kwargs)

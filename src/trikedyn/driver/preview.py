@@ -65,7 +65,13 @@ PATH_COLUMNS = ("x_m", "y_m", "s_m", "heading_rad", "curvature_per_m")
 
 
 def open_loop_driver() -> np.ndarray:
-    """The driver record of an open-loop run (``on = 0``)."""
+    """The driver record of an open-loop run (``on = 0``).
+
+    Returns
+    -------
+    numpy.ndarray, shape (1,), dtype DRIVER
+        The record, all zeros.
+    """
     return np.zeros(1, DRIVER)
 
 
@@ -109,6 +115,25 @@ def driver_array(settings: DriverSettings, params, dt: float) -> np.ndarray:
 
     The vehicle values the driver uses (wheelbase, rake, lock, drive and brake torques) it reads from the
     plant's vehicle record; ``params`` gives only the default steering rate limit.
+
+    Parameters
+    ----------
+    settings : DriverSettings
+        The driver's settings (preview time [s], preview distance [m], delay [s], lag [s], gains ...).
+    params : VehicleParameters
+        The vehicle (its steering rate limit).
+    dt : float
+        Time step of the loop [s] (the delay line's length).
+
+    Returns
+    -------
+    numpy.ndarray, shape (1,), dtype DRIVER
+        The record.
+
+    Raises
+    ------
+    InputError
+        On a negative or non-finite time, or a steering rate limit that is not positive.
     """
     from ..errors import InputError
 
@@ -139,7 +164,22 @@ def driver_array(settings: DriverSettings, params, dt: float) -> np.ndarray:
 
 def with_steering(drv: np.ndarray, *, open_loop: bool = False, hold_after_s: float | None = None) -> np.ndarray:
     """The driver array with its steering mode set: ``open_loop`` takes the steer command from the input
-    table (the driver only holds the speed); ``hold_after_s`` freezes the steering from that time on [s]."""
+    table (the driver only holds the speed); ``hold_after_s`` freezes the steering from that time on [s].
+
+    Parameters
+    ----------
+    drv : numpy.ndarray, shape (1,), dtype DRIVER
+        The driver record (not changed).
+    open_loop : bool
+        Steer from the input table.
+    hold_after_s : float, optional
+        Time from which the steering is held [s]; never when None.
+
+    Returns
+    -------
+    numpy.ndarray, shape (1,), dtype DRIVER
+        The copy.
+    """
     out = drv.copy()
     out[0]["steer_open"] = 1.0 if open_loop else 0.0
     out[0]["hold_after"] = -1.0 if hold_after_s is None else float(hold_after_s)
@@ -228,7 +268,42 @@ def driver_step(t, dt, px, py, yaw, yaw_rate, speed, path, speed_profile, drv, v
     torque per braked wheel [N m]. ``(px, py)`` is the rear-axle centre, ``yaw`` the heading, ``speed``
     the forward speed; ``drv`` the :data:`DRIVER` record, ``veh`` the plant's vehicle record; ``memory`` (a
     length-1 :data:`DRIVER_STATE` array, owned by the caller for the whole run: a record taken from a temporary
-    array would outlive its memory) and ``delay_line`` carry the controller's memory between steps."""
+    array would outlive its memory) and ``delay_line`` carry the controller's memory between steps.
+
+    Parameters
+    ----------
+    t : float
+        Time [s].
+    dt : float
+        Time step [s].
+    px, py : float
+        Rear-axle centre in the world [m].
+    yaw : float
+        Heading [rad].
+    yaw_rate : float
+        Yaw rate [rad/s].
+    speed : float
+        Forward speed [m/s].
+    path : numpy.ndarray, shape (m, 5)
+        Path rows (x [m], y [m], s [m], heading [rad], curvature [1/m]).
+    speed_profile : numpy.ndarray, shape (k, 2)
+        Target speed rows (time [s], speed [m/s]).
+    drv : record
+        The :data:`DRIVER` record.
+    veh : record
+        The plant's vehicle record.
+    memory : numpy.ndarray, shape (1,), dtype DRIVER_STATE
+        The controller's memory, updated.
+    delay_line : numpy.ndarray
+        Past steer demands [rad], updated.
+    inputs : numpy.ndarray, shape (m, 4)
+        The input table (time [s], steer [rad], drive [N m], brake [N m]) for open-loop steering.
+
+    Returns
+    -------
+    steer, drive, brake : float
+        Steer command [rad], drive torque [N m], brake torque per braked wheel [N m].
+    """
     state = memory[0]
     # --- steering: held still, from the input table (open loop), or pure pursuit on the path
     if drv.hold_after >= 0.0 and t >= drv.hold_after:

@@ -65,7 +65,18 @@ Workspace = namedtuple("Workspace", "e r ew pw v a f fext mc hc ic hmat low vec 
 
 @jit
 def workspace(parent):
-    """Scratch arrays for the tree of ``parent`` (``nb + 5`` DOF), allocated once per time loop."""
+    """Scratch arrays for the tree of ``parent`` (``nb + 5`` DOF), allocated once per time loop.
+
+    Parameters
+    ----------
+    parent : numpy.ndarray of int, shape (nb,)
+        Parent index of each body (body 0, the floating base, has none).
+
+    Returns
+    -------
+    Workspace
+        A named tuple of uninitialised arrays sized for ``nb`` bodies and ``nb + 5`` DOF.
+    """
     nb = parent.shape[0]
     n = nb + 5
     return Workspace(
@@ -94,7 +105,29 @@ def workspace(parent):
 
 @jit(inline="always")
 def joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, e, r, rot):
-    """Parent-to-body transforms ``(e[i], r[i])`` at ``q``; for the base, world to base."""
+    """Parent-to-body transforms ``(e[i], r[i])`` at ``q``; for the base, world to base.
+
+    Parameters
+    ----------
+    q : numpy.ndarray, shape (n,)
+        Generalised coordinates: base position [m], ZYX Euler angles [rad], joint coordinates [rad or m].
+    parent : numpy.ndarray of int, shape (nb,)
+        Parent index of each body (body 0, the floating base, has none).
+    jtype : numpy.ndarray of int, shape (nb,)
+        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
+    jaxis : numpy.ndarray, shape (nb, 3)
+        Unit joint axis of each body in its own coordinates, dimensionless.
+    tree_e : numpy.ndarray, shape (nb, 3, 3)
+        Rotation parent -> body at zero joint coordinate, dimensionless.
+    tree_r : numpy.ndarray, shape (nb, 3)
+        Joint origin in parent coordinates at zero joint coordinate [m].
+    e : numpy.ndarray, shape (nb, 3, 3)
+        Written with the rotations.
+    r : numpy.ndarray, shape (nb, 3)
+        Written with the origins [m].
+    rot : numpy.ndarray, shape (3, 3)
+        Scratch.
+    """
     euler_zyx_into(q[3], q[4], q[5], rot)
     for i in range(3):
         r[0, i] = q[i]
@@ -126,7 +159,21 @@ def joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, e, r, rot):
 
 @jit(inline="always")
 def world_transforms_into(parent, e, r, ew, pw):
-    """World-to-body rotations ``ew[i]`` and body origins in the world ``pw[i]``."""
+    """World-to-body rotations ``ew[i]`` and body origins in the world ``pw[i]``.
+
+    Parameters
+    ----------
+    parent : numpy.ndarray of int, shape (nb,)
+        Parent index of each body (body 0, the floating base, has none).
+    e : numpy.ndarray, shape (nb, 3, 3)
+        Parent -> body rotations (world -> base for body 0), dimensionless.
+    r : numpy.ndarray, shape (nb, 3)
+        Body origins in parent coordinates (the base in the world) [m].
+    ew : numpy.ndarray, shape (nb, 3, 3)
+        Written with the world -> body rotations.
+    pw : numpy.ndarray, shape (nb, 3)
+        Written with the body origins in the world [m].
+    """
     for i in range(3):
         pw[0, i] = r[0, i]
         for j in range(3):
@@ -141,7 +188,26 @@ def world_transforms_into(parent, e, r, ew, pw):
 
 @jit(inline="always")
 def body_velocities_into(e, r, u, parent, jtype, jaxis, v):
-    """Spatial velocity of every body in its own coordinates."""
+    """Spatial velocity of every body in its own coordinates.
+
+    Parameters
+    ----------
+    e : numpy.ndarray, shape (nb, 3, 3)
+        Parent -> body rotations (world -> base for body 0), dimensionless.
+    r : numpy.ndarray, shape (nb, 3)
+        Body origins in parent coordinates (the base in the world) [m].
+    u : numpy.ndarray, shape (n,)
+        Generalised velocities: base spatial velocity (omega [rad/s], v [m/s]) in base coordinates, joint
+        rates [rad/s or m/s].
+    parent : numpy.ndarray of int, shape (nb,)
+        Parent index of each body (body 0, the floating base, has none).
+    jtype : numpy.ndarray of int, shape (nb,)
+        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
+    jaxis : numpy.ndarray, shape (nb, 3)
+        Unit joint axis of each body in its own coordinates, dimensionless.
+    v : numpy.ndarray, shape (nb, 6)
+        Written with each body's velocity (omega [rad/s], v [m/s]) in its own coordinates.
+    """
     for k in range(6):
         v[0, k] = u[k]
     for b in range(1, parent.shape[0]):
@@ -158,6 +224,40 @@ def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar,
     ``fext[i]`` is the external spatial force on body ``i`` in its coordinates, about its origin.
     The first six entries of ``tau`` are the force on the base in base coordinates. Fills ``ws.v``
     with the body velocities, or uses them as they are with ``have_velocities``.
+
+    Parameters
+    ----------
+    e : numpy.ndarray, shape (nb, 3, 3)
+        Parent -> body rotations (world -> base for body 0), dimensionless.
+    r : numpy.ndarray, shape (nb, 3)
+        Body origins in parent coordinates (the base in the world) [m].
+    u : numpy.ndarray, shape (n,)
+        Generalised velocities: base spatial velocity (omega [rad/s], v [m/s]) in base coordinates, joint
+        rates [rad/s or m/s].
+    udot : numpy.ndarray, shape (n,)
+        Generalised accelerations [rad/s^2, m/s^2].
+    fext : numpy.ndarray, shape (nb, 6)
+        External spatial force on each body, in its coordinates about its origin (moment [N m], force [N]).
+    gravity : numpy.ndarray, shape (3,)
+        Gravity vector in the world [m/s^2], e.g. (0, 0, -9.81).
+    parent : numpy.ndarray of int, shape (nb,)
+        Parent index of each body (body 0, the floating base, has none).
+    jtype : numpy.ndarray of int, shape (nb,)
+        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
+    jaxis : numpy.ndarray, shape (nb, 3)
+        Unit joint axis of each body in its own coordinates, dimensionless.
+    mass : numpy.ndarray, shape (nb,)
+        Body masses [kg].
+    h : numpy.ndarray, shape (nb, 3)
+        First moments of mass about each body's origin [kg m].
+    ibar : numpy.ndarray, shape (nb, 3, 3)
+        Rotational inertias about each body's origin [kg m^2].
+    ws : Workspace
+        Scratch arrays from :func:`workspace`.
+    tau : numpy.ndarray, shape (n,)
+        Written with the generalised forces.
+    have_velocities : bool
+        Use the body velocities already in ``ws.v`` instead of computing them.
     """
     nb = parent.shape[0]
     v, a, f = ws.v, ws.a, ws.f
@@ -205,7 +305,29 @@ def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar,
 
 @jit(inline="always")
 def crba_into(e, r, parent, jtype, jaxis, mass, h, ibar, ws):
-    """Joint-space mass matrix ``H(q)`` into ``ws.hmat`` by the composite-rigid-body algorithm."""
+    """Joint-space mass matrix ``H(q)`` into ``ws.hmat`` by the composite-rigid-body algorithm.
+
+    Parameters
+    ----------
+    e : numpy.ndarray, shape (nb, 3, 3)
+        Parent -> body rotations (world -> base for body 0), dimensionless.
+    r : numpy.ndarray, shape (nb, 3)
+        Body origins in parent coordinates (the base in the world) [m].
+    parent : numpy.ndarray of int, shape (nb,)
+        Parent index of each body (body 0, the floating base, has none).
+    jtype : numpy.ndarray of int, shape (nb,)
+        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
+    jaxis : numpy.ndarray, shape (nb, 3)
+        Unit joint axis of each body in its own coordinates, dimensionless.
+    mass : numpy.ndarray, shape (nb,)
+        Body masses [kg].
+    h : numpy.ndarray, shape (nb, 3)
+        First moments of mass about each body's origin [kg m].
+    ibar : numpy.ndarray, shape (nb, 3, 3)
+        Rotational inertias about each body's origin [kg m^2].
+    ws : Workspace
+        Scratch arrays from :func:`workspace`.
+    """
     nb = parent.shape[0]
     mc, hc, ic, hmat = ws.mc, ws.hc, ws.ic, ws.hmat
     f, tmp, scratch = ws.t6a, ws.t6b, ws.t33
@@ -258,7 +380,21 @@ def crba_into(e, r, parent, jtype, jaxis, mass, h, ibar, ws):
 
 @jit(inline="always")
 def cholesky_solve_into(a, b, low, y, x):
-    """Solve ``a x = b`` for symmetric positive definite ``a`` by Cholesky; ``x`` is NaN if ``a`` is not."""
+    """Solve ``a x = b`` for symmetric positive definite ``a`` by Cholesky; ``x`` is NaN if ``a`` is not.
+
+    Parameters
+    ----------
+    a : numpy.ndarray, shape (n, n)
+        The symmetric matrix (only its lower triangle is read).
+    b : numpy.ndarray, shape (n,)
+        Right-hand side.
+    low : numpy.ndarray, shape (n, n)
+        Written with the Cholesky factor.
+    y : numpy.ndarray, shape (n,)
+        Scratch for the forward substitution.
+    x : numpy.ndarray, shape (n,)
+        Written with the solution.
+    """
     n = a.shape[0]
     for j in range(n):
         d = a[j, j]
@@ -295,6 +431,18 @@ def euler_rates_into(q, u, e0, out):
     ``omega``: ``roll' = wx + (wy sin(roll) + wz cos(roll)) tan(pitch)``,
     ``pitch' = wy cos(roll) - wz sin(roll)``, ``yaw' = (wy sin(roll) + wz cos(roll)) / cos(pitch)``.
     ``e0`` is the base's world-to-body rotation, ``R^T``.
+
+    Parameters
+    ----------
+    q : numpy.ndarray, shape (n,)
+        Generalised coordinates: base position [m], ZYX Euler angles [rad], joint coordinates [rad or m].
+    u : numpy.ndarray, shape (n,)
+        Generalised velocities: base spatial velocity (omega [rad/s], v [m/s]) in base coordinates, joint
+        rates [rad/s or m/s].
+    e0 : numpy.ndarray, shape (3, 3)
+        World -> base rotation, dimensionless.
+    out : numpy.ndarray, shape (n,)
+        Written with ``dq/dt`` (position rates [m/s], angle rates [rad/s], joint rates).
     """
     for i in range(3):
         out[i] = e0[0, i] * u[3] + e0[1, i] * u[4] + e0[2, i] * u[5]
@@ -315,7 +463,30 @@ def euler_rates_into(q, u, e0, out):
 # ---- allocating wrappers (setup code, tests) ---------------------------------------------------
 @jit
 def joint_transforms(q, parent, jtype, jaxis, tree_e, tree_r):
-    """Parent-to-body transforms at ``q`` (allocating)."""
+    """Parent-to-body transforms at ``q`` (allocating).
+
+    Parameters
+    ----------
+    q : numpy.ndarray, shape (n,)
+        Generalised coordinates: base position [m], ZYX Euler angles [rad], joint coordinates [rad or m].
+    parent : numpy.ndarray of int, shape (nb,)
+        Parent index of each body (body 0, the floating base, has none).
+    jtype : numpy.ndarray of int, shape (nb,)
+        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
+    jaxis : numpy.ndarray, shape (nb, 3)
+        Unit joint axis of each body in its own coordinates, dimensionless.
+    tree_e : numpy.ndarray, shape (nb, 3, 3)
+        Rotation parent -> body at zero joint coordinate, dimensionless.
+    tree_r : numpy.ndarray, shape (nb, 3)
+        Joint origin in parent coordinates at zero joint coordinate [m].
+
+    Returns
+    -------
+    e : numpy.ndarray, shape (nb, 3, 3)
+        Parent -> body rotations (world -> base for body 0), dimensionless.
+    r : numpy.ndarray, shape (nb, 3)
+        Body origins in parent coordinates [m].
+    """
     nb = parent.shape[0]
     e = np.empty((nb, 3, 3))
     r = np.empty((nb, 3))
@@ -325,7 +496,24 @@ def joint_transforms(q, parent, jtype, jaxis, tree_e, tree_r):
 
 @jit
 def world_transforms(parent, e, r):
-    """World-to-body rotations and body origins (allocating)."""
+    """World-to-body rotations and body origins (allocating).
+
+    Parameters
+    ----------
+    parent : numpy.ndarray of int, shape (nb,)
+        Parent index of each body (body 0, the floating base, has none).
+    e : numpy.ndarray, shape (nb, 3, 3)
+        Parent -> body rotations (world -> base for body 0), dimensionless.
+    r : numpy.ndarray, shape (nb, 3)
+        Body origins in parent coordinates (the base in the world) [m].
+
+    Returns
+    -------
+    ew : numpy.ndarray, shape (nb, 3, 3)
+        World -> body rotations, dimensionless.
+    pw : numpy.ndarray, shape (nb, 3)
+        Body origins in the world [m].
+    """
     nb = parent.shape[0]
     ew = np.empty((nb, 3, 3))
     pw = np.empty((nb, 3))
@@ -335,7 +523,43 @@ def world_transforms(parent, e, r):
 
 @jit
 def rnea(q, u, udot, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
-    """``H udot + C(q, u, f_ext)`` (allocating; see :func:`rnea_into`)."""
+    """``H udot + C(q, u, f_ext)`` (allocating; see :func:`rnea_into`).
+
+    Parameters
+    ----------
+    q : numpy.ndarray, shape (n,)
+        Generalised coordinates: base position [m], ZYX Euler angles [rad], joint coordinates [rad or m].
+    u : numpy.ndarray, shape (n,)
+        Generalised velocities: base spatial velocity (omega [rad/s], v [m/s]) in base coordinates, joint
+        rates [rad/s or m/s].
+    udot : numpy.ndarray, shape (n,)
+        Generalised accelerations [rad/s^2, m/s^2].
+    fext : numpy.ndarray, shape (nb, 6)
+        External spatial force on each body, in its coordinates about its origin (moment [N m], force [N]).
+    gravity : numpy.ndarray, shape (3,)
+        Gravity vector in the world [m/s^2], e.g. (0, 0, -9.81).
+    parent : numpy.ndarray of int, shape (nb,)
+        Parent index of each body (body 0, the floating base, has none).
+    jtype : numpy.ndarray of int, shape (nb,)
+        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
+    jaxis : numpy.ndarray, shape (nb, 3)
+        Unit joint axis of each body in its own coordinates, dimensionless.
+    tree_e : numpy.ndarray, shape (nb, 3, 3)
+        Rotation parent -> body at zero joint coordinate, dimensionless.
+    tree_r : numpy.ndarray, shape (nb, 3)
+        Joint origin in parent coordinates at zero joint coordinate [m].
+    mass : numpy.ndarray, shape (nb,)
+        Body masses [kg].
+    h : numpy.ndarray, shape (nb, 3)
+        First moments of mass about each body's origin [kg m].
+    ibar : numpy.ndarray, shape (nb, 3, 3)
+        Rotational inertias about each body's origin [kg m^2].
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+        The generalised forces that give ``udot`` (base wrench [N m, N], joint torques [N m] or forces [N]).
+    """
     ws = workspace(parent)
     joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws.e, ws.r, ws.t33)
     tau = np.empty(u.shape[0])
@@ -345,7 +569,34 @@ def rnea(q, u, udot, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, 
 
 @jit
 def crba(q, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
-    """Joint-space mass matrix ``H(q)`` (allocating; see :func:`crba_into`)."""
+    """Joint-space mass matrix ``H(q)`` (allocating; see :func:`crba_into`).
+
+    Parameters
+    ----------
+    q : numpy.ndarray, shape (n,)
+        Generalised coordinates: base position [m], ZYX Euler angles [rad], joint coordinates [rad or m].
+    parent : numpy.ndarray of int, shape (nb,)
+        Parent index of each body (body 0, the floating base, has none).
+    jtype : numpy.ndarray of int, shape (nb,)
+        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
+    jaxis : numpy.ndarray, shape (nb, 3)
+        Unit joint axis of each body in its own coordinates, dimensionless.
+    tree_e : numpy.ndarray, shape (nb, 3, 3)
+        Rotation parent -> body at zero joint coordinate, dimensionless.
+    tree_r : numpy.ndarray, shape (nb, 3)
+        Joint origin in parent coordinates at zero joint coordinate [m].
+    mass : numpy.ndarray, shape (nb,)
+        Body masses [kg].
+    h : numpy.ndarray, shape (nb, 3)
+        First moments of mass about each body's origin [kg m].
+    ibar : numpy.ndarray, shape (nb, 3, 3)
+        Rotational inertias about each body's origin [kg m^2].
+
+    Returns
+    -------
+    numpy.ndarray, shape (n, n)
+        The symmetric positive definite mass matrix [kg, kg m, kg m^2 by entry].
+    """
     ws = workspace(parent)
     joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws.e, ws.r, ws.t33)
     crba_into(ws.e, ws.r, parent, jtype, jaxis, mass, h, ibar, ws)
@@ -354,7 +605,44 @@ def crba(q, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
 
 @jit
 def forward_dynamics(q, u, tau, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
-    """Accelerations ``du/dt = H^-1 (tau - C(q, u, f_ext))`` (allocating)."""
+    """Accelerations ``du/dt = H^-1 (tau - C(q, u, f_ext))`` (allocating).
+
+    Parameters
+    ----------
+    q : numpy.ndarray, shape (n,)
+        Generalised coordinates: base position [m], ZYX Euler angles [rad], joint coordinates [rad or m].
+    u : numpy.ndarray, shape (n,)
+        Generalised velocities: base spatial velocity (omega [rad/s], v [m/s]) in base coordinates, joint
+        rates [rad/s or m/s].
+    tau : numpy.ndarray, shape (n,)
+        Applied generalised forces (base wrench in base coordinates [N m, N], joint torques [N m] or forces
+        [N]).
+    fext : numpy.ndarray, shape (nb, 6)
+        External spatial force on each body, in its coordinates about its origin (moment [N m], force [N]).
+    gravity : numpy.ndarray, shape (3,)
+        Gravity vector in the world [m/s^2], e.g. (0, 0, -9.81).
+    parent : numpy.ndarray of int, shape (nb,)
+        Parent index of each body (body 0, the floating base, has none).
+    jtype : numpy.ndarray of int, shape (nb,)
+        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
+    jaxis : numpy.ndarray, shape (nb, 3)
+        Unit joint axis of each body in its own coordinates, dimensionless.
+    tree_e : numpy.ndarray, shape (nb, 3, 3)
+        Rotation parent -> body at zero joint coordinate, dimensionless.
+    tree_r : numpy.ndarray, shape (nb, 3)
+        Joint origin in parent coordinates at zero joint coordinate [m].
+    mass : numpy.ndarray, shape (nb,)
+        Body masses [kg].
+    h : numpy.ndarray, shape (nb, 3)
+        First moments of mass about each body's origin [kg m].
+    ibar : numpy.ndarray, shape (nb, 3, 3)
+        Rotational inertias about each body's origin [kg m^2].
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+        ``du/dt`` [rad/s^2, m/s^2]; NaN if the mass matrix is not positive definite.
+    """
     ws = workspace(parent)
     joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ws.e, ws.r, ws.t33)
     n = u.shape[0]

@@ -47,6 +47,14 @@ class Mode:
     participation: dict
 
     def to_dict(self) -> dict:
+        """The mode as a JSON-ready dict.
+
+        Returns
+        -------
+        dict
+            ``name``, ``frequency_hz`` [Hz], ``damping_ratio`` (dimensionless), ``eigenvalue`` as [real, imag]
+            [1/s] and ``participation``.
+        """
         return {
             "name": self.name,
             "frequency_hz": self.frequency_hz,
@@ -65,6 +73,15 @@ def _positions(model: VehicleModel) -> list[int]:
 
 def linearise(model: VehicleModel, state: np.ndarray, *, eps: float = 1e-6):
     """``A = d(dx/dt)/dx`` on the reduced state (positions, all velocities, slips), by central differences.
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle.
+    state : numpy.ndarray, shape (n_states,)
+        The state to linearise about (e.g. an equilibrium, or rolling).
+    eps : float
+        Relative central-difference step, dimensionless (scaled by ``max(1, |x_j|)``).
 
     Returns
     -------
@@ -164,16 +181,42 @@ class SingleTrack:
 
     def road_steer_rad(self, speed_mps: float, lateral_acceleration_mps2: float) -> float:
         """Steady-state road-wheel steer angle for a lateral acceleration at a speed:
-        ``delta = (L / v^2 + K) a_y`` [rad]."""
+        ``delta = (L / v^2 + K) a_y`` [rad].
+
+        Parameters
+        ----------
+        speed_mps : float
+            Forward speed [m/s].
+        lateral_acceleration_mps2 : float
+            Steady lateral acceleration [m/s^2].
+
+        Returns
+        -------
+        float
+            Road-wheel steer angle [rad].
+        """
         return (self.wheelbase_m / speed_mps**2 + self.understeer_gradient_rad_per_mps2) * lateral_acceleration_mps2
 
     @property
     def understeer_gradient_deg_per_g(self) -> float:
+        """The understeer gradient ``K`` in [deg/g] (positive: understeer)."""
         return float(np.degrees(self.understeer_gradient_rad_per_mps2) * 9.80665)
 
 
 def single_track(model: VehicleModel) -> SingleTrack:
-    """The linear single-track model from the static wheel loads and the tyres' cornering stiffness."""
+    """The linear single-track model from the static wheel loads and the tyres' cornering stiffness.
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle (its static equilibrium on a flat road gives the axle loads).
+
+    Returns
+    -------
+    SingleTrack
+        Wheelbase [m], mass [kg], axle loads [N], axle cornering stiffnesses [N/rad] and the understeer
+        gradient ``K = F_f / (g C_f) - F_r / (g C_r)`` [rad/(m/s^2)]; cached on the model.
+    """
     from ..tyre.interface import linear_stiffnesses
     from .statics import static_equilibrium
 

@@ -76,7 +76,20 @@ def _skew(c: np.ndarray) -> np.ndarray:
 
 def modal_coordinates(model, state: np.ndarray) -> ModalCoordinates:
     """The physical coordinates ``w`` of ``model`` (a :class:`~trikedyn.model.vehicle.VehicleModel`) at
-    ``state``, with the mass each carries (see the module docstring)."""
+    ``state``, with the mass each carries (see the module docstring).
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle.
+    state : numpy.ndarray, shape (n_states,)
+        The state (only the positions ``q`` are read).
+
+    Returns
+    -------
+    ModalCoordinates
+        The groups, the transform ``u = T w`` and the mass of each coordinate [kg or kg m^2].
+    """
     tree = model.tree
     n = model.n_dof
     h = crba(np.ascontiguousarray(state[:n], dtype=float), *tree.arrays())
@@ -102,13 +115,19 @@ def modal_coordinates(model, state: np.ndarray) -> ModalCoordinates:
 
 
 def energy_shares(coords: ModalCoordinates, velocity: np.ndarray) -> np.ndarray:
-    """Each group's share of a mode's kinetic energy [1] (adding up to one; zeros when nothing moves).
+    """Each group's share of a mode's kinetic energy, dimensionless (adding up to one; zeros when nothing moves).
 
     Parameters
     ----------
     coords : ModalCoordinates
+        The physical coordinates at the state the mode belongs to.
     velocity : ndarray (n,), complex
-        The modal generalised velocities ``u`` (any scale and phase).
+        The modal generalised velocities ``u`` (any scale and phase), so any unit [rad/s, m/s].
+
+    Returns
+    -------
+    numpy.ndarray, shape (len(coords.groups),)
+        Share of each group, dimensionless.
     """
     w = np.linalg.solve(coords.transform, velocity)
     energy = 0.5 * coords.mass * np.abs(w) ** 2

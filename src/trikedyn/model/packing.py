@@ -114,7 +114,26 @@ Plant = namedtuple("Plant", "parent jtype jaxis tree_e tree_r mass h ibar wheels
 
 def road_record(bump: bool, start_m: float, length_m: float, height_m: float, y_min_m: float,
                 y_max_m: float) -> np.ndarray:
-    """One :data:`ROAD` record (a length-1 array)."""
+    """One :data:`ROAD` record (a length-1 array).
+
+    Parameters
+    ----------
+    bump : bool
+        A bump (True) or a flat road.
+    start_m : float
+        Bump start along x [m].
+    length_m : float
+        Bump length along x [m].
+    height_m : float
+        Bump height [m].
+    y_min_m, y_max_m : float
+        Lateral extent of the bump [m].
+
+    Returns
+    -------
+    numpy.ndarray, shape (1,), dtype ROAD
+        The record.
+    """
     out = np.zeros(1, ROAD)
     out[0] = (int(bump), start_m, length_m, height_m, y_min_m, y_max_m)
     return out
@@ -126,6 +145,18 @@ def state_labels(body_names, wheel_names) -> tuple[str, ...]:
     ``q``: chassis position, roll/pitch/yaw, then one joint coordinate per body after the chassis; ``u``:
     chassis angular then linear velocity in chassis axes, then the joint rates (``<body>_qd``); then per wheel the
     transient longitudinal slip and the tangent of the transient slip angle.
+
+    Parameters
+    ----------
+    body_names : sequence of str
+        Body names, the chassis first.
+    wheel_names : sequence of str
+        Wheel names.
+
+    Returns
+    -------
+    tuple of str
+        One label per state entry.
     """
     joints = list(body_names[1:])
     q = ["x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad", *(f"{b}_q" for b in joints)]

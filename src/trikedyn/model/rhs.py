@@ -50,6 +50,18 @@ def interpolate_inputs(t, inputs):
     ``inputs`` is one row (constant inputs) or a table on a *uniform* time grid (see
     :func:`trikedyn.simulate.run.input_table`): the row is found by division, not by search, and held
     beyond the ends.
+
+    Parameters
+    ----------
+    t : float
+        Time [s].
+    inputs : numpy.ndarray, shape (m, 4)
+        Rows (time [s], steer [rad], drive [N m], brake [N m]).
+
+    Returns
+    -------
+    steer, drive, brake : float
+        Steer command [rad], drive torque [N m], brake torque [N m], linearly interpolated.
     """
     m = inputs.shape[0]
     if m == 1:
@@ -81,6 +93,20 @@ def linkage_angle(command, steer_y, veh):
     tan(delta) / (L - y tan(delta))`` points it at the turn centre on the rear axle line (``L`` the
     wheelbase): the inner wheel steers more. A wheel on the centre line, or ``f = 0`` (parallel steer),
     takes the command unchanged.
+
+    Parameters
+    ----------
+    command : float
+        Steer command [rad] (a centre-line wheel's angle about the steering axis).
+    steer_y : float
+        Lateral position of the wheel [m].
+    veh : record
+        The vehicle record (``cos_rake``, ``ackermann``, ``wheelbase`` [m]).
+
+    Returns
+    -------
+    float
+        The wheel's steer angle about its steering axis [rad].
     """
     if steer_y == 0.0 or veh.ackermann == 0.0:
         return command
@@ -95,7 +121,25 @@ def linkage_angle(command, steer_y, veh):
 @jit
 def evaluate_into(t, x, u, p, wout, ws, xdot):
     """``xdot = f(t, x, u, p)`` into ``xdot``; fills ``wout`` (:data:`WHEEL_OUT` per wheel); ``ws`` from
-    :func:`workspace`."""
+    :func:`workspace`.
+
+    Parameters
+    ----------
+    t : float
+        Time [s].
+    x : numpy.ndarray
+        State (``VehicleModel.state_names``).
+    u : numpy.ndarray, shape (3,)
+        Inputs: steer command [rad], drive torque [N m], brake torque [N m].
+    p : Plant
+        The compiled vehicle (``VehicleModel.plant``).
+    wout : numpy.ndarray, dtype WHEEL_OUT
+        Written with the per-wheel outputs (loads [N], slips, deflection [m] ...).
+    ws : Workspace
+        Scratch arrays from :func:`~trikedyn.model.dynamics.workspace`.
+    xdot : numpy.ndarray
+        Written with ``dx/dt``.
+    """
     nb = p.parent.shape[0]
     n = nb + 5
     wheels = p.wheels
@@ -205,7 +249,26 @@ def f(t, x, u, p):
 
 @jit
 def f_with_outputs(t, x, u, p):
-    """:func:`f` and the per-wheel outputs (a :data:`WHEEL_OUT` array)."""
+    """:func:`f` and the per-wheel outputs (a :data:`WHEEL_OUT` array).
+
+    Parameters
+    ----------
+    t : float
+        Time [s].
+    x : numpy.ndarray
+        State (``VehicleModel.state_names``).
+    u : numpy.ndarray, shape (3,)
+        Inputs: steer command [rad], drive torque [N m], brake torque [N m].
+    p : Plant
+        The compiled vehicle (``VehicleModel.plant``).
+
+    Returns
+    -------
+    xdot : numpy.ndarray
+        ``dx/dt``.
+    wout : numpy.ndarray, dtype WHEEL_OUT
+        Per-wheel outputs.
+    """
     ws = workspace(p.parent)
     xdot = np.empty(x.shape[0])
     wout = np.zeros(p.wheels.shape[0], WHEEL_OUT)

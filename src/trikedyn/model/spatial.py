@@ -39,7 +39,15 @@ __all__ = [
 
 @jit(inline="always")
 def cross_into(a, b, out):
-    """``out = a x b`` (``out`` must not alias ``a`` or ``b``)."""
+    """``out = a x b`` (``out`` must not alias ``a`` or ``b``).
+
+    Parameters
+    ----------
+    a, b : numpy.ndarray, shape (3,)
+        The vectors (any unit; ``out`` carries the product of theirs).
+    out : numpy.ndarray, shape (3,)
+        Written with the cross product.
+    """
     out[0] = a[1] * b[2] - a[2] * b[1]
     out[1] = a[2] * b[0] - a[0] * b[2]
     out[2] = a[0] * b[1] - a[1] * b[0]
@@ -47,7 +55,17 @@ def cross_into(a, b, out):
 
 @jit(inline="always")
 def rot_axis_into(axis, angle, out):
-    """Rotation matrix (Rodrigues) turning vectors by ``angle`` [rad] about the unit ``axis``, into ``out``."""
+    """Rotation matrix (Rodrigues) turning vectors by ``angle`` [rad] about the unit ``axis``, into ``out``.
+
+    Parameters
+    ----------
+    axis : numpy.ndarray, shape (3,)
+        Unit rotation axis, dimensionless.
+    angle : float
+        Angle [rad].
+    out : numpy.ndarray, shape (3, 3)
+        Written with the rotation matrix, dimensionless.
+    """
     c = np.cos(angle)
     s = np.sin(angle)
     t = 1.0 - c
@@ -65,7 +83,18 @@ def rot_axis_into(axis, angle, out):
 
 @jit(inline="always")
 def euler_zyx_to_matrix(roll, pitch, yaw):
-    """Rotation matrix body -> world for ISO 8855 yaw-pitch-roll (Z, then Y, then X) angles [rad]."""
+    """Rotation matrix body -> world for ISO 8855 yaw-pitch-roll (Z, then Y, then X) angles [rad].
+
+    Parameters
+    ----------
+    roll, pitch, yaw : float
+        ISO 8855 angles about x, y and z [rad].
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, 3)
+        ``R = Rz(yaw) Ry(pitch) Rx(roll)``, dimensionless.
+    """
     out = np.empty((3, 3))
     euler_zyx_into(roll, pitch, yaw, out)
     return out
@@ -73,7 +102,15 @@ def euler_zyx_to_matrix(roll, pitch, yaw):
 
 @jit(inline="always")
 def euler_zyx_into(roll, pitch, yaw, out):
-    """:func:`euler_zyx_to_matrix` into ``out``."""
+    """:func:`euler_zyx_to_matrix` into ``out``.
+
+    Parameters
+    ----------
+    roll, pitch, yaw : float
+        ISO 8855 angles about x, y and z [rad].
+    out : numpy.ndarray, shape (3, 3)
+        Written with the rotation matrix body -> world, dimensionless.
+    """
     cr, sr = np.cos(roll), np.sin(roll)
     cp, sp = np.cos(pitch), np.sin(pitch)
     cy, sy = np.cos(yaw), np.sin(yaw)
@@ -90,7 +127,19 @@ def euler_zyx_into(roll, pitch, yaw, out):
 
 @jit(inline="always")
 def xform_motion(e, r, m, out):
-    """``out = X m`` for a motion vector ``m`` (6,), transform ``(e, r)``; ``out`` must not alias ``m``."""
+    """``out = X m`` for a motion vector ``m`` (6,), transform ``(e, r)``; ``out`` must not alias ``m``.
+
+    Parameters
+    ----------
+    e : numpy.ndarray, shape (3, 3)
+        Rotation A -> B, dimensionless.
+    r : numpy.ndarray, shape (3,)
+        B's origin in A coordinates [m].
+    m : numpy.ndarray, shape (6,)
+        Motion vector in A (angular [rad/s], linear [m/s]).
+    out : numpy.ndarray, shape (6,)
+        Written with the motion vector in B.
+    """
     w0, w1, w2 = m[0], m[1], m[2]
     v0 = m[3] - (r[1] * w2 - r[2] * w1)
     v1 = m[4] - (r[2] * w0 - r[0] * w2)
@@ -102,7 +151,19 @@ def xform_motion(e, r, m, out):
 
 @jit(inline="always")
 def xform_force_inv(e, r, f, out):
-    """``out = X^T f``: a force in the child frame B expressed in the parent frame A (no aliasing)."""
+    """``out = X^T f``: a force in the child frame B expressed in the parent frame A (no aliasing).
+
+    Parameters
+    ----------
+    e : numpy.ndarray, shape (3, 3)
+        Rotation A -> B, dimensionless.
+    r : numpy.ndarray, shape (3,)
+        B's origin in A coordinates [m].
+    f : numpy.ndarray, shape (6,)
+        Force vector in B (moment [N m], force [N]).
+    out : numpy.ndarray, shape (6,)
+        Written with the force vector in A.
+    """
     n0 = e[0, 0] * f[0] + e[1, 0] * f[1] + e[2, 0] * f[2]
     n1 = e[0, 1] * f[0] + e[1, 1] * f[1] + e[2, 1] * f[2]
     n2 = e[0, 2] * f[0] + e[1, 2] * f[1] + e[2, 2] * f[2]
@@ -119,7 +180,17 @@ def xform_force_inv(e, r, f, out):
 
 @jit(inline="always")
 def motion_cross_motion(v, m, out):
-    """``out = v x m`` (spatial cross product of motion vectors; no aliasing)."""
+    """``out = v x m`` (spatial cross product of motion vectors; no aliasing).
+
+    Parameters
+    ----------
+    v : numpy.ndarray, shape (6,)
+        Motion vector (angular [rad/s], linear [m/s]).
+    m : numpy.ndarray, shape (6,)
+        Motion vector.
+    out : numpy.ndarray, shape (6,)
+        Written with ``v x m``.
+    """
     out[0] = v[1] * m[2] - v[2] * m[1]
     out[1] = v[2] * m[0] - v[0] * m[2]
     out[2] = v[0] * m[1] - v[1] * m[0]
@@ -130,7 +201,17 @@ def motion_cross_motion(v, m, out):
 
 @jit(inline="always")
 def motion_cross_force(v, f, out):
-    """``out = v x* f`` (spatial cross product of a motion and a force vector; no aliasing)."""
+    """``out = v x* f`` (spatial cross product of a motion and a force vector; no aliasing).
+
+    Parameters
+    ----------
+    v : numpy.ndarray, shape (6,)
+        Motion vector (angular [rad/s], linear [m/s]).
+    f : numpy.ndarray, shape (6,)
+        Force vector (moment [N m], force [N]) or momentum.
+    out : numpy.ndarray, shape (6,)
+        Written with ``v x* f``.
+    """
     out[0] = v[1] * f[2] - v[2] * f[1] + v[4] * f[5] - v[5] * f[4]
     out[1] = v[2] * f[0] - v[0] * f[2] + v[5] * f[3] - v[3] * f[5]
     out[2] = v[0] * f[1] - v[1] * f[0] + v[3] * f[4] - v[4] * f[3]
@@ -141,7 +222,21 @@ def motion_cross_force(v, f, out):
 
 @jit(inline="always")
 def inertia_times_motion(m, h, ibar, a, out):
-    """``out = I a`` for the inertia ``(m, h, Ibar)`` and a motion vector ``a`` (no aliasing)."""
+    """``out = I a`` for the inertia ``(m, h, Ibar)`` and a motion vector ``a`` (no aliasing).
+
+    Parameters
+    ----------
+    m : float
+        Mass [kg].
+    h : numpy.ndarray, shape (3,)
+        First moment of mass about the frame's origin [kg m].
+    ibar : numpy.ndarray, shape (3, 3)
+        Rotational inertia about the origin [kg m^2].
+    a : numpy.ndarray, shape (6,)
+        Motion vector (angular [rad/s or rad/s^2], linear [m/s or m/s^2]).
+    out : numpy.ndarray, shape (6,)
+        Written with the force vector (moment [N m], force [N] for an acceleration).
+    """
     w0, w1, w2, v0, v1, v2 = a[0], a[1], a[2], a[3], a[4], a[5]
     for i in range(3):
         out[i] = ibar[i, 0] * w0 + ibar[i, 1] * w1 + ibar[i, 2] * w2
@@ -161,6 +256,25 @@ def inertia_to_parent(e, r, m, h, ibar, h_out, ibar_out, tmp):
     ``tmp`` is a 3x3 scratch array.
     With ``y = E^T h``: ``h' = y + m r`` and ``Ibar' = E^T Ibar E - [r]x [y]x - [y + m r]x [r]x``
     (Featherstone, Table 2.5); ``[a]x [b]x = b a^T - (a.b) 1``.
+
+    Parameters
+    ----------
+    e : numpy.ndarray, shape (3, 3)
+        Rotation of the transform parent -> child, dimensionless.
+    r : numpy.ndarray, shape (3,)
+        Child origin in parent coordinates [m].
+    m : float
+        Mass [kg].
+    h : numpy.ndarray, shape (3,)
+        First moment about the child origin, child coordinates [kg m].
+    ibar : numpy.ndarray, shape (3, 3)
+        Rotational inertia about the child origin, child coordinates [kg m^2].
+    h_out : numpy.ndarray, shape (3,)
+        Accumulates the first moment about the parent origin [kg m].
+    ibar_out : numpy.ndarray, shape (3, 3)
+        Accumulates the rotational inertia about the parent origin [kg m^2].
+    tmp : numpy.ndarray, shape (3, 3)
+        Scratch space.
     """
     y0 = e[0, 0] * h[0] + e[1, 0] * h[1] + e[2, 0] * h[2]
     y1 = e[0, 1] * h[0] + e[1, 1] * h[1] + e[2, 1] * h[2]
@@ -189,7 +303,23 @@ def inertia_to_parent(e, r, m, h, ibar, h_out, ibar_out, tmp):
 
 @jit(inline="always")
 def inertia_translate_to_parent(r, m, h, ibar, h_out, ibar_out):
-    """:func:`inertia_to_parent` for a transform without rotation (``E = 1``): a wheel's rotor frame, a slider."""
+    """:func:`inertia_to_parent` for a transform without rotation (``E = 1``): a wheel's rotor frame, a slider.
+
+    Parameters
+    ----------
+    r : numpy.ndarray, shape (3,)
+        Child origin in parent coordinates [m].
+    m : float
+        Mass [kg].
+    h : numpy.ndarray, shape (3,)
+        First moment about the child origin [kg m].
+    ibar : numpy.ndarray, shape (3, 3)
+        Rotational inertia about the child origin [kg m^2].
+    h_out : numpy.ndarray, shape (3,)
+        Accumulates the first moment about the parent origin [kg m].
+    ibar_out : numpy.ndarray, shape (3, 3)
+        Accumulates the rotational inertia about the parent origin [kg m^2].
+    """
     hp0 = h[0] + m * r[0]
     hp1 = h[1] + m * r[1]
     hp2 = h[2] + m * r[2]

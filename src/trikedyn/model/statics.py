@@ -23,6 +23,24 @@ def state_derivative(model: VehicleModel, x: np.ndarray, t: float = 0.0, inputs:
     """``dx/dt`` and the per-wheel outputs (:data:`~trikedyn.model.packing.WHEEL_OUT`) at one state.
 
     ``inputs``: the inputs ``(steer [rad], drive [N m], brake [N m])``; zero by default.
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle.
+    x : array_like
+        State (``model.state_names``).
+    t : float
+        Time [s].
+    inputs : array_like, shape (3,), optional
+        Steer [rad], drive torque [N m], brake torque [N m].
+
+    Returns
+    -------
+    xdot : numpy.ndarray
+        ``dx/dt``.
+    wout : numpy.ndarray, dtype WHEEL_OUT
+        The per-wheel outputs (loads [N], forces, slips).
     """
     u = np.zeros(3) if inputs is None else np.array(inputs, dtype=float).reshape(3)
     # a writable C-contiguous copy: a read-only or strided state would be another type to numba, so another
@@ -46,6 +64,18 @@ class Equilibrium:
 
 def static_equilibrium(model: VehicleModel, *, tol: float = 1e-10) -> Equilibrium:
     """The vehicle at rest on flat ground: solve for height, roll, pitch and the joint deflections.
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle (on its road; flat ground is assumed at rest).
+    tol : float
+        Solver tolerance on the residual, in the generalised forces' units [N, N m].
+
+    Returns
+    -------
+    Equilibrium
+        The state, the wheel loads [N] and the residual; cached on the model.
 
     Raises
     ------
@@ -91,7 +121,24 @@ def rolling_state(model: VehicleModel, equilibrium: Equilibrium, speed_mps: floa
     """The equilibrium state rolling straight ahead at ``speed_mps``: chassis velocity, wheel spins
     ``v / R_e`` (effective radius at the static deflection) and the transient slips at their steady
     rolling values (zero slip angle; the small longitudinal slip of rolling resistance settles within
-    a few relaxation lengths)."""
+    a few relaxation lengths).
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle.
+    equilibrium : Equilibrium
+        Its static equilibrium (:func:`static_equilibrium`).
+    speed_mps : float
+        Forward speed [m/s].
+    heading_rad : float
+        Yaw angle [rad].
+
+    Returns
+    -------
+    numpy.ndarray
+        The state.
+    """
     n = model.n_dof
     x = equilibrium.state.copy()
     x[5] = heading_rad

@@ -91,17 +91,32 @@ class Tree:
 
     @property
     def n_bodies(self) -> int:
+        """Number of bodies, the chassis included."""
         return len(self.body_names)
 
     @property
     def n_dof(self) -> int:
+        """Degrees of freedom: 6 for the chassis plus one per joint (``n_bodies + 5``)."""
         return self.n_bodies + 5
 
     def arrays(self):
-        """The tuple of arrays the compiled functions take after ``q, u, ...``."""
+        """The tuple of arrays the compiled functions take after ``q, u, ...``.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar)`` (see :mod:`trikedyn.model.dynamics`).
+        """
         return (self.parent, self.jtype, self.jaxis, self.tree_e, self.tree_r, self.mass, self.h, self.ibar)
 
     def total_mass(self) -> float:
+        """Total mass of the tree [kg].
+
+        Returns
+        -------
+        float
+            The sum of the body masses [kg].
+        """
         return float(self.mass.sum())
 
 
@@ -140,7 +155,20 @@ def _rod_or_point(mass, cg, inertia_diag):
 
 
 def build_tree(params: VehicleParameters, g: float = STANDARD_GRAVITY) -> Tree:
-    """Build the multibody tree of a parameter set (layout from its wheels; see the module docstring)."""
+    """Build the multibody tree of a parameter set (layout from its wheels; see the module docstring).
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+    g : float
+        Gravity [m/s^2] (the design loads that set the springs' preload).
+
+    Returns
+    -------
+    Tree
+        Bodies, joints, inertias and the wheel stations.
+    """
     b = _Builder()
     b.add("chassis", -1, JOINT_FREE, np.zeros(3), np.eye(3), np.zeros(3), MassProperties(0.0, np.zeros(3)))
     design_loads = static_wheel_loads(params.model_copy(update={"payload": ()}), g)

@@ -48,18 +48,47 @@ class Road:
     lateral_m: tuple[float, float] = (0.0, 1e9)
 
     def record(self) -> np.ndarray:
-        """The compiled :data:`~trikedyn.model.packing.ROAD` record (a length-1 array)."""
+        """The compiled :data:`~trikedyn.model.packing.ROAD` record (a length-1 array).
+
+        Returns
+        -------
+        numpy.ndarray, shape (1,), dtype ROAD
+            The record.
+        """
         return road_record(self.kind != "flat", self.start_m, self.length_m, self.height_m, *self.lateral_m)
 
 
 def flat_road() -> Road:
-    """A flat road at z = 0."""
+    """A flat road at z = 0.
+
+    Returns
+    -------
+    Road
+        The flat road.
+    """
     return Road()
 
 
 def speed_bump(start_m: float, length_m: float = 0.9, height_m: float = 0.06,
                lateral_m: tuple[float, float] = (0.0, 1e9)) -> Road:
-    """A speed bump (defaults: 0.9 m long, 60 mm high, a common road hump) starting at ``start_m``."""
+    """A speed bump (defaults: 0.9 m long, 60 mm high, a common road hump) starting at ``start_m``.
+
+    Parameters
+    ----------
+    start_m : float
+        Where the bump starts along x [m].
+    length_m : float
+        Bump length along x [m].
+    height_m : float
+        Bump height [m].
+    lateral_m : tuple of float
+        Lateral extent (y_min, y_max) [m]; everywhere by default.
+
+    Returns
+    -------
+    Road
+        The road.
+    """
     return Road("bump", start_m, length_m, height_m, tuple(lateral_m))
 
 
@@ -130,11 +159,28 @@ class VehicleModel:
         return int(self.plant.road[0]["bump"]) == 0
 
     def with_road(self, road: Road) -> VehicleModel:
-        """This model on another road (its cache emptied: the equilibrium depends on the road)."""
+        """This model on another road (its cache emptied: the equilibrium depends on the road).
+
+        Parameters
+        ----------
+        road : Road
+            The road.
+
+        Returns
+        -------
+        VehicleModel
+            The copy.
+        """
         return replace(self, plant=self.plant._replace(road=road.record()), cache={})
 
     def on_flat_road(self) -> VehicleModel:
-        """This model on a flat road (itself if its road is flat, keeping its cache)."""
+        """This model on a flat road (itself if its road is flat, keeping its cache).
+
+        Returns
+        -------
+        VehicleModel
+            The model on flat ground.
+        """
         return self if self.flat else self.with_road(flat_road())
 
     def with_ideal_drive(self) -> VehicleModel:
@@ -143,6 +189,11 @@ class VehicleModel:
         The speed controller's demand then reaches the wheels whatever it is, as a multibody package's
         kinematic drive imposes the speed; the tyres still carry it (their grip is the only limit). The
         cache is shared: what it holds (equilibrium, stability limits) does not depend on the limits.
+
+        Returns
+        -------
+        VehicleModel
+            The copy.
         """
         vehicle = self.plant.vehicle.copy()
         vehicle["max_torque"] = IDEAL_LIMIT
@@ -157,6 +208,22 @@ class VehicleModel:
         ``damping=False`` removes the suspension and tyre dampers and the steering servos' damping;
         ``slip_forces=False`` the tyres' horizontal forces and rolling resistance; ``drag=False`` the
         aerodynamic drag; ``gravity`` sets g [m/s^2].
+
+        Parameters
+        ----------
+        slip_forces : bool, optional
+            Keep (True) or remove (False) the tyres' horizontal forces; unchanged when None.
+        damping : bool, optional
+            False removes the dampers; unchanged otherwise.
+        gravity : float, optional
+            Gravity [m/s^2]; unchanged when None.
+        drag : bool, optional
+            False removes the aerodynamic drag; unchanged otherwise.
+
+        Returns
+        -------
+        VehicleModel
+            The copy, with an empty cache.
         """
         wheels = self.plant.wheels.copy()
         vehicle = self.plant.vehicle.copy()
@@ -208,7 +275,13 @@ def build_model(vehicle: ParameterSet | VehicleParameters, *, road: Road | None 
     road : Road, optional
         Flat by default.
     v_low_mps, w_low_radps : float
-        Tyre slip and rolling-resistance regularisation (:mod:`trikedyn.tyre.magic_formula`).
+        Tyre slip and rolling-resistance regularisation speeds [m/s] and [rad/s]
+        (:mod:`trikedyn.tyre.magic_formula`).
+
+    Returns
+    -------
+    VehicleModel
+        The compiled records, the tree, the tyre setups and a cache.
     """
     params = vehicle.params if isinstance(vehicle, ParameterSet) else vehicle
     tree = build_tree(params)

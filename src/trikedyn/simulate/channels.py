@@ -62,6 +62,19 @@ def point_motion(state, deriv, point, n):
 def compute_channels(states, derivs, cg, steer_index, n):
     """Chassis channels from recorded states and their derivatives (no re-evaluation).
 
+    Parameters
+    ----------
+    states : numpy.ndarray, shape (m, n_states)
+        Recorded states.
+    derivs : numpy.ndarray, shape (m, n_states)
+        Their derivatives.
+    cg : numpy.ndarray, shape (3,)
+        Chassis CG in chassis axes [m].
+    steer_index : int
+        State index of the steer joint (negative when none).
+    n : int
+        Number of generalised coordinates (the velocities start at ``n``).
+
     Returns
     -------
     ndarray (m, len(BASE_CHANNELS))
@@ -86,6 +99,19 @@ def imu_readings(states, derivs, sensor, gravity, n):
 
     Accelerometer: the specific force ``a - g`` of the sensor point in chassis axes (reads ``+g`` up at
     rest); gyroscope: the chassis angular velocity; angles: roll, pitch, yaw.
+
+    Parameters
+    ----------
+    states : numpy.ndarray, shape (m, n_states)
+        Recorded states.
+    derivs : numpy.ndarray, shape (m, n_states)
+        Their derivatives.
+    sensor : numpy.ndarray, shape (3,)
+        Sensor position in chassis axes [m].
+    gravity : float
+        Gravity [m/s^2].
+    n : int
+        Number of generalised coordinates (the velocities start at ``n``).
 
     Returns
     -------

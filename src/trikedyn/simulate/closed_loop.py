@@ -36,6 +36,16 @@ def footprint(params) -> tuple[float, float, float]:
 
     The overhangs split the overall length beyond the wheelbase evenly (the parameter set gives only the
     overall length).
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle (wheelbase, overall length and width).
+
+    Returns
+    -------
+    tuple of float
+        ``(x_rear, x_front, half_width)`` [m].
     """
     overhang = max(params.body.overall_length_m - params.wheelbase_m, 0.0) / 2
     return -overhang, params.wheelbase_m + overhang, params.body.overall_width_m / 2
@@ -167,6 +177,30 @@ def drive(vehicle: ParameterSet | VehicleModel, path, speed, *, driver: DriverSe
 
     The path is judged over its whole length and continued beyond its end (run-out); prefer
     :func:`run` with a registered manoeuvre, which knows its own gates.
+
+    Parameters
+    ----------
+    vehicle : ParameterSet or VehicleModel
+        The vehicle with its payload.
+    path : Path
+        The reference line (:class:`~trikedyn.manoeuvres.geometry.Path`).
+    speed : float or SpeedProfile
+        Constant target speed [km/h], or a speed profile.
+    driver : DriverSettings, optional
+        The driver's parameters; defaults otherwise.
+    duration_s : float, optional
+        Simulated time [s]; the path's length at the speed, with run-out, by default.
+    dt : float, optional
+        Time step [s]; automatic by default.
+    output_rate_hz : float
+        Output rate [Hz].
+    raise_on_failure : bool
+        Raise :class:`~trikedyn.errors.SimulationError` when the run stops early.
+
+    Returns
+    -------
+    Result
+        The recorded run.
     """
     from ..manoeuvres import speed as speeds
     from ..manoeuvres.base import whole_path

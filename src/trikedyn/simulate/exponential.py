@@ -50,6 +50,18 @@ def expm2(a, b, c, d, h):
 
     With ``s = (a + d) / 2`` and ``q^2 = ((a - d) / 2)^2 + b c``:
     ``exp(h M) = e^(h s) [cosh(q h) I + sinh(q h) / q (M - s I)]`` (``cos``/``sin`` for ``q^2 < 0``).
+
+    Parameters
+    ----------
+    a, b, c, d : float
+        The matrix entries [1/s].
+    h : float
+        Time step [s].
+
+    Returns
+    -------
+    tuple of float
+        ``(e11, e12, e21, e22)``, dimensionless.
     """
     s = 0.5 * (a + d)
     disc = 0.25 * (a - d) * (a - d) + b * c
@@ -72,7 +84,22 @@ def expm2(a, b, c, d, h):
 
 @jit(inline="always")
 def inverse_mass_diagonal(low, s, y):
-    """``(H^-1)_ss`` from the Cholesky factor ``low`` of ``H``: ``|L^-1 e_s|^2`` (``y``: scratch, length n)."""
+    """``(H^-1)_ss`` from the Cholesky factor ``low`` of ``H``: ``|L^-1 e_s|^2`` (``y``: scratch, length n).
+
+    Parameters
+    ----------
+    low : numpy.ndarray, shape (n, n)
+        Lower Cholesky factor of the mass matrix.
+    s : int
+        The diagonal entry wanted.
+    y : numpy.ndarray, shape (n,)
+        Scratch.
+
+    Returns
+    -------
+    float
+        ``(H^-1)_ss`` [1/kg or 1/(kg m^2)].
+    """
     n = low.shape[0]
     y[s] = 1.0 / low[s, s]
     total = y[s] * y[s]
@@ -132,7 +159,23 @@ def spin_slip_blocks(p, wout, low, scratch, idx, mat):
 
 @jit(inline="always")
 def subtract_blocks(mat, idx, m, x, xn, k):
-    """``k <- k - L (x - xn)``: the nonlinear remainder ``N`` from a stage derivative."""
+    """``k <- k - L (x - xn)``: the nonlinear remainder ``N`` from a stage derivative.
+
+    Parameters
+    ----------
+    mat : numpy.ndarray, shape (m_blocks, 4)
+        The blocks ``L`` [1/s].
+    idx : numpy.ndarray of int, shape (m_blocks, 2)
+        State indices of each block's pair (spin, slip).
+    m : int
+        Number of blocks in use.
+    x : numpy.ndarray
+        The stage's state.
+    xn : numpy.ndarray
+        The state ``L`` was taken at.
+    k : numpy.ndarray
+        The stage derivative, updated on the pairs.
+    """
     for j in range(m):
         i0, i1 = idx[j, 0], idx[j, 1]
         a, b = x[i0] - xn[i0], x[i1] - xn[i1]
@@ -151,7 +194,18 @@ TAYLOR_RADIUS = 0.5
 @jit(inline="always")
 def phi_functions(z):
     """``(e^z, phi_1(z), phi_2(z), phi_3(z), phi_4(z))`` of a complex ``z``;
-    ``phi_k(z) = sum_j z^j / (j + k)!``, ``phi_(k+1)(z) = (phi_k(z) - 1 / k!) / z``."""
+    ``phi_k(z) = sum_j z^j / (j + k)!``, ``phi_(k+1)(z) = (phi_k(z) - 1 / k!) / z``.
+
+    Parameters
+    ----------
+    z : complex
+        Argument, dimensionless (``h`` times an eigenvalue).
+
+    Returns
+    -------
+    tuple of complex
+        ``e^z, phi_1(z) ... phi_4(z)`` (a Taylor series for small ``|z|``).
+    """
     if abs(z) < TAYLOR_RADIUS:
         p4 = 0j
         term = 1.0 / 24.0  # 1/4!
@@ -204,7 +258,19 @@ def _phis_at_pair(s, q, close, conjugate):
 @jit(inline="always")
 def block_functions(mat, m, h, out):
     """For each of the first ``m`` blocks ``L`` of ``mat``: :data:`BLOCK_WIDTH` numbers into ``out``
-    (``exp(h L / 2)``, ``phi_1(h L / 2)``, then the three ETDRK4 weights of ``h L``)."""
+    (``exp(h L / 2)``, ``phi_1(h L / 2)``, then the three ETDRK4 weights of ``h L``).
+
+    Parameters
+    ----------
+    mat : numpy.ndarray, shape (m_blocks, 4)
+        Each block ``L = [[a, b], [c, d]]`` row-wise [1/s].
+    m : int
+        Number of blocks in use.
+    h : float
+        Step [s].
+    out : numpy.ndarray, shape (m_blocks, BLOCK_WIDTH)
+        Written with the functions, dimensionless (the weights carry no ``h``).
+    """
     for j in range(m):
         a, b, c, d = h * mat[j, 0], h * mat[j, 1], h * mat[j, 2], h * mat[j, 3]
         s = 0.5 * (a + d)
@@ -234,7 +300,25 @@ def _times(r, col, a, b):
 
 @jit(inline="always")
 def stage_pairs(fn, idx, m, x, k, half, out):
-    """The first two stages on each block's pair: ``out = x + h/2 phi_1(h L / 2) k``."""
+    """The first two stages on each block's pair: ``out = x + h/2 phi_1(h L / 2) k``.
+
+    Parameters
+    ----------
+    fn : numpy.ndarray, shape (m_blocks, BLOCK_WIDTH)
+        The block functions (:func:`block_functions`).
+    idx : numpy.ndarray of int, shape (m_blocks, 2)
+        State indices of each block's pair (spin, slip).
+    m : int
+        Number of blocks in use.
+    x : numpy.ndarray
+        State at the start of the step.
+    k : numpy.ndarray
+        Stage derivative (its nonlinear remainder on the pairs).
+    half : float
+        Half the step [s].
+    out : numpy.ndarray
+        Written on the pairs' entries.
+    """
     for j in range(m):
         i0, i1 = idx[j, 0], idx[j, 1]
         a, b = _times(fn[j], 4, k[i0], k[i1])
@@ -244,7 +328,25 @@ def stage_pairs(fn, idx, m, x, k, half, out):
 @jit(inline="always")
 def third_stage_pairs(fn, idx, m, x, k1, k3, half, out):
     """The third stage on each block's pair: ``out = x + exp(h L / 2) (a - x) + h/2 phi_1(h L / 2)
-    (2 k3 - k1)`` with ``a - x = h/2 phi_1(h L / 2) k1`` (the first stage)."""
+    (2 k3 - k1)`` with ``a - x = h/2 phi_1(h L / 2) k1`` (the first stage).
+
+    Parameters
+    ----------
+    fn : numpy.ndarray, shape (m_blocks, BLOCK_WIDTH)
+        The block functions (:func:`block_functions`).
+    idx : numpy.ndarray of int, shape (m_blocks, 2)
+        State indices of each block's pair (spin, slip).
+    m : int
+        Number of blocks in use.
+    x : numpy.ndarray
+        State at the start of the step.
+    k1, k3 : numpy.ndarray
+        First and third stage derivatives (remainders).
+    half : float
+        Half the step [s].
+    out : numpy.ndarray
+        Written on the pairs' entries.
+    """
     for j in range(m):
         i0, i1 = idx[j, 0], idx[j, 1]
         r = fn[j]
@@ -257,7 +359,25 @@ def third_stage_pairs(fn, idx, m, x, k1, k3, half, out):
 @jit(inline="always")
 def update_pairs(fn, idx, m, x, k1, k2, k3, k4, h, out):
     """The step on each block's pair: ``out = x + h (W1 k1 + W2 (k2 + k3) + W3 k4)``, the ETDRK4 weights
-    of :func:`block_functions` (RK4's 1/6, 1/3, 1/6 when ``L = 0``)."""
+    of :func:`block_functions` (RK4's 1/6, 1/3, 1/6 when ``L = 0``).
+
+    Parameters
+    ----------
+    fn : numpy.ndarray, shape (m_blocks, BLOCK_WIDTH)
+        The block functions (:func:`block_functions`).
+    idx : numpy.ndarray of int, shape (m_blocks, 2)
+        State indices of each block's pair (spin, slip).
+    m : int
+        Number of blocks in use.
+    x : numpy.ndarray
+        State at the start of the step.
+    k1, k2, k3, k4 : numpy.ndarray
+        The four stage derivatives (remainders).
+    h : float
+        Step [s].
+    out : numpy.ndarray
+        Written on the pairs' entries.
+    """
     for j in range(m):
         i0, i1 = idx[j, 0], idx[j, 1]
         r = fn[j]

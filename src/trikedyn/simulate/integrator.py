@@ -122,6 +122,33 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
     outputs and the commands; the derivative is the first RK stage of the next step, so recording costs no
     extra evaluation.
 
+    Parameters
+    ----------
+    x0 : numpy.ndarray
+        Initial state.
+    t0 : float
+        Initial time [s].
+    dt : float
+        Step [s].
+    n_steps : int
+        Number of steps.
+    record_every : int
+        Steps between records.
+    inputs : numpy.ndarray, shape (m, 4)
+        Input table (time [s], steer [rad], drive [N m], brake [N m]).
+    path : numpy.ndarray, shape (k, 5)
+        Path rows (x [m], y [m], s [m], heading [rad], curvature [1/m]).
+    speed_profile : numpy.ndarray, shape (j, 2)
+        Target speed rows (time [s], speed [m/s]).
+    drv : numpy.ndarray, shape (1,), dtype DRIVER
+        The driver record.
+    p : Plant
+        The compiled vehicle.
+    exponential : bool
+        ETDRK4 (True) or classical RK4.
+    stop_dt : float
+        Largest substep near a bump or rebound stop [s]; 0 for none.
+
     Returns
     -------
     times : ndarray (m,)

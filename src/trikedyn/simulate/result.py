@@ -17,6 +17,18 @@ def rollover_index(fz_right, fz_left):
     """Rollover index (paper Eq. 5): ``RI = (F_R - F_L) / (F_R + F_L)``; |RI| = 1 when a wheel lifts.
 
     Returns NaN where both wheels are off the ground.
+
+    Parameters
+    ----------
+    fz_right : array_like
+        Vertical force on the right wheel of the pair [N].
+    fz_left : array_like
+        Vertical force on the left wheel of the pair [N].
+
+    Returns
+    -------
+    numpy.ndarray
+        RI, dimensionless, in [-1, 1].
     """
     fr = np.asarray(fz_right, dtype=float)
     fl = np.asarray(fz_left, dtype=float)
@@ -26,13 +38,37 @@ def rollover_index(fz_right, fz_left):
 
 
 def load_transfer_ratio(fz_right_total, fz_left_total):
-    """Load transfer ratio over all wheels: ``(sum F_right - sum F_left) / sum F``."""
+    """Load transfer ratio over all wheels: ``(sum F_right - sum F_left) / sum F``.
+
+    Parameters
+    ----------
+    fz_right_total : array_like
+        Sum of the right wheels' vertical forces [N].
+    fz_left_total : array_like
+        Sum of the left wheels' vertical forces [N].
+
+    Returns
+    -------
+    numpy.ndarray
+        LTR, dimensionless, in [-1, 1].
+    """
     return rollover_index(fz_right_total, fz_left_total)
 
 
 def state_names(model) -> tuple[str, ...]:
     """Labels of the state vector: positions, velocities, transient slips
-    (:func:`trikedyn.model.packing.state_labels`)."""
+    (:func:`trikedyn.model.packing.state_labels`).
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle.
+
+    Returns
+    -------
+    tuple of str
+        The labels.
+    """
     return model.state_names
 
 
@@ -89,7 +125,23 @@ class Result:
         return f"stopped at t = {float(self.time_s[-1]):.3f} s: {self.status}"
 
     def state(self, name: str) -> np.ndarray:
-        """One column of ``states`` by its label."""
+        """One column of ``states`` by its label.
+
+        Parameters
+        ----------
+        name : str
+            A label of ``state_names``.
+
+        Returns
+        -------
+        numpy.ndarray
+            The column, in that state's unit.
+
+        Raises
+        ------
+        InputError
+            For an unknown name (with a close-match hint).
+        """
         try:
             return self.states[:, self.state_names.index(name)]
         except ValueError:
@@ -99,6 +151,40 @@ class Result:
     @classmethod
     def from_arrays(cls, model, times, states, base, wheels, commands, imu, *, status, dt, meta=None,
                     extra=None, manoeuvre=None) -> Result:
+        """Assemble a result from the compiled loop's arrays: the channels (base, per wheel, RI, LTR, IMU, commands).
+
+        Parameters
+        ----------
+        model : VehicleModel
+            The vehicle run.
+        times : numpy.ndarray
+            Record times [s].
+        states : numpy.ndarray
+            Recorded states.
+        base : numpy.ndarray
+            Chassis channels (:data:`BASE_CHANNELS` columns).
+        wheels : numpy.ndarray, dtype WHEEL_OUT
+            Per-wheel outputs at each record.
+        commands : numpy.ndarray
+            Steer [rad], drive [N m] and brake [N m] commands at each record.
+        imu : numpy.ndarray
+            IMU readings (:data:`IMU_CHANNELS` columns).
+        status : str
+            The loop's status (``"ok"`` or why it stopped).
+        dt : float
+            Time step [s].
+        meta : dict, optional
+            Metadata kept with the result.
+        extra : callable, optional
+            ``extra(times, channels)`` returning more channels.
+        manoeuvre : Manoeuvre, optional
+            The manoeuvre driven.
+
+        Returns
+        -------
+        Result
+            The result.
+        """
         channels = {name: base[:, i].copy() for i, name in enumerate(BASE_CHANNELS)}
         names = model.wheel_names
         for k, wname in enumerate(names):
@@ -166,7 +252,13 @@ class Result:
         return pd.DataFrame(data)
 
     def to_pandas(self):
-        """All channels as a DataFrame indexed by time [s]."""
+        """All channels as a DataFrame indexed by time [s].
+
+        Returns
+        -------
+        pandas.DataFrame
+            One column a channel; ``attrs`` hold the metadata and the status.
+        """
         import pandas as pd
 
         frame = pd.DataFrame(dict(self.channels), index=pd.Index(self.time_s, name="time_s"))
@@ -174,7 +266,20 @@ class Result:
         return frame
 
     def plot(self, channels=("speed_mps", "ay_mps2", "yaw_rate_radps", "ri"), axes=None):
-        """Time histories of ``channels`` (one axis each); returns the Figure."""
+        """Time histories of ``channels`` (one axis each); returns the Figure.
+
+        Parameters
+        ----------
+        channels : sequence of str
+            Channel names.
+        axes : sequence of matplotlib Axes, optional
+            Where to draw (new figure by default).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         import matplotlib.pyplot as plt
 
         if axes is None:

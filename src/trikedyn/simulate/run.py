@@ -40,6 +40,29 @@ def input_table(duration_s: float, dt: float, steer_rad: InputSpec = 0.0, drive_
 
     Constants give a single row; functions are sampled every ``dt``; ``(times, values)`` pairs are
     resampled onto the same grid.
+
+    Parameters
+    ----------
+    duration_s : float
+        Simulated time [s].
+    dt : float
+        Sampling step [s].
+    steer_rad : float, callable or (times, values)
+        Steer command [rad].
+    drive_torque_Nm : float, callable or (times, values)
+        Total drive torque [N m].
+    brake_torque_Nm : float, callable or (times, values)
+        Brake torque [N m].
+
+    Returns
+    -------
+    numpy.ndarray, shape (m, 4)
+        Rows (time [s], steer [rad], drive [N m], brake [N m]).
+
+    Raises
+    ------
+    InputError
+        On non-finite inputs.
     """
     specs = (steer_rad, drive_torque_Nm, brake_torque_Nm)
     names = ("steer_rad", "drive_torque_Nm", "brake_torque_Nm")
@@ -87,6 +110,22 @@ def max_stable_step(model: VehicleModel, state: np.ndarray | None = None, *,
     equilibrium, are not in it: the loop splits a step near a stop into substeps (:func:`stop_step`). The
     fastest modes hardly change with speed: the limit is found at the first state asked for and kept in the
     model's cache.
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle.
+    state : numpy.ndarray, optional
+        The state linearised about (static equilibrium by default).
+    exponential : bool
+        Leave out the spin-slip pairs integrated exactly.
+
+    Returns
+    -------
+    dt : float
+        The step limit [s].
+    why : str
+        The mode that sets it.
     """
     from ..model.linear import linearise
 
@@ -115,6 +154,18 @@ def stop_step(model: VehicleModel) -> tuple[float, str]:
     in parallel (the chassis held), ``omega = sqrt((k_z + k_stop) / m)``, ``dt <= 2.5 / omega``. The loop
     takes substeps of at most this only while a suspension is on or near a stop
     (:func:`~trikedyn.simulate.integrator.near_a_stop`).
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle.
+
+    Returns
+    -------
+    dt : float
+        The substep limit [s].
+    why : str
+        The wheel and its hop frequency.
     """
     if "stop_step" in model.cache:
         return model.cache["stop_step"]
@@ -133,7 +184,20 @@ def automatic_step(limit_s: float, bumpy: bool = False) -> float:
     ... ms, so that the 100 Hz output falls on steps) within the stability limit ``limit_s``
     (:func:`max_stable_step`); at most 5 ms on a ``bumpy`` road, whose bump kicks the wheel hop (24 Hz on
     the reference trike: the front load over a 5 cm bump at 30 km/h is 1.9 % of its static value off a 0.6 ms
-    reference at 5 ms, 19 % at 10 ms; at 5 km/h 0.14 % and 1.7 %)."""
+    reference at 5 ms, 19 % at 10 ms; at 5 km/h 0.14 % and 1.7 %).
+
+    Parameters
+    ----------
+    limit_s : float
+        Stability limit [s].
+    bumpy : bool
+        A road with a bump.
+
+    Returns
+    -------
+    float
+        The step [s].
+    """
     dt = DEFAULT_DT_S / 2 if bumpy else DEFAULT_DT_S
     while dt > limit_s and dt > 1e-5:
         dt /= 2
@@ -142,7 +206,24 @@ def automatic_step(limit_s: float, bumpy: bool = False) -> float:
 
 def time_step(model: VehicleModel, x0: np.ndarray, dt: float | None, integrator: str = "etdrk4") -> float:
     """The run's time step [s]: ``dt`` checked against the stability limit of ``integrator`` at ``x0``
-    (:class:`SimulationError` when too large), or :func:`automatic_step` for None."""
+    (:class:`SimulationError` when too large), or :func:`automatic_step` for None.
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle.
+    x0 : numpy.ndarray
+        Initial state.
+    dt : float or None
+        Requested step [s].
+    integrator : str
+        ``"etdrk4"`` or ``"rk4"``.
+
+    Returns
+    -------
+    float
+        The step [s].
+    """
     if integrator not in INTEGRATORS:
         raise InputError(f"unknown integrator {integrator!r}; known: {', '.join(INTEGRATORS)}", where="integrator")
     if dt is not None and not dt > 0:
@@ -166,6 +247,42 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
     ``manoeuvre`` is kept in the result. ``dt`` None: :func:`automatic_step`. ``integrator``:
     ``"etdrk4"`` (default: the wheels' spin-slip pairs exact, :mod:`trikedyn.simulate.exponential`) or
     ``"rk4"`` (classical).
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle.
+    x0 : numpy.ndarray
+        Initial state.
+    inputs : numpy.ndarray, shape (m, 4)
+        Input table (:func:`input_table`).
+    duration_s : float
+        Simulated time [s].
+    dt : float or None
+        Time step [s]; automatic for None.
+    output_rate_hz : float
+        Output rate [Hz].
+    raise_on_failure : bool
+        Raise when the run stops early.
+    path : numpy.ndarray, optional
+        Path rows for the driver.
+    speed_profile : numpy.ndarray, optional
+        Target speed rows (time [s], speed [m/s]).
+    driver : numpy.ndarray, optional
+        Driver record.
+    meta : dict, optional
+        Metadata for the result.
+    extra : callable, optional
+        More channels from the base ones.
+    manoeuvre : Manoeuvre, optional
+        Kept in the result.
+    integrator : str
+        ``"etdrk4"`` or ``"rk4"``.
+
+    Returns
+    -------
+    Result
+        The recorded run.
     """
     if duration_s <= 0:
         raise InputError("duration must be > 0", where="duration_s")
@@ -253,6 +370,11 @@ def simulate(vehicle: ParameterSet | VehicleModel, *, duration_s: float, speed_k
         Rate of the recorded channels [Hz].
     integrator : str
         ``"etdrk4"`` (default) or ``"rk4"`` (:data:`INTEGRATORS`).
+
+    Returns
+    -------
+    Result
+        The recorded run.
 
     Raises
     ------

@@ -379,6 +379,18 @@ def run_meta(run, attrs: Mapping) -> dict:
     ``run`` (when there is one), each checked by :func:`check_meta`; ``read_from`` (:data:`READ_FROM`) names
     ``run``.
 
+    Parameters
+    ----------
+    run : str or Path
+        The run file.
+    attrs : Mapping
+        The table's own metadata.
+
+    Returns
+    -------
+    dict
+        The checked metadata.
+
     Raises
     ------
     InputError

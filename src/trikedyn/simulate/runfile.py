@@ -59,7 +59,17 @@ WHEEL_RADIUS_M = 0.27
 
 def check_run_file(out: Path, force: bool, reads=()) -> None:
     """A run file name (``.parquet`` or ``.csv``) and the ``.json`` beside it, checked before the run: neither
-    is a file the command reads, an existing one is replaced only with ``force``."""
+    is a file the command reads, an existing one is replaced only with ``force``.
+
+    Parameters
+    ----------
+    out : Path
+        The run file to write.
+    force : bool
+        Replace existing files.
+    reads : iterable of Path
+        Files the command reads (never written).
+    """
     from .._files import check_output
 
     if out.suffix not in (".parquet", ".csv"):
@@ -70,7 +80,17 @@ def check_run_file(out: Path, force: bool, reads=()) -> None:
 
 def write_run(result, out: Path, summary: dict) -> None:
     """Write a run: its channels to ``out`` (``.parquet`` or ``.csv``) and its metadata, ``summary``, manoeuvre and
-    vehicle to the ``.json`` beside it, each atomically."""
+    vehicle to the ``.json`` beside it, each atomically.
+
+    Parameters
+    ----------
+    result : Result
+        The run.
+    out : Path
+        The table file.
+    summary : dict
+        Its metrics, stored in the sidecar.
+    """
     from .._files import atomic_write
     from .._json import finite, json_default
 
@@ -106,7 +126,18 @@ def _relative_file(spec: dict, out: Path) -> dict:
 # rebuilding a run's vehicle and course
 # ------------------------------------------------------------------------------------------------------------
 def footprint_of(meta: dict) -> tuple[float, float, float] | None:
-    """The recorded ``(x_rear, x_front, half_width)`` [m] of the vehicle's outline, or None."""
+    """The recorded ``(x_rear, x_front, half_width)`` [m] of the vehicle's outline, or None.
+
+    Parameters
+    ----------
+    meta : dict
+        The run's metadata.
+
+    Returns
+    -------
+    tuple of float or None
+        The footprint [m], None when absent or invalid.
+    """
     try:
         values = tuple(float(v) for v in meta.get("footprint_m") or ())
     except (TypeError, ValueError):
@@ -118,7 +149,20 @@ def footprint_of(meta: dict) -> tuple[float, float, float] | None:
 def stand_in(names: list[str], footprint) -> SimpleNamespace:
     """A vehicle made from the run file alone: outline from the footprint, wheels placed by their names (front
     ones at the wheelbase, left and right ones near the sides), CG on the centre line (approximate). Enough to
-    draw it and to lay out a course that depends on the width only."""
+    draw it and to lay out a course that depends on the width only.
+
+    Parameters
+    ----------
+    names : list of str
+        Wheel names.
+    footprint : tuple of float or None
+        ``(x_rear, x_front, half_width)`` [m]; a typical trike's when None.
+
+    Returns
+    -------
+    types.SimpleNamespace
+        Duck-typed vehicle parameters (wheels, wheelbase [m], body, mass).
+    """
     x_rear, x_front, half = footprint if footprint is not None else (-0.6, 2.4, 0.625)
     base = x_front + x_rear  # equal overhangs (trikedyn.simulate.closed_loop.footprint)
     wheels = [SimpleNamespace(name=n, x_m=base if "front" in n else 0.0, radius_m=WHEEL_RADIUS_M, steered="front" in n,
@@ -131,7 +175,22 @@ def stand_in(names: list[str], footprint) -> SimpleNamespace:
 def run_vehicle(meta: dict, names: list[str]):
     """The vehicle a run drove, and how it was found (a note): the one recorded in its sidecar (when it has the
     run's wheels); else the preset of its name if that preset's outline matches the recorded footprint; else a
-    :func:`stand_in`."""
+    :func:`stand_in`.
+
+    Parameters
+    ----------
+    meta : dict
+        The run's metadata.
+    names : list of str
+        The run's wheel names.
+
+    Returns
+    -------
+    params : VehicleParameters or SimpleNamespace
+        The vehicle.
+    note : str
+        How it was found.
+    """
     from ..params import list_presets, load_vehicle
     from ..params.schema import VehicleParameters
 
@@ -172,6 +231,13 @@ def run_course(meta: dict, params, run=None):
         The run file (default: the one :func:`run_meta` read the metadata for). A path CSV the record names
         (``manoeuvre_spec.parameters.file``) is a file named in a file: relative to the run's folder, in it or
         below it (:func:`trikedyn._reading.named_file`); without a run file it is not read.
+
+    Returns
+    -------
+    manoeuvre : Manoeuvre or None
+        The rebuilt manoeuvre.
+    note : str
+        How it was rebuilt, or why not.
     """
     from ..manoeuvres.registry import build, get
 

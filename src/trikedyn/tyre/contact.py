@@ -24,7 +24,22 @@ __all__ = ["contact_geometry", "road_height", "slip_rates"]
 
 @jit(inline="always")
 def road_height(x, y, road):
-    """Road height [m] and its slopes ``dh/dx``, ``dh/dy`` at ``(x, y)`` [m] on a road record."""
+    """Road height [m] and its slopes ``dh/dx``, ``dh/dy`` at ``(x, y)`` [m] on a road record.
+
+    Parameters
+    ----------
+    x, y : float
+        Point in the world [m].
+    road : record
+        The :data:`~trikedyn.model.packing.ROAD` record.
+
+    Returns
+    -------
+    height : float
+        Road height [m].
+    dh_dx, dh_dy : float
+        Slopes, dimensionless.
+    """
     if road.bump != 0 and road.y_min <= abs(y) <= road.y_max:
         s = (x - road.start) / road.length
         if 0.0 < s < 1.0:
@@ -104,6 +119,23 @@ def contact_geometry(radius, road, e, cx, cy, cz, vb):
 @jit(inline="always")
 def slip_rates(kappa, tan_alpha, vx, vy, spin, r_eff, v_low, sigma_x, sigma_y):
     """Rates of the transient slips (see the module docstring) and ``v_ref`` [m/s].
+
+    Parameters
+    ----------
+    kappa : float
+        Transient longitudinal slip, dimensionless.
+    tan_alpha : float
+        Tangent of the transient slip angle, dimensionless.
+    vx, vy : float
+        Contact-point velocity along the wheel's heading and across it [m/s].
+    spin : float
+        Wheel spin rate [rad/s].
+    r_eff : float
+        Effective rolling radius [m].
+    v_low : float
+        Regularisation speed [m/s].
+    sigma_x, sigma_y : float
+        Longitudinal and lateral relaxation lengths [m].
 
     Returns
     -------

@@ -281,7 +281,20 @@ def peak_friction(fz, coeffs):
 
 @jit(inline="always")
 def slip_stiffness(fz, coeffs):
-    """Longitudinal slip stiffness ``C_kappa = slip_stiffness_factor Fz`` [N] (per unit slip), 0 for Fz <= 0."""
+    """Longitudinal slip stiffness ``C_kappa = slip_stiffness_factor Fz`` [N] (per unit slip), 0 for Fz <= 0.
+
+    Parameters
+    ----------
+    fz : float
+        Vertical load [N].
+    coeffs : numpy.ndarray
+        The similarity tyre's coefficients.
+
+    Returns
+    -------
+    float
+        Slip stiffness [N].
+    """
     if fz <= 0.0:
         return 0.0
     return coeffs[SLIP_STIFFNESS_FACTOR] * fz
@@ -292,6 +305,18 @@ def cornering_stiffness(fz, coeffs):
     """Cornering stiffness ``C_alpha = pKy1 Fz0 sin(2 atan(Fz / (pKy2 Fz0)))`` [N/rad], 0 for Fz <= 0.
 
     Its maximum, ``pKy1 Fz0``, is at ``Fz = pKy2 Fz0``.
+
+    Parameters
+    ----------
+    fz : float
+        Vertical load [N].
+    coeffs : numpy.ndarray
+        The similarity tyre's coefficients.
+
+    Returns
+    -------
+    float
+        Cornering stiffness [N/rad].
     """
     if fz <= 0.0:
         return 0.0
@@ -308,6 +333,20 @@ def magic_formula_curve(u, shape, curvature):
     """Normalised Magic Formula ``sin(C atan(u - E (u - atan u)))`` [1] of the input ``u = B x`` [1].
 
     Odd in ``u`` (exactly, in floating point); slope ``C`` at 0; peak 1 at ``u = u_peak``.
+
+    Parameters
+    ----------
+    u : float
+        Scaled input ``B x``, dimensionless.
+    shape : float
+        Shape factor ``C``, dimensionless.
+    curvature : float
+        Curvature factor ``E``, dimensionless.
+
+    Returns
+    -------
+    float
+        The normalised force, dimensionless.
     """
     return math.sin(shape * math.atan(u - curvature * (u - math.atan(u))))
 

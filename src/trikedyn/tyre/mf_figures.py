@@ -58,6 +58,20 @@ def longitudinal_slip_stiffness(tir: TyreProperties, fz, *, side=None):
 
     The slope ``dFx/dkappa`` of the pure-slip longitudinal force at its shifted origin ``kappa = -SHx``.
     ``fz`` [N] may be an array.
+
+    Parameters
+    ----------
+    tir : TyreProperties or numpy.ndarray
+        The tyre, or its packed vector (``side`` is then ignored).
+    fz : float or array_like
+        Vertical load [N].
+    side : {'left', 'right', None}
+        Mounting side (see :func:`~trikedyn.tyre.pac2002.pack`).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``K_xk`` [N] (per unit slip), shaped as ``fz``.
     """
     c = _packed(tir, side)
     out = np.vectorize(lambda f: pac2002.mf_stiffness(f, 0.0, c)[0], otypes=[float])(fz)
@@ -67,6 +81,22 @@ def longitudinal_slip_stiffness(tir: TyreProperties, fz, *, side=None):
 def relaxation_lengths(tir: TyreProperties, fz, gamma=0.0, *, side=None):
     """Relaxation lengths ``(sigma_kappa, sigma_alpha)`` [m] (MF 5.2 ``PTX1..3``, ``PTY1..2``; MF 6.1 from the
     carcass stiffnesses), see :func:`~trikedyn.tyre.pac2002.mf_relaxation_lengths`. ``fz`` [N] may be an array.
+
+    Parameters
+    ----------
+    tir : TyreProperties or numpy.ndarray
+        The tyre, or its packed vector (``side`` is then ignored).
+    fz : float or array_like
+        Vertical load [N].
+    gamma : float or array_like
+        Inclination angle [rad].
+    side : {'left', 'right', None}
+        Mounting side (see :func:`~trikedyn.tyre.pac2002.pack`).
+
+    Returns
+    -------
+    sigma_kappa, sigma_alpha : float or numpy.ndarray
+        Longitudinal and lateral relaxation lengths [m].
     """
     c = _packed(tir, side)
     fn = np.vectorize(lambda f, g: pac2002.mf_relaxation_lengths(f, g, c), otypes=[float, float])
@@ -109,6 +139,13 @@ class PeakForces:
         return self.peak_lateral_N / self.fz_N
 
     def to_dict(self) -> dict:
+        """The record as a JSON-ready dict, with the peaks [N] and friction coefficients (dimensionless) added.
+
+        Returns
+        -------
+        dict
+            The fields plus ``peak_longitudinal_N``, ``peak_lateral_N``, ``mu_x`` and ``mu_y``.
+        """
         return asdict(self) | {"peak_longitudinal_N": self.peak_longitudinal_N, "peak_lateral_N": self.peak_lateral_N,
                                "mu_x": self.mu_x, "mu_y": self.mu_y}
 

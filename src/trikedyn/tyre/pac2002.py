@@ -308,13 +308,53 @@ def mf_forces(fz, kappa, alpha, gamma, vcx, c):
 
 @jit
 def mf_pure_forces(fz, kappa, alpha, gamma, vcx, c):
-    """As :func:`mf_forces`, uncombined (USE_MODE 3): ``Fx0(kappa)``, ``Fy0(alpha)``, ``Mz0(alpha)``."""
+    """As :func:`mf_forces`, uncombined (USE_MODE 3): ``Fx0(kappa)``, ``Fy0(alpha)``, ``Mz0(alpha)``.
+
+    Parameters
+    ----------
+    fz : float
+        Vertical load [N].
+    kappa : float
+        Longitudinal slip, dimensionless.
+    alpha : float
+        Slip angle [rad], ISO.
+    gamma : float
+        Inclination angle [rad], ISO.
+    vcx : float
+        Forward speed of the wheel centre [m/s].
+    c : numpy.ndarray
+        Packed coefficients (:func:`pack`).
+
+    Returns
+    -------
+    fx, fy, mz, mx, my : float
+        Forces [N] and moments [N m], as :func:`mf_forces`.
+    mask : int
+        The clamp flags.
+    """
     return _evaluate(fz, kappa, alpha, gamma, vcx, c, False)
 
 
 @jit
 def mf_stiffness(fz, gamma, c):
-    """Slip stiffnesses ``(Kxk, Kya)`` [N], [N/rad] (4.E15), (4.E25): slopes at the shifted origin, ISO sign."""
+    """Slip stiffnesses ``(Kxk, Kya)`` [N], [N/rad] (4.E15), (4.E25): slopes at the shifted origin, ISO sign.
+
+    Parameters
+    ----------
+    fz : float
+        Vertical load [N].
+    gamma : float
+        Inclination angle [rad].
+    c : numpy.ndarray
+        Packed coefficients (:func:`pack`).
+
+    Returns
+    -------
+    kxk : float
+        Longitudinal slip stiffness [N].
+    kya : float
+        Cornering stiffness [N/rad], ISO sign.
+    """
     if fz <= 0.0:
         return 0.0, 0.0
     fz, scale, _, _, gamma, _ = _inputs(fz, 0.0, 0.0, gamma, c)
@@ -335,6 +375,20 @@ def mf_relaxation_lengths(fz, gamma, c):
     ``|Kxk / Cx|``, ``|Kya / Cy|`` with the carcass stiffnesses ``Cx = LONGITUDINAL_STIFFNESS (1 + PCFX1 dfz
     + PCFX2 dfz^2)``, ``Cy`` likewise. NaN when the file lacks the data (no ``PTX1``/``PTX2``, no ``PTY1`` or
     ``PTY2``; no carcass stiffness).
+
+    Parameters
+    ----------
+    fz : float
+        Vertical load [N].
+    gamma : float
+        Inclination angle [rad].
+    c : numpy.ndarray
+        Packed coefficients (:func:`pack`).
+
+    Returns
+    -------
+    sigma_kappa, sigma_alpha : float
+        Relaxation lengths [m] (0 for ``fz <= 0``, NaN without data).
     """
     if fz <= 0.0:
         return 0.0, 0.0
@@ -360,7 +414,22 @@ def mf_relaxation_lengths(fz, gamma, c):
 
 @jit
 def mf_vertical_force(deflection, rate, c):
-    """``max(0, VERTICAL_STIFFNESS d + VERTICAL_DAMPING d')`` [N] for a deflection ``d`` [m] > 0, else 0."""
+    """``max(0, VERTICAL_STIFFNESS d + VERTICAL_DAMPING d')`` [N] for a deflection ``d`` [m] > 0, else 0.
+
+    Parameters
+    ----------
+    deflection : float
+        Tyre deflection [m].
+    rate : float
+        Deflection rate [m/s].
+    c : numpy.ndarray
+        Packed coefficients (:func:`pack`).
+
+    Returns
+    -------
+    float
+        Vertical force [N].
+    """
     if not deflection > 0.0:
         return 0.0
     return max(c[VERTICAL_STIFFNESS] * deflection + c[VERTICAL_DAMPING] * rate, 0.0)
@@ -386,7 +455,18 @@ class TyreForces(NamedTuple):
 
 
 def clamped_names(mask: int) -> list[str]:
-    """Names (``fz``, ``kappa``, ``alpha``, ``gamma``) of the bits set in a clamp mask."""
+    """Names (``fz``, ``kappa``, ``alpha``, ``gamma``) of the bits set in a clamp mask.
+
+    Parameters
+    ----------
+    mask : int
+        Bit mask of ``CLAMPED_*`` flags.
+
+    Returns
+    -------
+    list of str
+        The names, in the order fz, kappa, alpha, gamma.
+    """
     bits = ((CLAMPED_FZ, "fz"), (CLAMPED_KAPPA, "kappa"), (CLAMPED_ALPHA, "alpha"), (CLAMPED_GAMMA, "gamma"))
     return [name for bit, name in bits if int(mask) & bit]
 
@@ -426,5 +506,24 @@ def forces(tir, fz, kappa=0.0, alpha=0.0, gamma=0.0, vcx=None, *, side=None, com
 
 
 def pure_forces(tir, fz, kappa=0.0, alpha=0.0, gamma=0.0, vcx=None, *, side=None) -> TyreForces:
-    """:func:`forces` in pure slip: ``Fx0(kappa)``, ``Fy0(alpha)``, ``Mz0(alpha)`` (4.E9), (4.E19), (4.E31)."""
+    """:func:`forces` in pure slip: ``Fx0(kappa)``, ``Fy0(alpha)``, ``Mz0(alpha)`` (4.E9), (4.E19), (4.E31).
+
+    Parameters
+    ----------
+    tir : TyreProperties or numpy.ndarray
+        The tyre, or its packed vector (``side`` is then ignored).
+    fz : array_like
+        Vertical load [N].
+    kappa, alpha, gamma : array_like
+        Longitudinal slip (dimensionless), slip angle [rad], inclination [rad].
+    vcx : array_like, optional
+        Forward speed [m/s]; default the file's ``LONGVL``.
+    side : {'left', 'right', None}
+        Mounting side (see :func:`~trikedyn.tyre.pac2002.pack`).
+
+    Returns
+    -------
+    TyreForces
+        Forces [N], moments [N m] and clamp masks, shaped as the broadcast inputs.
+    """
     return forces(tir, fz, kappa, alpha, gamma, vcx, side=side, combined=False)

@@ -306,7 +306,27 @@ def _value(raw: str, key: str, where: str) -> float | str:
 
 
 def parse_tir(text: str, name: str = "<tir>", *, encoding: str = "utf-8") -> TyreProperties:
-    """Parse the text of a tyre property file (see :func:`read_tir`); ``name`` prefixes error locations."""
+    """Parse the text of a tyre property file (see :func:`read_tir`); ``name`` prefixes error locations.
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+    name : str
+        Where it came from, for error locations (``name:line``).
+    encoding : str
+        The encoding it was decoded with (recorded).
+
+    Returns
+    -------
+    TyreProperties
+        The parsed file.
+
+    Raises
+    ------
+    InputError
+        On a line that is not a valid property file line (naming ``name:line``).
+    """
     sections: dict[str, dict[str, float | str]] = {}
     lines: dict[tuple[str, str], int] = {}
     tables: dict[str, list] = {}
