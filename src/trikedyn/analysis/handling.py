@@ -82,6 +82,11 @@ def step_response(time_s, steer, response, *, steer_start_s=None, steady_window_
     steady_window_s : float or (float, float)
         Length [s] of the final steady window, or its (start, end) times [s].
 
+    Returns
+    -------
+    StepResponse
+        Levels, response and rise times [s], overshoot (dimensionless) and peak time [s].
+
     Raises
     ------
     InputError
@@ -158,15 +163,43 @@ class FrequencyResponse(PlainResult):
         return float(out) if out.ndim == 0 else out
 
     def gain_at(self, f_hz):
-        """Gain at ``f_hz`` [Hz], interpolated linearly along the band [response unit / steer unit]."""
+        """Gain at ``f_hz`` [Hz], interpolated linearly along the band [response unit / steer unit].
+
+        Parameters
+        ----------
+        f_hz : float or array_like
+            Frequency [Hz].
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Gain [response unit / steer unit].
+        """
         return self._at(self.gain, f_hz)
 
     def phase_at(self, f_hz):
-        """Phase at ``f_hz`` [Hz], interpolated linearly along the band [deg]."""
+        """Phase at ``f_hz`` [Hz], interpolated linearly along the band [deg].
+
+        Parameters
+        ----------
+        f_hz : float or array_like
+            Frequency [Hz].
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Phase [deg].
+        """
         return self._at(self.phase_deg, f_hz)
 
     def plot(self):
-        """Bode diagram: gain, phase [deg] and coherence against frequency [Hz] (log axis); the Figure."""
+        """Bode diagram: gain, phase [deg] and coherence against frequency [Hz] (log axis); the Figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         import matplotlib.pyplot as plt
 
         fig, axes = plt.subplots(3, 1, sharex=True, figsize=(6, 7), gridspec_kw={"height_ratios": [3, 3, 1]})
@@ -207,6 +240,11 @@ def frequency_response(time_s, steer, response, *, f_min_hz=None, f_max_hz=None,
         Welch segment [samples]; default 10 s, at most a quarter of the record.
     coherence_min, energy_fraction : float
         Thresholds of the band [-].
+
+    Returns
+    -------
+    FrequencyResponse
+        Frequency [Hz], gain, phase [deg] and coherence (dimensionless) over the band kept.
     """
     t = as_time(time_s, min_samples=64)
     x, y = as_values(steer, t.size, "steer"), as_values(response, t.size, "response")
@@ -291,6 +329,11 @@ def braking_in_turn(time_s, x_m, y_m, yaw_rate_radps, speed_mps, lateral_acceler
         Centre and radius of the initial circle [m].
     eval_after_s : float
         ``t1 - t0`` [s]; ISO 7975 uses 1 s.
+
+    Returns
+    -------
+    BrakingInTurn
+        The figures: deviations [m], yaw-rate ratio and excess [rad/s], lateral-acceleration ratio (dimensionless), mean deceleration [m/s^2].
     """
     t = as_time(time_s)
     x, y, wz, v, ay = (as_values(a, t.size, w) for a, w in (

@@ -77,7 +77,13 @@ class SteadyStateTest:
         """JSON-safe figures: the linear-range gradients [deg/g] (``understeer_gradient_deg_per_g`` is the
         fit over ``fit_start_mps2``-``fit_limit_mps2``), the shape (``steer_bands``, the neutral-steer
         lateral acceleration, ``limit_behaviour``: see :class:`~trikedyn.analysis.steer_shape.SteerShape`),
-        the end of the test (``limit``, ``limit_detail``) and the binned ``diagram``."""
+        the end of the test (``limit``, ``limit_detail``) and the binned ``diagram``.
+
+        Returns
+        -------
+        dict
+            The figures, JSON-safe.
+        """
         d = self.diagram.to_dict()
         keys = ("understeer_gradient_deg_per_g", "roll_gradient_deg_per_g", "sideslip_gradient_deg_per_g",
                 "ackermann_steer_deg", "steer_intercept_deg", "fit_start_mps2", "fit_limit_mps2")
@@ -90,7 +96,18 @@ class SteadyStateTest:
     def describe(self, name: str = "") -> str:
         """In words, a line a figure: the linear-range understeer gradient and its range, the gradient by band,
         the neutral-steer lateral acceleration, the limit behaviour, the roll and sideslip gradients, and the
-        end of the test; ``name`` (the vehicle's) heads it."""
+        end of the test; ``name`` (the vehicle's) heads it.
+
+        Parameters
+        ----------
+        name : str
+            The vehicle's name for the heading (none when empty).
+
+        Returns
+        -------
+        str
+            The lines, joined.
+        """
         d, shape = self.diagram, self.diagram.shape
         lines = [f"{name + ': ' if name else ''}ISO 4138 constant radius {self.radius_m:g} m",
                  f"understeer gradient   {d.understeer_gradient_deg_per_g:+.3f} deg/g (linear range: fitted over "
@@ -118,7 +135,13 @@ class SteadyStateTest:
 
     def plot(self):
         """The handling diagram (steer, sideslip, roll against lateral acceleration): the linear range, the
-        gradient by band, the neutral-steer point and the limit behaviour marked, and the end of the test."""
+        gradient by band, the neutral-steer point and the limit behaviour marked, and the end of the test.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         fig = self.diagram.plot()
         for ax in fig.axes:
             ax.axvline(self.max_lateral_acceleration_mps2, color="0.4", lw=0.8, ls=":")
@@ -171,6 +194,7 @@ def steady_state_test(vehicle, *, radius_m: float = 20.0, start_speed_kmh: float
     Parameters
     ----------
     vehicle : ParameterSet or VehicleModel
+        The vehicle with its payload.
     radius_m : float
         Circle radius [m].
     start_speed_kmh : float
@@ -181,7 +205,11 @@ def steady_state_test(vehicle, *, radius_m: float = 20.0, start_speed_kmh: float
     max_ay_mps2 : float
         Where the rise stops [m/s^2] (a wheel lift, the driver or the drive normally ends it first).
     fit_limit_mps2 : float, optional
-        Upper end of the linear-range fit (see :func:`~trikedyn.analysis.steady_state.handling_diagram`).
+        Upper end of the linear-range fit [m/s^2] (see :func:`~trikedyn.analysis.steady_state.handling_diagram`).
+    direction : {"left", "right"}
+        Turn direction.
+    dt : float, optional
+        Time step [s]; automatic by default.
 
     Returns
     -------
@@ -198,7 +226,20 @@ _REDUCERS: dict = {}
 
 
 def reduces(name: str):
-    """Decorator: ``fn(result) -> object with to_dict()`` gives the figures of manoeuvre ``name``."""
+    """Decorator: ``fn(result) -> object with to_dict()`` gives the figures of manoeuvre ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The manoeuvre's registered name.
+    replace : bool
+        Replace an existing reducer.
+
+    Returns
+    -------
+    callable
+        The decorator.
+    """
 
     def decorate(fn):
         """Register ``fn`` as the reducer of ``name``; returns it unchanged."""
@@ -209,7 +250,18 @@ def reduces(name: str):
 
 
 def manoeuvre_figures(result) -> dict | None:
-    """The test's own figures for a run of a manoeuvre that has them (JSON-safe), else None."""
+    """The test's own figures for a run of a manoeuvre that has them (JSON-safe), else None.
+
+    Parameters
+    ----------
+    result : Result
+        A run.
+
+    Returns
+    -------
+    dict or None
+        The reducer's figures, JSON-safe.
+    """
     man = result.manoeuvre
     if man is None or man.name not in _REDUCERS or not metrics.judged_mask(result).any():
         return None
@@ -243,7 +295,13 @@ class Figures:
         return self.values[key]
 
     def to_dict(self) -> dict:
-        """Each figure's ``to_dict()``, or the plain value."""
+        """Each figure's ``to_dict()``, or the plain value.
+
+        Returns
+        -------
+        dict
+            Figure name -> its JSON-safe value.
+        """
         return {k: (v.to_dict() if hasattr(v, "to_dict") else v) for k, v in self.values.items()}
 
 
@@ -302,6 +360,19 @@ def reduce_braking_in_turn(result) -> Figures:
 def step_steer_test(vehicle, speed_kmh: float, *, steer_deg: float = 2.0, hold_s: float = 4.0, dt: float | None = None):
     """ISO 7401 step steer with the speed held: yaw-rate and lateral-acceleration step responses.
 
+    Parameters
+    ----------
+    vehicle : ParameterSet or VehicleModel
+        The vehicle with its payload.
+    speed_kmh : float
+        Target speed [km/h].
+    steer_deg : float
+        Steer step about the steering axis [deg].
+    hold_s : float
+        Hold time after the ramp [s].
+    dt : float, optional
+        Time step [s]; automatic by default.
+
     Returns
     -------
     dict
@@ -316,7 +387,28 @@ def step_steer_test(vehicle, speed_kmh: float, *, steer_deg: float = 2.0, hold_s
 def frequency_response_test(vehicle, speed_kmh: float, *, amplitude_deg: float = 1.0, f_start_hz: float = 0.2,
                             f_end_hz: float = 3.0, sweep_s: float = 30.0, dt: float | None = None):
     """ISO 7401 frequency response from a sine sweep: gain and phase of yaw rate and lateral acceleration
-    against the road-wheel steer."""
+    against the road-wheel steer.
+
+    Parameters
+    ----------
+    vehicle : ParameterSet or VehicleModel
+        The vehicle with its payload.
+    speed_kmh : float
+        Target speed [km/h].
+    amplitude_deg : float
+        Steer amplitude about the steering axis [deg].
+    f_start_hz, f_end_hz : float
+        Sweep start and end frequencies [Hz].
+    sweep_s : float
+        Sweep duration [s].
+    dt : float, optional
+        Time step [s]; automatic by default.
+
+    Returns
+    -------
+    dict
+        ``yaw_rate`` and ``lateral_acceleration`` :class:`~trikedyn.analysis.handling.FrequencyResponse` figures and ``result``.
+    """
     result = run(_model(vehicle), "sweep", speed_kmh=speed_kmh, dt=dt, amplitude_deg=amplitude_deg,
                  f_start_hz=f_start_hz, f_end_hz=f_end_hz, sweep_s=sweep_s)
     return {**reduce_sweep(result).values, "result": result}
@@ -324,7 +416,26 @@ def frequency_response_test(vehicle, speed_kmh: float, *, amplitude_deg: float =
 
 def braking_in_turn_test(vehicle, speed_kmh: float, *, radius_m: float = 20.0, deceleration_mps2: float = 3.0,
                          dt: float | None = None):
-    """ISO 7975 braking in a turn: path deviation, yaw-rate change and wheel loads while braking."""
+    """ISO 7975 braking in a turn: path deviation, yaw-rate change and wheel loads while braking.
+
+    Parameters
+    ----------
+    vehicle : ParameterSet or VehicleModel
+        The vehicle with its payload.
+    speed_kmh : float
+        Target speed [km/h].
+    radius_m : float
+        Circle radius [m].
+    deceleration_mps2 : float
+        Braking deceleration [m/s^2].
+    dt : float, optional
+        Time step [s]; automatic by default.
+
+    Returns
+    -------
+    dict
+        The :func:`~trikedyn.analysis.handling.braking_in_turn` figures and ``result`` (the run).
+    """
     result = run(_model(vehicle), "braking-in-turn", speed_kmh=speed_kmh, dt=dt, radius_m=radius_m,
                  deceleration_mps2=deceleration_mps2)
     return {**reduce_braking_in_turn(result).values, "result": result}

@@ -48,7 +48,20 @@ KEEP_WORDS = {
 
 
 def static_tip_over_g(params: VehicleParameters) -> tuple[float, str]:
-    """The rigid vehicle's lowest lateral tip-over threshold ``a_y / g`` [1] and the edge it tips about."""
+    """The rigid vehicle's lowest lateral tip-over threshold ``a_y / g`` [1] and the edge it tips about.
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+
+    Returns
+    -------
+    threshold_g : float
+        ``a_y / g``, dimensionless.
+    edge : str
+        The tip edge.
+    """
     from ..params.audit import tip_over_thresholds
 
     lateral = [e for e in tip_over_thresholds(params) if e["lateral"]]
@@ -119,7 +132,13 @@ class LayoutRow:
         return f"{self.layout} mirror ({'CG kept' if self.keep == 'cg' else 'pair distance kept'})"
 
     def to_dict(self) -> dict:
-        """The row as plain JSON types (floats in the units of the attributes)."""
+        """The row as plain JSON types (floats in the units of the attributes).
+
+        Returns
+        -------
+        dict
+            The row, JSON-safe.
+        """
         return {
             "layout": self.layout, "name": self.name, "keep": self.keep, "label": self.label,
             "cg_x_m": self.cg_x_m, "cg_from_single_m": self.cg_from_single_m, "cg_from_pair_m": self.cg_from_pair_m,
@@ -169,7 +188,13 @@ class LayoutComparison:
 
     def to_dict(self) -> dict:
         """The comparison as plain JSON types: ``keep``, ``keep_means``, ``layouts`` (the rows), ``manoeuvres``
-        and ``shared``."""
+        and ``shared``.
+
+        Returns
+        -------
+        dict
+            The comparison, JSON-safe.
+        """
         keeps = KEEPS if self.keep == "both" else (self.keep,)
         return {
             "keep": self.keep, "keep_means": {k: KEEP_WORDS[k] for k in keeps},
@@ -179,7 +204,13 @@ class LayoutComparison:
         }
 
     def table(self) -> str:
-        """The comparison as a text table, with what the mirror keeps and the default said."""
+        """The comparison as a text table, with what the mirror keeps and the default said.
+
+        Returns
+        -------
+        str
+            The table.
+        """
         def num(value, fmt):
             """A number for the table, ``-`` when there is none."""
             return "-" if value is None or not math.isfinite(value) else format(value, fmt)
@@ -206,7 +237,13 @@ class LayoutComparison:
         return "\n".join([shared, *said, *lines])
 
     def plot(self):
-        """Bar charts: static tip-over [g], tilt angle [deg] and threshold velocities [km/h] per vehicle."""
+        """Bar charts: static tip-over [g], tilt angle [deg] and threshold velocities [km/h] per vehicle.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         import matplotlib.pyplot as plt
 
         fig, axes = plt.subplots(1, 2 + bool(self.manoeuvres), figsize=(11 + 1.5 * (len(self.rows) - 2), 3.8))

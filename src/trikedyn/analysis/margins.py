@@ -186,6 +186,19 @@ def criterion_rows(result, verdict, criterion: str, judging, bins: int = BINS) -
 def run_margins(result, verdict, criterion: str, judging, bins: int = BINS) -> tuple[np.ndarray, np.ndarray, float | None]:
     """The whole margin table of a run under ``criterion``: wheel rows then criterion rows.
 
+    Parameters
+    ----------
+    result : Result
+        A run.
+    verdict : Verdict
+        Its verdict (:func:`~trikedyn.analysis.verdict.judge`).
+    criterion : str
+        ``"lift-off"``, ``"course"`` or both.
+    judging : Judging
+        The judging settings.
+    bins : int
+        Stretches of the window.
+
     Returns
     -------
     table : ndarray (rows, bins + 1)

@@ -41,7 +41,24 @@ _METRICS: dict[str, MetricType] = {}
 
 
 def metric(name: str, unit: str = "", help: str = ""):  # noqa: A002 - the word users see
-    """Decorator: register ``fn(result) -> number | None`` as a metric."""
+    """Decorator: register ``fn(result) -> number | None`` as a metric.
+
+    Parameters
+    ----------
+    name : str
+        The metric's name.
+    unit : str
+        Its unit, for tables.
+    help : str
+        One line; the function's first docstring line by default.
+    replace : bool
+        Replace an existing metric.
+
+    Returns
+    -------
+    callable
+        The decorator.
+    """
 
     def decorate(fn):
         _METRICS[name] = MetricType(name, unit, help or (fn.__doc__ or "").strip().splitlines()[0], fn)
@@ -51,12 +68,31 @@ def metric(name: str, unit: str = "", help: str = ""):  # noqa: A002 - the word 
 
 
 def metrics() -> list[MetricType]:
-    """Every registered metric."""
+    """Every registered metric.
+
+    Returns
+    -------
+    list of MetricType
+        Name, unit, help and function of each.
+    """
     return list(_METRICS.values())
 
 
 def evaluate(result, name: str):
-    """The metric ``name`` of a run."""
+    """The metric ``name`` of a run.
+
+    Parameters
+    ----------
+    result : Result
+        A run.
+    name : str
+        A registered metric.
+
+    Returns
+    -------
+    float or None
+        The metric, in its unit (:func:`metrics` lists them).
+    """
     if name not in _METRICS:
         raise InputError(f"unknown metric '{name}'" + did_you_mean(name, list(_METRICS)), where="metric")
     return _METRICS[name].fn(result)
@@ -170,6 +206,18 @@ def summary(result, judging=None) -> dict:
     ``passed`` and ``verdict`` say how the vehicle did (:func:`trikedyn.analysis.verdict.judge`, with
     ``judging``'s speed band and limits), ``reasons`` everything that went wrong; ``success`` only that the
     simulation ran to its end.
+
+    Parameters
+    ----------
+    result : Result
+        A run.
+    judging : Judging, optional
+        Speed band and limits for the verdict; defaults otherwise.
+
+    Returns
+    -------
+    dict
+        Metric name -> value, with the verdict, speeds, manoeuvre, status and window, JSON-safe.
     """
     from .verdict import judge
 

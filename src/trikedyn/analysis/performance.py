@@ -223,7 +223,13 @@ class Performance:
 
     def to_dict(self) -> dict:
         """Plain JSON types: the top speed's figures at the top level (``top_speed_kmh``, ``limit``, ...), the
-        acceleration and braking as their own objects."""
+        acceleration and braking as their own objects.
+
+        Returns
+        -------
+        dict
+            The figures, JSON-safe (speeds [km/h], times [s], distances [m]).
+        """
         return {"vehicle": self.vehicle, "mass_kg": float(self.mass_kg), "grade_percent": float(self.grade_percent),
                 **self.top_speed.to_dict(), "acceleration": self.acceleration.to_dict(),
                 "braking": self.braking.to_dict()}

@@ -95,6 +95,11 @@ class Comparison:
         """JSON-safe summary: ``offset_s``, ``rate_hz``, ``align_on`` and per channel the metrics.
 
         NaN and infinite values become None.
+
+        Returns
+        -------
+        dict
+            The summary.
         """
         return {
             "offset_s": _json_float(self.offset_s),
@@ -108,7 +113,13 @@ class Comparison:
 
     def to_pandas(self) -> pd.DataFrame:
         """The aligned records: ``time_s`` [s] (simulated clock), then ``measured_<channel>`` and
-        ``simulated_<channel>`` per channel; ``attrs`` hold ``offset_s``, ``rate_hz`` and ``align_on``."""
+        ``simulated_<channel>`` per channel; ``attrs`` hold ``offset_s``, ``rate_hz`` and ``align_on``.
+
+        Returns
+        -------
+        pandas.DataFrame
+            The aligned records.
+        """
         data = {TIME: self.time_s}
         for c in self.channels:
             data[f"measured_{c.channel}"] = self.measured[c.channel]
@@ -124,6 +135,11 @@ class Comparison:
         ----------
         channels : sequence of str, optional
             Channels to draw (default: all compared ones).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
         """
         import matplotlib.pyplot as plt
 

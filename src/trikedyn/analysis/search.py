@@ -88,13 +88,35 @@ class Grid:
         return max(1, math.ceil((self.high_kmh - self.low_kmh) / self.resolution_kmh - 1e-9))
 
     def speed(self, k: int) -> float:
-        """Speed of index ``k`` [km/h], rounded to 1e-6 km/h."""
+        """Speed of index ``k`` [km/h], rounded to 1e-6 km/h.
+
+        Parameters
+        ----------
+        k : int
+            Grid index.
+
+        Returns
+        -------
+        float
+            Speed [km/h].
+        """
         if k >= self.last:
             return round(self.high_kmh, 6)
         return round(self.low_kmh + k * self.resolution_kmh, 6)
 
     def index_below(self, speed_kmh: float) -> int:
-        """Highest index at or below ``speed_kmh`` (may be -1 or beyond ``last``)."""
+        """Highest index at or below ``speed_kmh`` (may be -1 or beyond ``last``).
+
+        Parameters
+        ----------
+        speed_kmh : float
+            Speed [km/h].
+
+        Returns
+        -------
+        int
+            The index.
+        """
         return math.floor((speed_kmh - self.low_kmh) / self.resolution_kmh + 1e-9)
 
 
@@ -135,6 +157,18 @@ def seed_speed(params, manoeuvre) -> float | None:
     ``v = sqrt(a_tip / kappa_max)``: ``a_tip`` the smallest lateral acceleration that tips the rigid
     vehicle about an edge of its support triangle [m/s^2], ``kappa_max`` the largest |curvature| of the
     path inside the judged window [1/m] (open loop: the largest steer angle over the wheelbase).
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+    manoeuvre : Manoeuvre
+        The manoeuvre (its path or steer).
+
+    Returns
+    -------
+    float or None
+        Speed [km/h].
     """
     from ..params.audit import tip_over_thresholds
 
@@ -159,7 +193,20 @@ def seed_speed(params, manoeuvre) -> float | None:
 # the estimate
 # ------------------------------------------------------------------------------------------------------------
 def predicted_crossing(probes: list[Probe], weight: float = 1.0) -> float | None:
-    """Lowest predicted zero of the margin table's entries [km/h] (see the module docstring), or None."""
+    """Lowest predicted zero of the margin table's entries [km/h] (see the module docstring), or None.
+
+    Parameters
+    ----------
+    probes : list of Probe
+        The runs so far.
+    weight : float
+        Weight of the nearest runs in the fit, dimensionless.
+
+    Returns
+    -------
+    float or None
+        Speed [km/h].
+    """
     usable = [p for p in probes if p.margins is not None]
     if not usable:
         return None

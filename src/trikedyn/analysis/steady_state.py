@@ -73,7 +73,13 @@ class HandlingDiagram(PlainResult):
         """Road-wheel steer, sideslip and roll [deg] against lateral acceleration [m/s^2]: binned means, the
         linear-range fits (dashed, their range shaded); on the steer, the gradient by band (coloured by
         behaviour), the neutral-steer point (star) and the stretch that gives the limit behaviour; returns
-        the Figure."""
+        the Figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         import matplotlib.pyplot as plt
 
         fig, axes = plt.subplots(3, 1, sharex=True, figsize=(7, 9), gridspec_kw={"height_ratios": [2, 1, 1]})
@@ -134,6 +140,11 @@ def handling_diagram(lateral_acceleration_mps2, road_steer_rad, sideslip_rad, ro
     band_width_mps2, limit_band_mps2, neutral_tolerance_deg_per_g : float
         Width of the gradient bands [m/s^2]; the last stretch of a_y that gives the limit behaviour
         [m/s^2]; gradients within +- this are neutral [deg/g] (see :func:`~trikedyn.analysis.steer_shape.steer_shape`).
+
+    Returns
+    -------
+    HandlingDiagram
+        Gradients [deg/g], intercepts [deg], the binned diagram and the shape.
     """
     n = np.size(lateral_acceleration_mps2)
     ay = as_values(lateral_acceleration_mps2, n, "lateral_acceleration_mps2")

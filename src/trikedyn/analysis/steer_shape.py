@@ -83,7 +83,22 @@ def steer_curve(lateral_acceleration_mps2, road_steer_deg, *, bin_mps2=BIN_MPS2,
 
 def line_fit(a_mps2, steer_deg) -> tuple[float, float]:
     """Least-squares line through the points: (gradient [deg/g], steer at ``a_y = 0`` [deg]); NaNs with
-    fewer than two distinct points."""
+    fewer than two distinct points.
+
+    Parameters
+    ----------
+    a_mps2 : array_like
+        Lateral accelerations [m/s^2].
+    steer_deg : array_like
+        Steer angles [deg].
+
+    Returns
+    -------
+    gradient : float
+        [deg/g].
+    intercept : float
+        Steer at zero lateral acceleration [deg].
+    """
     a, s = np.asarray(a_mps2, float), np.asarray(steer_deg, float)
     if a.size < 2 or np.ptp(a) <= 0:
         return math.nan, math.nan
@@ -93,7 +108,20 @@ def line_fit(a_mps2, steer_deg) -> tuple[float, float]:
 
 def behaviour(gradient_deg_per_g: float, tolerance_deg_per_g: float = NEUTRAL_TOLERANCE_DEG_PER_G) -> str:
     """``"understeer"`` above ``+tolerance``, ``"oversteer"`` below ``-tolerance``, else ``"neutral"``
-    (also for NaN: no gradient, no verdict either way)."""
+    (also for NaN: no gradient, no verdict either way).
+
+    Parameters
+    ----------
+    gradient_deg_per_g : float
+        Understeer gradient [deg/g].
+    tolerance_deg_per_g : float
+        Neutral band half-width [deg/g].
+
+    Returns
+    -------
+    str
+        The behaviour.
+    """
     if gradient_deg_per_g > tolerance_deg_per_g:
         return "understeer"
     if gradient_deg_per_g < -tolerance_deg_per_g:
@@ -151,7 +179,22 @@ def band_gradients(a_mps2, steer_deg, *, band_width_mps2=BAND_WIDTH_MPS2, a_rang
 
 def local_quadratic(a_mps2, steer_deg, *, half_width_mps2=SMOOTH_HALF_WIDTH_MPS2) -> np.ndarray:
     """The curve smoothed: at each point, the value of the least-squares quadratic through the points within
-    ``half_width_mps2`` of it (a Savitzky-Golay filter for unevenly spaced points) [deg]."""
+    ``half_width_mps2`` of it (a Savitzky-Golay filter for unevenly spaced points) [deg].
+
+    Parameters
+    ----------
+    a_mps2 : array_like
+        Lateral accelerations [m/s^2].
+    steer_deg : array_like
+        Steer angles [deg].
+    half_width_mps2 : float
+        Neighbourhood half-width [m/s^2].
+
+    Returns
+    -------
+    numpy.ndarray
+        The smoothed steer [deg].
+    """
     a, s = np.asarray(a_mps2, float), np.asarray(steer_deg, float)
     out = s.copy()
     for i, ai in enumerate(a):
@@ -278,7 +321,13 @@ class SteerShape(PlainResult):
 
     def mark(self, ax) -> None:
         """Draw the bands' lines (coloured by behaviour) and the neutral-steer point on a steer [deg]
-        against lateral acceleration [m/s^2] axes."""
+        against lateral acceleration [m/s^2] axes.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes
+            Axes of steer [deg] against lateral acceleration [m/s^2].
+        """
         seen = set()
         for band in self.bands:
             a = np.array([band.low_mps2, band.high_mps2])
@@ -322,6 +371,11 @@ def steer_shape(lateral_acceleration_mps2, road_steer_deg, *, band_width_mps2=BA
         Bin width of the steer curve [m/s^2].
     peak_drop_deg : float
         Rise before and fall after a peak that make it one [deg].
+
+    Returns
+    -------
+    SteerShape
+        Bands, neutral steer and limit behaviour.
 
     Raises
     ------

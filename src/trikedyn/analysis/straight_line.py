@@ -296,7 +296,28 @@ class StraightRunning:
     def state(self, v, drive, brake, sin_t, cos_t, locked=None, start=None) -> State:
         """The quasi-static state at speed ``v`` [m/s] under a drive command [N m] and a brake torque per
         braked wheel [N m], on a grade ``(sin, cos)``; ``locked`` per wheel (kept from a previous state),
-        ``start`` a nearby state to start the iteration from."""
+        ``start`` a nearby state to start the iteration from.
+
+        Parameters
+        ----------
+        v : float
+            Speed [m/s].
+        drive : float
+            Drive command [N m].
+        brake : float
+            Brake torque per braked wheel [N m].
+        sin_t, cos_t : float
+            Sine and cosine of the grade angle, dimensionless.
+        locked : numpy.ndarray of bool, optional
+            Locked wheels.
+        start : State, optional
+            A nearby state to start from.
+
+        Returns
+        -------
+        State
+            Loads [N], forces [N], slips, acceleration [m/s^2] and the limit.
+        """
         n = len(self.wheels)
         v_ref = (v**4 + self.v_low**4) ** 0.25
         locked = np.zeros(n, bool) if locked is None else locked.copy()
@@ -396,13 +417,37 @@ def vehicle_model(vehicle) -> VehicleModel:
 def cache_key(model: VehicleModel, *what) -> tuple:
     """A cache key of the straight-line results (in ``model.cache``), ``what`` naming the result: they depend
     on the drive's limits, which variants of a model that share its cache (``with_ideal_drive``) change, so
-    the packed records are part of the key."""
+    the packed records are part of the key.
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle.
+    *what
+        What the result is.
+
+    Returns
+    -------
+    tuple
+        The key.
+    """
     plant = model.plant
     return ("performance", plant.vehicle.tobytes(), plant.wheels.tobytes(), plant.tyres.tobytes(), *what)
 
 
 def straight_running(model: VehicleModel) -> StraightRunning:
-    """The model's :class:`StraightRunning`, built once and kept in ``model.cache``."""
+    """The model's :class:`StraightRunning`, built once and kept in ``model.cache``.
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle.
+
+    Returns
+    -------
+    StraightRunning
+        Cached.
+    """
     key = cache_key(model)
     if key not in model.cache:
         model.cache[key] = StraightRunning(model)
@@ -483,7 +528,22 @@ def full_drive_balance(straight: StraightRunning, sin_t: float, cos_t: float, sl
 
 def power_takeover(straight: StraightRunning, below: float, above: float, sin_t: float, cos_t: float) -> float:
     """The speed [m/s] between ``below`` (torque-limited) and ``above`` (power-limited) at which the power
-    takes over at full drive, to 1 mm/s (bisection), on a grade ``(sin, cos)``."""
+    takes over at full drive, to 1 mm/s (bisection), on a grade ``(sin, cos)``.
+
+    Parameters
+    ----------
+    straight : StraightRunning
+        The vehicle's straight-line model.
+    below, above : float
+        Speeds bracketing the takeover [m/s].
+    sin_t, cos_t : float
+        Grade sine and cosine, dimensionless.
+
+    Returns
+    -------
+    float
+        Speed [m/s].
+    """
     while above - below > 1e-3:
         middle = 0.5 * (below + above)
         if straight.state(middle, straight.max_torque, 0.0, sin_t, cos_t).limit == "power":

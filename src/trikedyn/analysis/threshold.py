@@ -64,7 +64,25 @@ METHODS = ("margin", "bisection")
 
 def manoeuvre_builder(manoeuvre, options: dict | None = None):
     """``speed_kmh -> Manoeuvre`` for a registered name, a path ``.csv`` file or a bare
-    :class:`~trikedyn.manoeuvres.paths.Path` (judged over its whole length); the name is checked now."""
+    :class:`~trikedyn.manoeuvres.paths.Path` (judged over its whole length); the name is checked now.
+
+    Parameters
+    ----------
+    manoeuvre : str, Path or Manoeuvre
+        A name, a ``.csv`` file or a path.
+    options : dict, optional
+        The manoeuvre's options.
+
+    Returns
+    -------
+    callable
+        ``(params, speed_kmh) -> Manoeuvre``.
+
+    Raises
+    ------
+    InputError
+        For an unknown name or option.
+    """
     from ..manoeuvres.base import Manoeuvre
     from ..manoeuvres.paths import Path
 
@@ -111,7 +129,13 @@ class RunVerdict:
     criterion: str = DEFAULT_CRITERION
 
     def to_dict(self) -> dict:
-        """Every field, JSON-ready."""
+        """Every field, JSON-ready.
+
+        Returns
+        -------
+        dict
+            The fields.
+        """
         return asdict(self)
 
 
@@ -158,6 +182,24 @@ def judge_run(result, lost_m: float = 2.5, speed_kmh: float | None = None, *, cr
 
     Judged up to the exit gate: a lift in the run-in counts, nothing in the run-out does. A run that
     stopped early (rollover, divergence) fails. ``lost_m`` [m] is used when ``judging`` is not given.
+
+    Parameters
+    ----------
+    result : Result
+        A run.
+    lost_m : float
+        Path error that counts as a lost course [m].
+    speed_kmh : float, optional
+        Target speed [km/h]; the run's own by default.
+    criterion : str
+        ``"lift-off"``, ``"course"`` or both.
+    judging : Judging, optional
+        Judging settings.
+
+    Returns
+    -------
+    RunVerdict
+        Pass or fail and the first failure.
     """
     verdict = judge(result, judging or Judging(lost_m=lost_m))
     speed_kmh = float(result.meta.get("target_speed_kmh", float("nan")) if speed_kmh is None else speed_kmh)
@@ -262,7 +304,18 @@ class ThresholdResult:
         return line
 
     def to_dict(self, runs: bool = False) -> dict:
-        """The result's fields and ``n_runs``; with ``runs``, also ``method``, ``speeds_kmh`` and every run."""
+        """The result's fields and ``n_runs``; with ``runs``, also ``method``, ``speeds_kmh`` and every run.
+
+        Parameters
+        ----------
+        runs : bool
+            Include the runs.
+
+        Returns
+        -------
+        dict
+            JSON-ready (speeds [km/h]).
+        """
         out = {k: v for k, v in asdict(self).items() if k not in ("runs", "method", "lift_off")}
         if self.lift_off is not None:
             out["lift_off"] = self.lift_off.to_dict()

@@ -116,7 +116,13 @@ class TiltSide:
     wheel_loads_N: dict
 
     def to_dict(self) -> dict:
-        """JSON-safe (plain floats; None for non-finite values)."""
+        """JSON-safe (plain floats; None for non-finite values).
+
+        Returns
+        -------
+        dict
+            The side (angles [deg], loads [N]).
+        """
         return _json(asdict(self))
 
 
@@ -156,12 +162,24 @@ class TiltResult:
     mass_kg: float = 0.0
 
     def to_dict(self) -> dict:
-        """JSON-safe (plain floats; None for non-finite values); ``sides`` with each side's details."""
+        """JSON-safe (plain floats; None for non-finite values); ``sides`` with each side's details.
+
+        Returns
+        -------
+        dict
+            The result (angles [deg], loads [N]).
+        """
         return _json(asdict(self))
 
     def plot(self):
         """Wheel loads [N] against table angle [deg], one axis per side, the lift and the rigid angle
-        (dashed) marked; returns a :class:`matplotlib.figure.Figure`."""
+        (dashed) marked; returns a :class:`matplotlib.figure.Figure`.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         from matplotlib.figure import Figure
 
         sides = [self.sides[s] for s in SIDES if s in self.sides]
@@ -198,6 +216,16 @@ def rigid_tilt_angles(params) -> dict:
     From :func:`trikedyn.params.audit.tip_over_thresholds` (total CG, payload included): a vehicle on a
     table tilted by ``theta`` about x feels ``g sin(theta)`` laterally and ``g cos(theta)`` normally, so it
     tips about an edge when ``tan(theta) = d_y / h``.
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+
+    Returns
+    -------
+    dict
+        ``side -> (angle [deg], tip axis, lifting wheel)``.
     """
     names = [w.name for w in params.wheels]
     out = {}

@@ -87,12 +87,29 @@ class Judging:
 
     def band_kmh(self, target_kmh):
         """Half-width of the speed band around ``target_kmh`` [km/h] (a number, or an array: a rising target
-        has a band that widens with it)."""
+        has a band that widens with it).
+
+        Parameters
+        ----------
+        target_kmh : float or array_like
+            Target speed [km/h].
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Half-width [km/h].
+        """
         band = np.maximum(self.speed_band_percent / 100.0 * np.abs(target_kmh), self.speed_band_kmh)
         return float(band) if np.ndim(band) == 0 else band
 
     def to_dict(self) -> dict:
-        """The settings as a plain dict."""
+        """The settings as a plain dict.
+
+        Returns
+        -------
+        dict
+            The settings.
+        """
         return asdict(self)
 
 
@@ -106,7 +123,13 @@ class Reason:
     wheel: str | None = None
 
     def to_dict(self) -> dict:
-        """``reason``, ``time_s``, ``detail`` and ``wheel`` (None unless a wheel lifted)."""
+        """``reason``, ``time_s``, ``detail`` and ``wheel`` (None unless a wheel lifted).
+
+        Returns
+        -------
+        dict
+            The reason.
+        """
         return asdict(self)
 
 
@@ -142,16 +165,49 @@ class Verdict:
     speed_band_kmh: float | None
 
     def first(self, criterion: str | None = None) -> Reason | None:
-        """The earliest reason (failing under ``criterion``, all when None), or None."""
+        """The earliest reason (failing under ``criterion``, all when None), or None.
+
+        Parameters
+        ----------
+        criterion : str, optional
+            ``"lift-off"`` or ``"course"``.
+
+        Returns
+        -------
+        Reason or None
+            The reason.
+        """
         wanted = REASONS if criterion is None else failures(criterion)
         return next((r for r in self.reasons if r.reason in wanted), None)
 
     def reason(self, name: str) -> Reason | None:
-        """The reason ``name`` if it was found."""
+        """The reason ``name`` if it was found.
+
+        Parameters
+        ----------
+        name : str
+            A reason (:data:`REASONS`).
+
+        Returns
+        -------
+        Reason or None
+            The reason.
+        """
         return next((r for r in self.reasons if r.reason == name), None)
 
     def passes(self, criterion: str) -> bool:
-        """Whether the run passes under ``criterion`` (:data:`CRITERIA`)."""
+        """Whether the run passes under ``criterion`` (:data:`CRITERIA`).
+
+        Parameters
+        ----------
+        criterion : str
+            ``"lift-off"`` or ``"course"``.
+
+        Returns
+        -------
+        bool
+            True when no failing reason was found.
+        """
         return self.first(criterion) is None
 
     @property
@@ -164,14 +220,36 @@ class Verdict:
                 f"the window")
 
     def to_dict(self) -> dict:
-        """``passed``, ``verdict``, ``reasons`` (list of dicts) and the speeds."""
+        """``passed``, ``verdict``, ``reasons`` (list of dicts) and the speeds.
+
+        Returns
+        -------
+        dict
+            The verdict.
+        """
         out = asdict(self)
         out["reasons"] = [r.to_dict() for r in self.reasons]
         return out
 
 
 def failures(criterion: str) -> tuple[str, ...]:
-    """The reasons that fail a run under ``criterion``: ``"lift-off"`` or ``"course"`` (:data:`CRITERIA`)."""
+    """The reasons that fail a run under ``criterion``: ``"lift-off"`` or ``"course"`` (:data:`CRITERIA`).
+
+    Parameters
+    ----------
+    criterion : str
+        ``"lift-off"`` or ``"course"``.
+
+    Returns
+    -------
+    tuple of str
+        The reasons.
+
+    Raises
+    ------
+    InputError
+        For an unknown criterion.
+    """
     if criterion not in _FAILS:
         raise InputError(f"unknown criterion {criterion!r}; expected one of {', '.join(CRITERIA)} (or both)",
                          where="criterion")
@@ -179,7 +257,18 @@ def failures(criterion: str) -> tuple[str, ...]:
 
 
 def target_speed_mps(result) -> np.ndarray | None:
-    """The target speed at each sample of a run [m/s], from its manoeuvre's profile (None without one)."""
+    """The target speed at each sample of a run [m/s], from its manoeuvre's profile (None without one).
+
+    Parameters
+    ----------
+    result : Result
+        A run.
+
+    Returns
+    -------
+    numpy.ndarray or None
+        Target speed [m/s].
+    """
     man = result.manoeuvre
     if man is None or getattr(man, "speed", None) is None:
         return None

@@ -15,14 +15,36 @@ __all__ = ["Lift", "cone_strikes", "first_lift", "judged_mask", "until_exit", "w
 
 
 def judged_mask(result) -> np.ndarray:
-    """Boolean mask of the samples inside the judged window (all samples when the run has no window)."""
+    """Boolean mask of the samples inside the judged window (all samples when the run has no window).
+
+    Parameters
+    ----------
+    result : Result
+        A run.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        The mask.
+    """
     if "judged" in result.channels:
         return np.asarray(result["judged"]) > 0.5
     return np.ones(result.time_s.size, dtype=bool)
 
 
 def wheel_loads(result) -> np.ndarray:
-    """Every wheel's vertical force [N], one column per wheel (``result.meta["wheels"]`` order)."""
+    """Every wheel's vertical force [N], one column per wheel (``result.meta["wheels"]`` order).
+
+    Parameters
+    ----------
+    result : Result
+        A run.
+
+    Returns
+    -------
+    numpy.ndarray, shape (m, n_wheels)
+        Vertical forces [N].
+    """
     return np.column_stack([result[f"{w}_fz_N"] for w in result.meta["wheels"]])
 
 
@@ -35,7 +57,18 @@ class Lift:
 
 
 def until_exit(result) -> np.ndarray:
-    """Mask of the samples up to the exit gate: the run-in and the window, not the run-out."""
+    """Mask of the samples up to the exit gate: the run-in and the window, not the run-out.
+
+    Parameters
+    ----------
+    result : Result
+        A run.
+
+    Returns
+    -------
+    numpy.ndarray of bool
+        The mask.
+    """
     mask = judged_mask(result)
     if not mask.any():
         return mask
@@ -46,7 +79,20 @@ def until_exit(result) -> np.ndarray:
 
 def first_lift(result, *, from_start: bool = False) -> Lift | None:
     """The first sample inside the window (or, with ``from_start``, from the start of the run up to the exit
-    gate) at which a wheel's vertical force is zero, or None."""
+    gate) at which a wheel's vertical force is zero, or None.
+
+    Parameters
+    ----------
+    result : Result
+        A run.
+    from_start : bool
+        Look from the start of the run.
+
+    Returns
+    -------
+    Lift or None
+        Wheel and time [s].
+    """
     fz = wheel_loads(result)
     lifted = np.nonzero((fz <= 0.0).any(axis=1) & (until_exit(result) if from_start else judged_mask(result)))[0]
     if not lifted.size:
@@ -56,7 +102,18 @@ def first_lift(result, *, from_start: bool = False) -> Lift | None:
 
 
 def cone_strikes(result) -> list[dict]:
-    """Cones the vehicle's plan-view footprint struck inside the window (time, cone, position)."""
+    """Cones the vehicle's plan-view footprint struck inside the window (time, cone, position).
+
+    Parameters
+    ----------
+    result : Result
+        A run.
+
+    Returns
+    -------
+    list of dict
+        ``time_s``, cone and position [m] of each strike.
+    """
     man = result.manoeuvre
     if man is None or man.path is None or not len(man.path.cones):
         return []

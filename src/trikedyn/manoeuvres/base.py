@@ -62,6 +62,13 @@ class Window:
             raise InputError(f"needs finite start < end, got {self.start!r}, {self.end!r}", where="window")
 
     def to_dict(self) -> dict:
+        """The window as a JSON-safe dict.
+
+        Returns
+        -------
+        dict
+            ``kind``, ``start``, ``end`` and their ``unit`` (``m`` for a distance window, ``s`` for a time window).
+        """
         return {"kind": self.kind, "start": self.start, "end": self.end,
                 "unit": "m" if self.kind == "distance" else "s"}
 
@@ -139,7 +146,23 @@ class Manoeuvre:
 
     def lasting(self, duration_s: float) -> Manoeuvre:
         """The same manoeuvre simulated for ``duration_s`` [s]; a longer run gets a longer run-out, so the
-        driver still never reaches the end of the path."""
+        driver still never reaches the end of the path.
+
+        Parameters
+        ----------
+        duration_s : float
+            Simulated time [s], > 0 and at most ``MAX_DURATION_S``.
+
+        Returns
+        -------
+        Manoeuvre
+            The copy.
+
+        Raises
+        ------
+        InputError
+            On a duration out of range.
+        """
         duration = check_duration(self.name, float(duration_s))
         path = self.path
         if path is not None and duration > self.duration_s:
@@ -147,7 +170,23 @@ class Manoeuvre:
         return replace(self, duration_s=duration, path=path)
 
     def at_speed(self, speed: SpeedProfile) -> Manoeuvre:
-        """The same closed-loop manoeuvre (distance window) driven at another target speed profile."""
+        """The same closed-loop manoeuvre (distance window) driven at another target speed profile.
+
+        Parameters
+        ----------
+        speed : SpeedProfile
+            The new target speed profile (time [s], speed [m/s]).
+
+        Returns
+        -------
+        Manoeuvre
+            The manoeuvre rebuilt with the same gates and parameters.
+
+        Raises
+        ------
+        InputError
+            For a manoeuvre judged over time (open loop).
+        """
         if self.window.kind != "distance":
             raise InputError("only a manoeuvre judged over distance can change its speed profile", where=self.name)
         return path_manoeuvre(self.name, self.title, self.path, speed, entry_m=self.window.start,
@@ -155,7 +194,13 @@ class Manoeuvre:
                               speed_judged=self.speed_judged)
 
     def to_dict(self) -> dict:
-        """JSON-safe summary."""
+        """JSON-safe summary.
+
+        Returns
+        -------
+        dict
+            Name, title, loop, duration [s], window, speed, path, steer hold [s], parameters, description.
+        """
         return {
             "name": self.name,
             "title": self.title,
@@ -172,7 +217,25 @@ class Manoeuvre:
 
 
 def check_duration(name: str, seconds: float) -> float:
-    """``seconds`` if it is a duration a manoeuvre may last (before any array of that length is made)."""
+    """``seconds`` if it is a duration a manoeuvre may last (before any array of that length is made).
+
+    Parameters
+    ----------
+    name : str
+        The manoeuvre, for the error's location.
+    seconds : float
+        The duration [s].
+
+    Returns
+    -------
+    float
+        ``seconds`` [s].
+
+    Raises
+    ------
+    InputError
+        If not finite, not positive or over ``MAX_DURATION_S``.
+    """
     if not (math.isfinite(seconds) and 0 < seconds <= MAX_DURATION_S):
         raise InputError(f"duration must be > 0 and <= {MAX_DURATION_S:g} s, got {seconds:g} s", where=name)
     return seconds
@@ -182,6 +245,23 @@ def time_to_cover(speed: SpeedProfile, distance_m: float) -> float:
     """Time [s] at which a vehicle at exactly the target speed has covered ``distance_m`` [m].
 
     Beyond the profile's end the last speed holds.
+
+    Parameters
+    ----------
+    speed : SpeedProfile
+        Target speed profile (time [s], speed [m/s]).
+    distance_m : float
+        Distance [m].
+
+    Returns
+    -------
+    float
+        Time [s].
+
+    Raises
+    ------
+    InputError
+        When the profile ends at zero speed short of the distance.
     """
     t, v = speed.time_s, speed.speed_mps
     covered = np.concatenate(([0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(t))))
@@ -196,6 +276,18 @@ def with_run_out(path: Path, length_m: float) -> Path:
     """``path`` continued beyond its end by ``length_m`` [m] with its end curvature.
 
     A straight end goes on straight; a circle goes on round the circle. The points keep the path's spacing.
+
+    Parameters
+    ----------
+    path : Path
+        The line.
+    length_m : float
+        Length to add [m]; nothing for <= 0.
+
+    Returns
+    -------
+    Path
+        The longer line (``path`` itself when nothing is added).
     """
     if length_m <= 0:
         return path
@@ -233,6 +325,37 @@ def path_manoeuvre(name: str, title: str, path: Path, speed: SpeedProfile, *, en
 
     The run lasts until the vehicle, at its target speed, is due ``AFTER_EXIT_S`` past the exit gate; the
     path is extended (:func:`with_run_out`) far enough that the driver's preview never reaches its end.
+
+    Parameters
+    ----------
+    name : str
+        Registered name.
+    title : str
+        Human title.
+    path : Path
+        The reference line.
+    speed : SpeedProfile
+        Target speed profile (time [s], speed [m/s]).
+    entry_m, exit_m : float
+        Gates along the path (arc length) [m].
+    parameters : dict, optional
+        The options it was built with.
+    description : str
+        Standard and choices, for the report.
+    preview_s : float
+        Driver preview time the run-out must cover [s].
+    speed_judged : str
+        Where the speed is judged (``"window"`` or ``"entry"``).
+
+    Returns
+    -------
+    Manoeuvre
+        The closed-loop manoeuvre.
+
+    Raises
+    ------
+    InputError
+        When the gates are not on the path.
     """
     if not (0.0 <= entry_m < exit_m <= path.s_m[-1] + 1e-9):
         raise InputError(f"gates {entry_m:g} .. {exit_m:g} m must lie on the path (0 .. {path.s_m[-1]:g} m)",
@@ -246,6 +369,19 @@ def path_manoeuvre(name: str, title: str, path: Path, speed: SpeedProfile, *, en
 
 
 def whole_path(path: Path, speed: SpeedProfile) -> Manoeuvre:
-    """A bare :class:`~trikedyn.manoeuvres.paths.Path` as a manoeuvre judged over its whole length."""
+    """A bare :class:`~trikedyn.manoeuvres.paths.Path` as a manoeuvre judged over its whole length.
+
+    Parameters
+    ----------
+    path : Path
+        The reference line.
+    speed : SpeedProfile
+        Target speed profile (time [s], speed [m/s]).
+
+    Returns
+    -------
+    Manoeuvre
+        Gates at the path's start and end.
+    """
     return path_manoeuvre(path.name, path.name, path, speed, entry_m=0.0, exit_m=float(path.s_m[-1]),
                           description=path.description)

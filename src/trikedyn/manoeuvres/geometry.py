@@ -75,7 +75,13 @@ class Corridor:
         return 0.5 * (self.y_min_m + self.y_max_m)
 
     def to_dict(self) -> dict:
-        """JSON-safe dict of the corridor."""
+        """JSON-safe dict of the corridor.
+
+        Returns
+        -------
+        dict
+            Name, x range [m], y range [m] and width [m].
+        """
         return {
             "name": self.name,
             "x_start_m": float(self.x_start_m),
@@ -174,13 +180,24 @@ class Path:
         """The line as one ``(n, 5)`` float64 C-contiguous array: x, y, s, heading, curvature.
 
         The column order is the driver's (``trikedyn.driver.preview.PATH_COLUMNS``).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, 5)
+            Columns x [m], y [m], s [m], heading [rad], curvature [1/m].
         """
         return np.ascontiguousarray(
             np.column_stack((self.x_m, self.y_m, self.s_m, self.heading_rad, self.curvature_per_m))
         )
 
     def to_dict(self) -> dict:
-        """JSON-safe summary: name, length, point spacing, cone count, corridors, description."""
+        """JSON-safe summary: name, length, point spacing, cone count, corridors, description.
+
+        Returns
+        -------
+        dict
+            The summary (lengths [m]).
+        """
         return {
             "name": self.name,
             "length_m": self.length_m,
@@ -237,6 +254,20 @@ class Path:
         The nearest point is searched near the previous one (``back`` points behind, ``ahead`` points
         ahead), so the arc length grows lap after lap on a line that passes a place twice (a circle driven
         several times), where :meth:`project` may return either pass.
+
+        Parameters
+        ----------
+        x, y : array_like
+            Successive positions [m].
+        back, ahead : int
+            Search span behind and ahead of the previous nearest point, in path points.
+
+        Returns
+        -------
+        s_m : numpy.ndarray
+            Arc length of each position's foot on the line [m].
+        offset_m : numpy.ndarray
+            Signed distance from the line [m], positive to the left.
         """
         px = np.asarray(x, dtype=np.float64).ravel()
         py = np.asarray(y, dtype=np.float64).ravel()

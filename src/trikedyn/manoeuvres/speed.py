@@ -71,15 +71,38 @@ class SpeedProfile:
         return float(self.time_s[-1])
 
     def at(self, t) -> np.ndarray:
-        """Target speed [m/s] at time(s) ``t`` [s], linearly interpolated; the end values hold outside."""
+        """Target speed [m/s] at time(s) ``t`` [s], linearly interpolated; the end values hold outside.
+
+        Parameters
+        ----------
+        t : float or array_like
+            Time [s].
+
+        Returns
+        -------
+        numpy.ndarray
+            Target speed [m/s].
+        """
         return np.interp(np.asarray(t, dtype=np.float64), self.time_s, self.speed_mps)
 
     def as_array(self) -> np.ndarray:
-        """The profile as one ``(n, 2)`` float64 C-contiguous array: time [s], speed [m/s]."""
+        """The profile as one ``(n, 2)`` float64 C-contiguous array: time [s], speed [m/s].
+
+        Returns
+        -------
+        numpy.ndarray, shape (n, 2)
+            Time [s] and speed [m/s] columns.
+        """
         return np.ascontiguousarray(np.column_stack((self.time_s, self.speed_mps)))
 
     def to_dict(self) -> dict:
-        """JSON-safe summary."""
+        """JSON-safe summary.
+
+        Returns
+        -------
+        dict
+            Kind, duration [s], point count, start, end and top speed [m/s].
+        """
         return {
             "kind": self.kind,
             "duration_s": self.duration_s,
@@ -125,6 +148,11 @@ def constant(speed_kmh: float, duration_s: float) -> SpeedProfile:
         Target speed [km/h], >= 0.
     duration_s : float
         Length of the profile [s] (the target holds afterwards).
+
+    Returns
+    -------
+    SpeedProfile
+        The profile.
     """
     v = kmh_to_mps(_scalar(speed_kmh, "speed_kmh"))
     t = _grid(_scalar(duration_s, "duration_s", positive=True))
@@ -140,6 +168,11 @@ def linear(start_kmh: float, end_kmh: float, duration_s: float) -> SpeedProfile:
         Target speed at 0 and at ``duration_s`` [km/h], >= 0.
     duration_s : float
         Duration of the ramp [s]; the end speed holds afterwards.
+
+    Returns
+    -------
+    SpeedProfile
+        The profile.
 
     Notes
     -----
@@ -163,6 +196,11 @@ def from_record(time_s, speed_mps, *, duration_s: float | None = None) -> SpeedP
         Measured speed [m/s], finite and >= 0.
     duration_s : float, optional
         Length of the profile [s]; by default the record's. Longer than the record: the last speed holds.
+
+    Returns
+    -------
+    SpeedProfile
+        The profile on a 0.01 s grid.
 
     Notes
     -----

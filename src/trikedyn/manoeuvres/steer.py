@@ -18,7 +18,27 @@ __all__ = ["step_steer", "sine_steer", "sine_sweep"]
 
 
 def step_steer(angle_rad: float, *, start_s: float = 1.0, ramp_s: float = 0.15):
-    """Steer command ``delta(t)`` [rad] of an ISO 7401 step: 0 until ``start_s``, a ramp, then held."""
+    """Steer command ``delta(t)`` [rad] of an ISO 7401 step: 0 until ``start_s``, a ramp, then held.
+
+    Parameters
+    ----------
+    angle_rad : float
+        Final steer angle [rad].
+    start_s : float
+        Start of the ramp [s].
+    ramp_s : float
+        Ramp duration [s].
+
+    Returns
+    -------
+    callable
+        ``steer(t)``: steer command [rad] at times ``t`` [s].
+
+    Raises
+    ------
+    InputError
+        On a non-finite angle, a ramp not > 0 or a negative start.
+    """
     if not np.isfinite(angle_rad):
         raise InputError(f"must be finite, got {angle_rad!r}", where="angle_rad")
     if ramp_s <= 0 or start_s < 0:
@@ -31,7 +51,29 @@ def step_steer(angle_rad: float, *, start_s: float = 1.0, ramp_s: float = 0.15):
 
 
 def sine_steer(amplitude_rad: float, frequency_hz: float, *, start_s: float = 0.0, periods: float | None = None):
-    """A sine steer ``A sin(2 pi f (t - start))`` [rad], for ``periods`` periods (all the run if None)."""
+    """A sine steer ``A sin(2 pi f (t - start))`` [rad], for ``periods`` periods (all the run if None).
+
+    Parameters
+    ----------
+    amplitude_rad : float
+        Amplitude [rad].
+    frequency_hz : float
+        Frequency [Hz], > 0.
+    start_s : float
+        Start time [s].
+    periods : float, optional
+        Number of periods; the whole run if None.
+
+    Returns
+    -------
+    callable
+        ``steer(t)``: steer command [rad] at times ``t`` [s].
+
+    Raises
+    ------
+    InputError
+        On a frequency that is not positive.
+    """
     if frequency_hz <= 0:
         raise InputError(f"must be > 0, got {frequency_hz!r}", where="frequency_hz")
     end = np.inf if periods is None else start_s + periods / frequency_hz
@@ -64,6 +106,11 @@ def sine_sweep(t, amplitude, f_start_hz, f_end_hz, duration_s, start_s=0.0, *, m
     duration_s, start_s, taper_s : float
         Duration, start and length of each taper (optional) of the sweep [s].
     method : {"linear", "logarithmic"}
+
+    Returns
+    -------
+    numpy.ndarray
+        The steer, in the unit of ``amplitude``, one value per ``t``.
     """
     t = np.asarray(t, dtype=float)
     f0, f1, dur = (float(v) for v in (f_start_hz, f_end_hz, duration_s))

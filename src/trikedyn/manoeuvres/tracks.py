@@ -343,6 +343,11 @@ def straight(length_m: float) -> Path:
     ----------
     length_m : float
         Length [m].
+
+    Returns
+    -------
+    Path
+        The line, no cones.
     """
     length = _number(length_m, "length_m", positive=True)
     s = np.linspace(0.0, length, _uniform_count(length, "length_m"))
