@@ -5,6 +5,10 @@ Ctrl-C that landed in compiled code came back as a failed sample (a ``SystemErro
 Each command runs in a subprocess (its own session); once its progress line is on stderr it gets SIGINT. It
 must then print one ``trikedyn: interrupted`` line, valid JSON under ``--json``, exit 130 within 60 s, and leave
 no process of its session behind.
+
+SIGTERM (what ``timeout`` sends, once) was swallowed by the study ("stopping after the scenarios in flight"), so
+a scenario that hung kept the process alive; the other commands died without a word. Every long command now
+ends on it as on a second Ctrl-C: one ``trikedyn: interrupted by SIGTERM`` line, exit 143, what is stored kept.
 """
 
 from __future__ import annotations
@@ -46,8 +50,9 @@ def _group_gone(pgid: int, timeout_s: float = 15.0) -> bool:
     return False
 
 
-def interrupt(cwd: Path, label: str, *args) -> tuple[int, str, list[str]]:
-    """Run ``trikedyn ARGS``, SIGINT it once ``LABEL: done/total`` is on stderr; (exit code, stdout, stderr lines)."""
+def interrupt(cwd: Path, label: str, *args, sig: int = signal.SIGINT) -> tuple[int, str, list[str]]:
+    """Run ``trikedyn ARGS``, send it ``sig`` once ``LABEL: done/total`` is on stderr; (exit code, stdout, stderr
+    lines)."""
     proc = subprocess.Popen([sys.executable, "-m", "trikedyn", *map(str, args)], cwd=cwd, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, start_new_session=True)
     err: list[str] = []
@@ -62,7 +67,7 @@ def interrupt(cwd: Path, label: str, *args) -> tuple[int, str, list[str]]:
             err.append(line)
             if line.startswith(f"{label}: ") and "/" in line:
                 break
-        os.kill(proc.pid, signal.SIGINT)
+        os.kill(proc.pid, sig)
         started = time.monotonic()
         out = proc.stdout.read()
         proc.wait(timeout=60)
@@ -77,10 +82,11 @@ def interrupt(cwd: Path, label: str, *args) -> tuple[int, str, list[str]]:
     return proc.returncode, out, [line.rstrip("\n") for line in err]
 
 
-def said_interrupted(code: int, out: str, err: list[str], as_json: bool) -> str:
+def said_interrupted(code: int, out: str, err: list[str], as_json: bool, sig: int = signal.SIGINT) -> str:
     said = [line for line in err if "interrupted" in line]
-    assert code == 130, (code, out, err)
-    assert len(said) == 1 and said[0].startswith("trikedyn: interrupted"), err
+    assert code == 128 + sig, (code, out, err)
+    start = "trikedyn: interrupted" + ("" if sig == signal.SIGINT else f" by {signal.Signals(sig).name}")
+    assert len(said) == 1 and said[0].startswith(start), err
     assert not [line for line in err if line.startswith("trikedyn: error") or "Traceback" in line], err
     if as_json:
         data = strict_json(out)
@@ -128,3 +134,30 @@ def test_study(tmp_path):
     code, out, err = interrupt(tmp_path, "study", "study", spec, "--out", "out", "--workers", "0", "--json")
     line = said_interrupted(code, out, err, as_json=True)
     assert "scenarios stored" in line and strict_json(out)["outcome"] == "interrupted"
+
+
+SIGTERM = signal.SIGTERM
+
+
+def test_sigterm_ends_a_study_at_once(tmp_path):
+    """The study on a pool: the scenarios in flight are abandoned (not waited for), those stored are kept, and the
+    same command resumes them."""
+    spec = write_spec(tmp_path, name="sixteen", freight=(0, 50, 100, 150), stiffness=(0.8, 0.9, 1.1, 1.2))
+    code, out, err = interrupt(tmp_path, "study", "study", spec, "--out", "out", "--workers", "2", "--json", sig=SIGTERM)
+    line = said_interrupted(code, out, err, as_json=True, sig=SIGTERM)
+    assert "scenarios stored" in line and strict_json(out)["outcome"] == "interrupted"
+    assert not [e for e in err if "stopping after the scenarios in flight" in e]
+    assert (tmp_path / "out" / "study.sqlite").exists()
+
+
+@pytest.mark.parametrize("label, args", [
+    ("sensitivity", ["reference-etrike", "--samples", "4", *FAST, "--workers", "0", "--out", "out", "--json"]),
+    ("uncertainty", ["reference-etrike", "--samples", "64", *FAST, "--workers", "2", "--out", "out", "--json"]),
+    ("optimise", ["reference-etrike", "--spec", "battery-layout", "--maxiter", "3", "--popsize", "3", *FAST,
+                  "--workers", "2", "--out", "out", "--json"]),
+    ("loading-chart", ["reference-etrike", *FAST, "--workers", "2", "--out", "out", "--json"]),
+])
+def test_sigterm_ends_each_sampled_command(tmp_path, label, args):
+    code, out, err = interrupt(tmp_path, label, label, *args, sig=SIGTERM)
+    line = said_interrupted(code, out, err, as_json=True, sig=SIGTERM)
+    assert "--resume" in line and strict_json(out)["where"] == "SIGTERM"

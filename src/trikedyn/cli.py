@@ -4,7 +4,9 @@ Every command has ``--help`` and ``--json``. A user's mistake (file, field, valu
 ``trikedyn: error: WHERE: WHAT``, and exits with code 2; nothing else is printed. Ctrl-C (SIGINT) prints one
 line, ``trikedyn: interrupted`` (and what was kept, where a command says so: :func:`~trikedyn.commands._common.
 on_interrupt`), under ``--json`` also a JSON object ``{"error": "interrupted...", "where": "SIGINT",
-"interrupted": true}`` on stdout, and exits with code 130.
+"interrupted": true}`` on stdout, and exits with code 130. SIGTERM (``timeout``, ``kill``) does the same at
+once, its line ``trikedyn: interrupted by SIGTERM``, and exits with code 143 (128 + the signal's number, as a
+shell reports a process ended by it).
 """
 
 from __future__ import annotations
@@ -103,45 +105,58 @@ def _fail(message: str, as_json: bool, where: str | None = None) -> int:
     return 2
 
 
-def _interrupted(as_json: bool) -> int:
-    """One line ``trikedyn: interrupted`` on stderr, with what the command kept (and, under --json, a JSON
-    object on stdout saying so); exit code 130."""
-    line = "; ".join(["interrupted", *(" ".join(n.split()) for n in INTERRUPT_NOTES)])
+def _exit_code(signame: str | None) -> int:
+    """The exit code of a command ended by the signal ``signame`` (``"SIGINT"``, ``"SIGTERM"``; None: SIGINT):
+    128 + its number, as a shell reports it (130, 143)."""
+    return 128 + int(signal.Signals[signame or "SIGINT"])
+
+
+def _interrupted(as_json: bool, signame: str | None = None) -> int:
+    """One line ``trikedyn: interrupted`` (``interrupted by SIGTERM``) on stderr, with what the command kept
+    (and, under --json, a JSON object on stdout saying so); exit code 128 + the signal's number (130, 143)."""
+    said = "interrupted" if signame in (None, "SIGINT") else f"interrupted by {signame}"
+    line = "; ".join([said, *(" ".join(n.split()) for n in INTERRUPT_NOTES)])
     typer.echo(f"trikedyn: {line}", err=True)
     if as_json:
-        typer.echo(json.dumps({"error": line, "where": "SIGINT", "interrupted": True}, allow_nan=False))
-    return 130
+        typer.echo(json.dumps({"error": line, "where": signame or "SIGINT", "interrupted": True}, allow_nan=False))
+    return _exit_code(signame)
 
 
 class _SigintSeen:
-    """While a command runs, SIGINT raises the KeyboardInterrupt Python's own handler would, and is noted.
+    """While a command runs, SIGINT and SIGTERM raise the KeyboardInterrupt Python's own SIGINT handler would,
+    and the signal is noted (:attr:`seen`: its name).
 
     The CLI library turns a KeyboardInterrupt into a silent exit code 130 (``typer``: ``Exit(130)``, returned
     as the command's result): the note is how :func:`main` tells an interrupt from a command that returned 130,
-    and says so. Installed only over Python's default handler, in the main thread (a SIGINT ignored by the
-    shell that started us stays ignored); a handler a command installs for itself (the study's: stop after
-    the scenarios in flight) takes over while it runs.
+    and says so. SIGTERM, whose default would end the process without a word (and leave a pool's workers to
+    notice), ends every command the way Ctrl-C does: what is stored is kept. Each handler is installed only
+    over the default one (Python's for SIGINT, none for SIGTERM), in the main thread (a signal ignored by
+    the shell that started us stays ignored); a handler a command installs for itself (the study's: stop
+    after the scenarios in flight) takes over while it runs.
     """
 
+    _DEFAULTS = {signal.SIGINT: signal.default_int_handler, signal.SIGTERM: signal.SIG_DFL}
+
     def __init__(self):
-        self.seen = False
-        self._installed = False
+        self.seen: str | None = None
+        self._installed: list = []
 
     def _handler(self, signum, frame):  # noqa: ARG002
-        self.seen = True
+        self.seen = signal.Signals(signum).name
         raise KeyboardInterrupt
 
     def __enter__(self):
-        if threading.current_thread() is threading.main_thread() and \
-                signal.getsignal(signal.SIGINT) is signal.default_int_handler:
-            signal.signal(signal.SIGINT, self._handler)
-            self._installed = True
+        if threading.current_thread() is threading.main_thread():
+            for sig, default in self._DEFAULTS.items():
+                if signal.getsignal(sig) is default:
+                    signal.signal(sig, self._handler)
+                    self._installed.append(sig)
         return self
 
     def __exit__(self, *exc):
-        if self._installed:
-            signal.signal(signal.SIGINT, signal.default_int_handler)
-            self._installed = False
+        for sig in self._installed:
+            signal.signal(sig, self._DEFAULTS[sig])
+        self._installed = []
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):  # noqa: ARG001
@@ -157,7 +172,8 @@ def main(argv: list[str] | None = None) -> int:
     simulation that cannot start or that fails) prints one line ``trikedyn: error: WHERE: WHAT`` on stderr
     and exits with code 2; with ``--json`` the same error is also a JSON object ``{"error", "where"}`` on
     stdout. Warnings print as one line each. Ctrl-C (SIGINT) prints one line ``trikedyn: interrupted`` (with
-    what the command kept), under ``--json`` also a JSON object saying so, and exits with code 130. A genuine
+    what the command kept), under ``--json`` also a JSON object saying so, and exits with code 130; SIGTERM
+    likewise (``interrupted by SIGTERM``), exit code 143. A genuine
     bug keeps its traceback (exit code 1).
 
     Parameters
@@ -190,7 +206,7 @@ def main(argv: list[str] | None = None) -> int:
                 raise_interrupt(exc)
                 raise
             if sigint.seen and result == 130:  # the CLI library's silent exit for a KeyboardInterrupt
-                return _interrupted(as_json)
+                return _interrupted(as_json, sigint.seen)
         except InputError as exc:
             return _fail(str(exc), as_json, exc.where)
         except SimulationError as exc:
@@ -203,10 +219,10 @@ def main(argv: list[str] | None = None) -> int:
         except MemoryError:
             return _fail("input: too large to process in memory", as_json, "input")
         except KeyboardInterrupt:
-            return _interrupted(as_json)
+            return _interrupted(as_json, sigint.seen)
         except SystemExit as exc:
             code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
-            return _interrupted(as_json) if sigint.seen and code == 130 else code
+            return _interrupted(as_json, sigint.seen) if sigint.seen and code == 130 else code
         except Exception as exc:  # click's usage errors (unknown option, missing argument) and Exit
             if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):
                 ctx = getattr(exc, "ctx", None)
@@ -216,7 +232,8 @@ def main(argv: list[str] | None = None) -> int:
                 typer.echo("trikedyn: aborted", err=True)
                 return 130
             if hasattr(exc, "exit_code") and type(exc).__name__ == "Exit":
-                return _interrupted(as_json) if sigint.seen and int(exc.exit_code) == 130 else int(exc.exit_code)
+                return _interrupted(as_json, sigint.seen) if sigint.seen and int(exc.exit_code) == 130 \
+                    else int(exc.exit_code)
             raise
     return result if isinstance(result, int) else 0
 

@@ -68,7 +68,8 @@ def study_summary_text(s: dict) -> str:
 def run_study_cmd(spec, out, *, workers=None, dask_local=None, scheduler=None, max_scenarios=10_000,
                   as_json=False, force=False) -> dict:
     """Run or resume a study, print its summary (text or JSON) and progress (a bar on a terminal, a line every
-    few seconds otherwise); SIGINT/SIGTERM -> exit 130, lost workers -> exit 1 (each with one line on stderr)."""
+    few seconds otherwise); SIGINT -> exit 130, SIGTERM -> 143, lost workers or scheduler -> exit 1 (each with
+    one line on stderr)."""
     from ..study.runner import StudyIncomplete, StudyInterrupted, execute_study
     from ._common import on_interrupt
 
@@ -82,8 +83,12 @@ def run_study_cmd(spec, out, *, workers=None, dask_local=None, scheduler=None, m
     try:
         run.raise_unfinished()
     except StudyInterrupted as exc:
-        typer.echo(f"trikedyn: {exc}", err=True)
-        raise SystemExit(130) from None
+        import signal
+
+        name = run.signal or "SIGINT"
+        said = str(exc) if name == "SIGINT" else str(exc).replace("interrupted", f"interrupted by {name}", 1)
+        typer.echo(f"trikedyn: {said}", err=True)
+        raise SystemExit(128 + int(signal.Signals[name])) from None
     except StudyIncomplete as exc:
         typer.echo(f"trikedyn: {exc}", err=True)
         raise SystemExit(1) from None

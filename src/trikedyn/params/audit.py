@@ -46,6 +46,17 @@ def tip_over_thresholds(params: VehicleParameters) -> list[dict]:
     It holds for either layout: for a CG on the centre line at height ``h``, ``d`` from the single wheel's
     axle along x, with wheelbase ``L`` and track ``T``, each side edge gives ``a_y / g = d T / (2 h L)``
     (``d`` behind the front wheel of a delta, ahead of the rear wheel of a tadpole).
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+
+    Returns
+    -------
+    list of dict
+        Per edge: its name, distances [m], the tipping acceleration ``acceleration_g`` (dimensionless),
+        whether it is ``lateral`` and the side it ``tips_toward``.
     """
     pts = np.array([(w.x_m, w.y_m) for w in params.wheels])
     names = [w.name for w in params.wheels]
@@ -82,7 +93,18 @@ def tip_over_thresholds(params: VehicleParameters) -> list[dict]:
 
 
 def audit(pset: ParameterSet | VehicleParameters) -> list[Finding]:
-    """Audit a parameter set for consistency; see the module docstring for the checks."""
+    """Audit a parameter set for consistency; see the module docstring for the checks.
+
+    Parameters
+    ----------
+    pset : ParameterSet or VehicleParameters
+        The vehicle.
+
+    Returns
+    -------
+    list of Finding
+        Each check's finding (values in SI units, the paper's Eqs. 3-4 where they apply).
+    """
     params = pset.params if isinstance(pset, ParameterSet) else pset
     g = STANDARD_GRAVITY
     findings: list[Finding] = []

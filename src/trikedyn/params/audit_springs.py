@@ -162,7 +162,22 @@ def _damping(params: VehicleParameters, name: str, reading: str) -> Finding:
 
 def spring_findings(params: VehicleParameters, total_kg: float, cg_x: float) -> list[Finding]:
     """The sprung-mass finding of each wheel, Eq. 4 of each suspension with a measured f_n and xi, and the CG
-    x that Eq. 3 implies (each suspension in its reading) against ``cg_x`` [m] of the ``total_kg`` [kg] set."""
+    x that Eq. 3 implies (each suspension in its reading) against ``cg_x`` [m] of the ``total_kg`` [kg] set.
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+    total_kg : float
+        Total mass of the set [kg].
+    cg_x : float
+        CG x of the set [m].
+
+    Returns
+    -------
+    list of Finding
+        The findings.
+    """
     readings = {name: _reading(params, name) for name in params.suspension
                 if any(w.suspension == name for w in params.wheels)}
     findings, implied = [], {}

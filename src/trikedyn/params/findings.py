@@ -19,5 +19,11 @@ class Finding:
     values: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
-        """The finding as a plain dict (JSON-ready once its numbers are finite)."""
+        """The finding as a plain dict (JSON-ready once its numbers are finite).
+
+        Returns
+        -------
+        dict
+            The fields.
+        """
         return asdict(self)

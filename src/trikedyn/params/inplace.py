@@ -46,6 +46,20 @@ def check_vehicle_target(path: str | os.PathLike, *, reads=(), option: str = "--
     name, not a symbolic link), writable, in a writable folder, and none of ``reads`` (the command's other
     inputs).
 
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The vehicle file.
+    reads : iterable of path
+        The command's other inputs.
+    option : str
+        The option named in errors.
+
+    Returns
+    -------
+    Path
+        The checked path.
+
     Raises
     ------
     InputError
@@ -78,7 +92,22 @@ def check_vehicle_target(path: str | os.PathLike, *, reads=(), option: str = "--
 
 
 def read_vehicle_target(path: Path) -> tuple[str, ParameterSet, os.stat_result]:
-    """The text, the parameter set and the ``stat`` of a vehicle file about to be updated."""
+    """The text, the parameter set and the ``stat`` of a vehicle file about to be updated.
+
+    Parameters
+    ----------
+    path : Path
+        The vehicle file.
+
+    Returns
+    -------
+    text : str
+        Its text.
+    pset : ParameterSet
+        The parameter set parsed from it.
+    stat : os.stat_result
+        Its ``stat`` before the update.
+    """
     where = str(path)
     before = path.stat()
     text = read_text(path, where, error=ParameterError)
@@ -111,6 +140,20 @@ def set_table_lines(text: str, table: tuple[str, ...], lines: Mapping[str, str])
 
     Text only: the caller reads the result back to check it (a table written as dotted keys or an inline
     table elsewhere makes a file that is not valid TOML, or not the same set).
+
+    Parameters
+    ----------
+    text : str
+        The TOML text.
+    table : tuple of str
+        The table's path (``("a", "b")`` for ``[a.b]``).
+    lines : Mapping of str to str
+        Key -> its new ``key = value`` line.
+
+    Returns
+    -------
+    str
+        The new text.
     """
     rows = text.splitlines(keepends=True)
     newline = "\r\n" if rows and rows[0].endswith("\r\n") else "\n"

@@ -74,7 +74,22 @@ _RATES = ("stiffness_N_per_m", "damping_Ns_per_m", "bump_stop_stiffness_N_per_m"
 
 def check_keep(keep: str, where: str = "keep", allow_both: bool = False) -> str:
     """``keep`` if it names what a mirror keeps (:data:`KEEPS`, and ``"both"`` when allowed), else an
-    :class:`~trikedyn.errors.InputError` naming ``where``."""
+    :class:`~trikedyn.errors.InputError` naming ``where``.
+
+    Parameters
+    ----------
+    keep : str
+        What the mirror keeps.
+    where : str
+        Error location.
+    allow_both : bool
+        Accept ``"both"``.
+
+    Returns
+    -------
+    str
+        ``keep``.
+    """
     allowed = (*KEEPS, "both") if allow_both else KEEPS
     if keep not in allowed:
         raise InputError(f"expected one of {', '.join(allowed)}, got {keep!r}", where=where)
@@ -82,7 +97,22 @@ def check_keep(keep: str, where: str = "keep", allow_both: bool = False) -> str:
 
 
 def mirror_name(name: str, layout: str, keep: str | None = None) -> str:
-    """The name of the mirror of vehicle ``name`` in ``layout`` (``keep`` named when it is ``"cg"``)."""
+    """The name of the mirror of vehicle ``name`` in ``layout`` (``keep`` named when it is ``"cg"``).
+
+    Parameters
+    ----------
+    name : str
+        The vehicle's name.
+    layout : str
+        ``"delta"`` or ``"tadpole"``.
+    keep : str, optional
+        What the mirror keeps.
+
+    Returns
+    -------
+    str
+        The name, at most 100 characters.
+    """
     suffix = f" ({layout} mirror{', CG kept' if keep == 'cg' else ''})"
     return name[: 100 - len(suffix)] + suffix
 

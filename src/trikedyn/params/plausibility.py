@@ -175,6 +175,16 @@ def implausible_values(params: VehicleParameters, tyres: dict | None = None) -> 
 
 def warn_implausible(params: VehicleParameters, origin: str, tyres: dict | None = None) -> None:
     """One :class:`~trikedyn.plausibility.PlausibilityWarning` ``'ORIGIN: FIELD: what and why'`` per finding
-    of :func:`implausible_values`."""
+    of :func:`implausible_values`.
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+    origin : str
+        Where the set came from (the warning's prefix).
+    tyres : dict, optional
+        Parsed tyre files by wheel.
+    """
     for message in implausible_values(params, tyres):
         warnings.warn(f"{origin}: {message}", PlausibilityWarning, stacklevel=4)

@@ -54,6 +54,23 @@ def flat_ranges(node, prefix: str = "") -> dict:
 
     A table is a range (``{ rel = f }``) if it has a ``rel`` key, else a section to descend into. A key given
     in both forms keeps the later one (after ``extends`` merged the tables, the extending file's).
+
+    Parameters
+    ----------
+    node : dict
+        The ``[ranges]`` table.
+    prefix : str
+        Path of ``node``.
+
+    Returns
+    -------
+    dict
+        Dotted parameter path -> range.
+
+    Raises
+    ------
+    ValueError
+        When ``node`` is not a table.
     """
     if not isinstance(node, dict):
         raise ValueError("expected a table of ranges keyed by parameter path ([ranges.mass] cg_z_m = [low, high])")

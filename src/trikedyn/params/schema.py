@@ -489,7 +489,23 @@ class VehicleParameters(_Spec):
 
     # ---- derived geometry -------------------------------------------------------------------------
     def wheel(self, name: str) -> WheelSpec:
-        """The wheel called ``name``."""
+        """The wheel called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            A wheel name.
+
+        Returns
+        -------
+        WheelSpec
+            The wheel.
+
+        Raises
+        ------
+        KeyError
+            When there is none.
+        """
         for w in self.wheels:
             if w.name == name:
                 return w

@@ -37,7 +37,20 @@ __all__ = ["QuarterCar", "TyreOfWheel", "series_stiffness", "suspension_quarter_
 
 
 def series_stiffness(stiffness_N_per_m: float, tyre_stiffness_N_per_m: float) -> float:
-    """Stiffness [N/m] of the suspension's spring and the tyre in series, ``1/K_eq = 1/K_s + 1/K_t``."""
+    """Stiffness [N/m] of the suspension's spring and the tyre in series, ``1/K_eq = 1/K_s + 1/K_t``.
+
+    Parameters
+    ----------
+    stiffness_N_per_m : float
+        Suspension stiffness at the wheel [N/m].
+    tyre_stiffness_N_per_m : float
+        Tyre vertical stiffness [N/m].
+
+    Returns
+    -------
+    float
+        [N/m].
+    """
     return 1.0 / (1.0 / stiffness_N_per_m + 1.0 / tyre_stiffness_N_per_m)
 
 
@@ -64,7 +77,20 @@ class TyreOfWheel:
 def wheel_tyre(params: VehicleParameters, wheel) -> TyreOfWheel:
     """The tyre of ``wheel`` (a :class:`~trikedyn.params.schema.WheelSpec`): its ``.tir`` file's vertical
     stiffness and damping when it names one (the ``[tyre]`` stiffness where the file gives none), else the
-    ``[tyre]`` section's."""
+    ``[tyre]`` section's.
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+    wheel : WheelSpec
+        The wheel.
+
+    Returns
+    -------
+    TyreOfWheel
+        Vertical stiffness [N/m] and damping [N s/m].
+    """
     spec = params.tyre
     if wheel.tyre_file is None:
         return TyreOfWheel(spec.vertical_stiffness_N_per_m, spec.vertical_damping_Ns_per_m, spec.nominal_load_N,
@@ -109,7 +135,20 @@ class QuarterCar:
 
     def body_mode(self, sprung_mass_kg: float | None = None) -> tuple[float, float]:
         """Undamped natural frequency [Hz] and damping ratio [-] of the body (bounce) mode, with this quarter
-        car's sprung mass or ``sprung_mass_kg``; NaN for a sprung mass that is not positive."""
+        car's sprung mass or ``sprung_mass_kg``; NaN for a sprung mass that is not positive.
+
+        Parameters
+        ----------
+        sprung_mass_kg : float, optional
+            Sprung mass [kg]; this quarter car's by default.
+
+        Returns
+        -------
+        natural_frequency_hz : float
+            [Hz].
+        damping_ratio : float
+            Dimensionless.
+        """
         mass = self.sprung_mass_kg if sprung_mass_kg is None else sprung_mass_kg
         if not mass > 0:
             return math.nan, math.nan
@@ -121,7 +160,18 @@ class QuarterCar:
 
     def sprung_mass_for(self, natural_frequency_hz: float) -> float | None:
         """Eq. 3 with the tyre in series: the sprung mass [kg] whose body mode has ``natural_frequency_hz``
-        [Hz] (:func:`~trikedyn.measure.quarter_car.sprung_mass_for_frequency`); None if none has."""
+        [Hz] (:func:`~trikedyn.measure.quarter_car.sprung_mass_for_frequency`); None if none has.
+
+        Parameters
+        ----------
+        natural_frequency_hz : float
+            Body-mode frequency [Hz].
+
+        Returns
+        -------
+        float or None
+            Sprung mass [kg].
+        """
         from ..measure.quarter_car import sprung_mass_for_frequency
 
         return sprung_mass_for_frequency(natural_frequency_hz, self.unsprung_mass_kg, self.stiffness_N_per_m,
@@ -130,7 +180,20 @@ class QuarterCar:
 
 
 def wheel_quarter_car(params: VehicleParameters, wheel_name: str) -> QuarterCar:
-    """The quarter car of the wheel ``wheel_name`` (see the module docstring)."""
+    """The quarter car of the wheel ``wheel_name`` (see the module docstring).
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+    wheel_name : str
+        The wheel.
+
+    Returns
+    -------
+    QuarterCar
+        Masses [kg], stiffnesses [N/m], dampings [N s/m].
+    """
     wheel = params.wheel(wheel_name)
     susp = params.suspension[wheel.suspension]
     tyre = wheel_tyre(params, wheel)
@@ -143,6 +206,18 @@ def wheel_quarter_car(params: VehicleParameters, wheel_name: str) -> QuarterCar:
 def suspension_quarter_car(params: VehicleParameters, suspension: str) -> QuarterCar:
     """The quarter car of the suspension ``suspension``: the mean of its wheels' (a pair's sprung masses
     differ when the CG is off the centre line; a bump test under both sees their mean).
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+    suspension : str
+        The suspension's name.
+
+    Returns
+    -------
+    QuarterCar
+        Masses [kg], stiffnesses [N/m], dampings [N s/m].
 
     Raises
     ------

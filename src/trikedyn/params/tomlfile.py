@@ -35,7 +35,18 @@ _INT_LIMIT = 2**63
 
 
 def is_file(path: Path) -> bool:
-    """Whether ``path`` is an existing regular file; False for a name the system cannot even look up."""
+    """Whether ``path`` is an existing regular file; False for a name the system cannot even look up.
+
+    Parameters
+    ----------
+    path : Path
+        The path.
+
+    Returns
+    -------
+    bool
+        Whether it is a regular file.
+    """
     try:
         return path.is_file()
     except (OSError, ValueError):  # a name too long, a NUL byte, a permission denied on the way
@@ -43,7 +54,18 @@ def is_file(path: Path) -> bool:
 
 
 def builtin_names(folder) -> list[str]:
-    """Names of the built-in ``.toml`` files in the package resource ``folder`` (without the suffix), sorted."""
+    """Names of the built-in ``.toml`` files in the package resource ``folder`` (without the suffix), sorted.
+
+    Parameters
+    ----------
+    folder : importlib.resources.abc.Traversable
+        The resource folder.
+
+    Returns
+    -------
+    list of str
+        The names.
+    """
     return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
 
 
@@ -51,6 +73,24 @@ def builtin_or_file(name_or_path: str | Path, folder, kind: str, where: str) -> 
     """The TOML text of a built-in file (a name of a ``.toml`` in the package resource ``folder``) or of a
     file (a ``.toml`` name, a path with a folder, or an existing file), and that file's path (None for a
     built-in). ``kind`` names what is asked for in errors (``"study spec"``), ``where`` the option.
+
+    Parameters
+    ----------
+    name_or_path : str or Path
+        A built-in name or a file.
+    folder : importlib.resources.abc.Traversable
+        The resource folder.
+    kind : str
+        What is asked for, in errors.
+    where : str
+        The option, in errors.
+
+    Returns
+    -------
+    text : str
+        The TOML text.
+    path : Path or None
+        The file, None for a built-in.
 
     Raises
     ------
@@ -76,13 +116,51 @@ def read_text(path: Path, where: str, *, error: type[InputError] = InputError,
     Read by the one bounded reader (:func:`trikedyn._reading.read_text`): a pipe, a device or a folder named
     in place of a file is refused before it is opened, never waited on or read without end. ``missing`` is
     the message for a file that does not exist.
+
+    Parameters
+    ----------
+    path : Path
+        The file.
+    where : str
+        Error location.
+    error : type
+        The error class raised.
+    max_bytes : int
+        Size limit [bytes].
+    missing : str
+        Message for a missing file.
+
+    Returns
+    -------
+    str
+        The text.
     """
     return _bounded_text(path, where, max_bytes=max_bytes, error=error, missing=missing,
                    too_large=lambda _: f"larger than {max_bytes / 1024:g} KiB; expected a small TOML file")
 
 
 def parse_toml(text: str, where: str, *, error: type[InputError] = InputError) -> dict:
-    """The TOML document ``text``, checked against the bounds of the module docstring."""
+    """The TOML document ``text``, checked against the bounds of the module docstring.
+
+    Parameters
+    ----------
+    text : str
+        The document.
+    where : str
+        Error location.
+    error : type
+        The error class raised.
+
+    Returns
+    -------
+    dict
+        The document.
+
+    Raises
+    ------
+    InputError
+        Invalid TOML or beyond the bounds (of class ``error``).
+    """
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

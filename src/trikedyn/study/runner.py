@@ -23,10 +23,11 @@ to the store as it completes (:mod:`trikedyn.study.store`) and reports its progr
 (:mod:`trikedyn.study.progress`: a bar on a terminal, a plain line every few seconds otherwise). Once every
 scenario is stored it exports the table and draws the study's figures (:mod:`trikedyn.study.figures`).
 
-Interruption: the first SIGINT (Ctrl-C) or SIGTERM stops submitting, lets the scenarios in flight finish
-and be stored, then raises :class:`StudyInterrupted` (the CLI exits with code 130 and says how many
-scenarios are stored); a second one abandons the scenarios in flight (``shutdown(wait=False,
-cancel_futures=True)``: the pool's workers are stopped). A SIGKILL at any moment leaves the
+Interruption: the first SIGINT (Ctrl-C) stops submitting, lets the scenarios in flight finish and be
+stored, then raises :class:`StudyInterrupted` (the CLI exits with code 130 and says how many scenarios are
+stored); a second one, or a SIGTERM at any time (``timeout``, ``kill``: a scenario that hangs must not keep
+the process alive), abandons the scenarios in flight (``shutdown(wait=False, cancel_futures=True)``: the
+pool's workers are stopped; the CLI exits with code 143 after a SIGTERM). A SIGKILL at any moment leaves the
 store consistent. Re-running the same spec into the same folder resumes: stored scenarios are not
 recomputed. Pool workers ignore SIGINT (the main process decides) and exit on their own when the main
 process dies.
@@ -153,7 +154,9 @@ def run_scenario(scenario: dict, vehicle=None, run_token: str | None = None) -> 
 # the loop
 # ------------------------------------------------------------------------------------------------
 class _StopSignal:
-    """First SIGINT/SIGTERM: ask to stop after the scenarios in flight; second: KeyboardInterrupt now."""
+    """First SIGINT: ask to stop after the scenarios in flight; a second one, or SIGTERM: KeyboardInterrupt now.
+
+    :attr:`requested` is the name of the last signal seen (None: none)."""
 
     def __init__(self, note=None):
         self.requested: str | None = None
@@ -161,9 +164,9 @@ class _StopSignal:
         self._note = note
 
     def _handler(self, signum, frame):
-        if self.requested is not None:
+        again, self.requested = self.requested is not None, signal.Signals(signum).name
+        if again or signum != signal.SIGINT:
             raise KeyboardInterrupt
-        self.requested = signal.Signals(signum).name
         if self._note is not None:
             self._note(f"{self.requested}: stopping after the scenarios in flight (again to abandon them)")
 
@@ -193,11 +196,14 @@ class StudyRun:
         The stored scenarios in spec order (see :meth:`StudyStore.to_pandas`).
     lost : list of (scenario_id, why)
         Scenarios lost to dead workers in this run.
+    signal : str or None
+        The signal that interrupted the run (``"SIGINT"``, ``"SIGTERM"``), or None.
     """
 
     summary: dict
     table: object = None
     lost: list = field(default_factory=list)
+    signal: str | None = None
 
     def raise_unfinished(self) -> None:
         """Raise :class:`StudyInterrupted` or :class:`StudyIncomplete` if the run did not complete."""
@@ -404,7 +410,7 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
         "figures": [str(p) for p in drawn],
         "run_token": token,
     }
-    return StudyRun(summary, frame, lost)
+    return StudyRun(summary, frame, lost, stop.requested)
 
 
 def _figures(frame, out_dir: Path, title: str) -> list[Path]:
