@@ -93,8 +93,25 @@ def _unwrap(obj):
     return py_func if inspect.isfunction(py_func) else obj
 
 
+def _inherited_doc(cls, attr):
+    """The docstring a method without its own shows: that of the method it overrides (as ``inspect.getdoc``)."""
+    for base in cls.__mro__[1:]:
+        member = vars(base).get(attr)
+        if member is None:
+            continue
+        member = getattr(member, "__func__", member)
+        member = member.fget if isinstance(member, property) else member
+        if getattr(member, "__doc__", None):
+            return member.__doc__
+    return None
+
+
 def _public_objects():
-    """Yield (qualified name, kind, function-or-class) for every public function, class and method."""
+    """Yield (qualified name, kind, function-or-class, docstring) for every public function, class and method.
+
+    A method without a docstring of its own that overrides a documented one shows (and is checked with) the
+    docstring it overrides, as :func:`inspect.getdoc` and the API pages show it.
+    """
     for modname in _modules():
         module = importlib.import_module(modname)
         names = getattr(module, "__all__", None)
@@ -108,17 +125,17 @@ def _public_objects():
                 continue
             qual = f"{modname}.{name}"
             if inspect.isfunction(obj):
-                yield qual, "function", obj
+                yield qual, "function", obj, obj.__doc__
                 continue
-            yield qual, "class", obj
+            yield qual, "class", obj, inspect.getdoc(obj)
             for attr, member in vars(obj).items():
                 if attr.startswith("_"):
                     continue
                 if isinstance(member, property):
-                    yield f"{qual}.{attr}", "property", member.fget
+                    yield f"{qual}.{attr}", "property", member.fget, member.fget.__doc__ or _inherited_doc(obj, attr)
                     continue
                 if hasattr(member, "func") and hasattr(member, "attrname"):  # functools.cached_property
-                    yield f"{qual}.{attr}", "property", member.func
+                    yield f"{qual}.{attr}", "property", member.func, member.func.__doc__
                     continue
                 kind = "method"
                 if isinstance(member, staticmethod):
@@ -127,7 +144,7 @@ def _public_objects():
                     member = member.__func__
                 member = _unwrap(member)
                 if inspect.isfunction(member) and member.__module__ == modname:
-                    yield f"{qual}.{attr}", kind, member
+                    yield f"{qual}.{attr}", kind, member, member.__doc__ or _inherited_doc(obj, attr)
 
 
 # ---------------------------------------------------------------------------------------------------------
@@ -201,9 +218,10 @@ def _physical(param: inspect.Parameter) -> bool:
     return param.name.endswith(UNIT_SUFFIXES) or param.name in PHYSICAL
 
 
-def problems(qual: str, kind: str, obj, exempt: bool) -> list[str]:
-    """What the docstring of ``obj`` lacks, as ``qualified.name: what`` lines."""
-    doc = inspect.getdoc(obj) if kind == "class" else obj.__doc__
+def problems(qual: str, kind: str, obj, exempt: bool, doc: str | None = None) -> list[str]:
+    """What the docstring of ``obj`` (or ``doc``, the one it shows) lacks, as ``qualified.name: what`` lines."""
+    if doc is None:
+        doc = inspect.getdoc(obj) if kind == "class" else obj.__doc__
     if not doc or not doc.strip():
         return [f"{qual}: no docstring"]
     if kind in ("class", "property") or exempt:
@@ -240,11 +258,11 @@ def all_problems() -> dict[str, list[str]]:
     """{qualified name: its problems} over the whole package (names with none are left out)."""
     exempt = _command_callbacks()
     seen, out = set(), {}
-    for qual, kind, obj in _public_objects():
+    for qual, kind, obj, doc in _public_objects():
         if qual in seen:
             continue
         seen.add(qual)
-        found = problems(qual, kind, obj, obj in exempt)
+        found = problems(qual, kind, obj, obj in exempt, doc)
         out[qual] = found
     return out
 
@@ -344,7 +362,7 @@ def test_the_check_finds_what_it_should():
 
 def test_the_walk_sees_the_package():
     """The walk reaches functions, methods and numba-compiled functions of the package."""
-    found = {qual: obj for qual, _, obj in _public_objects()}
+    found = {qual: obj for qual, _, obj, _ in _public_objects()}
     assert "trikedyn.units.kmh_to_mps" in found
     assert "trikedyn.mechanics.mass.Payload.added_to" in found  # a method
     from trikedyn.tyre import contact

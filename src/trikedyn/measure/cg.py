@@ -56,6 +56,13 @@ class LevelWeighingResult:
     cg_y_std_m: float
 
     def to_dict(self) -> dict:
+        """The result as a dict of floats (masses [kg], lengths [m], as the fields).
+
+        Returns
+        -------
+        dict
+            Field name -> value.
+        """
         return {k: float(v) for k, v in self.__dict__.items()}
 
 
@@ -113,6 +120,23 @@ def tilted_wheel_loads(
     from the lower axle, ``z - r`` its height above the axle line (equal wheel radii ``r``) and
     ``sin(theta) = H / L``.
 
+    Parameters
+    ----------
+    mass_kg : float
+        Vehicle mass [kg].
+    cg_m : array_like, shape (3,)
+        CG (x from the rear axle, y, z above the ground) [m].
+    wheelbase_m : float
+        Wheelbase [m].
+    raise_heights_m : array_like
+        Heights the axle is raised by [m].
+    wheel_radius_m : float
+        Loaded wheel radius [m].
+    raised : {"front", "rear"}
+        Which axle is raised.
+    g : float
+        Gravity [m/s^2].
+
     Returns
     -------
     numpy.ndarray, shape (n,)
@@ -136,6 +160,13 @@ class TiltedWeighingResult:
     residuals_N: np.ndarray
 
     def to_dict(self) -> dict:
+        """The result as a JSON-ready dict.
+
+        Returns
+        -------
+        dict
+            ``cg_z_m``, ``cg_z_std_m`` [m], ``heights_m`` [m] and ``per_height_z_m`` [m] as lists.
+        """
         return {
             "cg_z_m": float(self.cg_z_m),
             "cg_z_std_m": float(self.cg_z_std_m),
@@ -180,6 +211,8 @@ def cg_height_from_tilted_weighings(
         Which axle is raised.
     load_std_N : float
         Standard uncertainty of one load reading [N].
+    g : float
+        Gravity [m/s^2].
 
     Returns
     -------

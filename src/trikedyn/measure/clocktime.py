@@ -25,6 +25,22 @@ def seconds(ymd: np.ndarray | None, hms: np.ndarray, frac_s: np.ndarray) -> tupl
 
     ``ymd`` and ``hms`` have rows (year, month, day) and (hour, minute, second); ``ymd=None``: no date,
     and a clock that goes back by more than 12 h has passed midnight.
+
+    Parameters
+    ----------
+    ymd : numpy.ndarray or None
+        Rows (year, month, day), or None for no date.
+    hms : numpy.ndarray
+        Rows (hour, minute, second).
+    frac_s : numpy.ndarray
+        Fractions of a second [s].
+
+    Returns
+    -------
+    seconds : numpy.ndarray
+        Time from the first row [s].
+    wraps : int
+        Midnight wraps.
     """
     h, m, s = hms.T
     sod = np.where((h < 24) & (m < 60) & (s < 61), h * 3600 + m * 60 + s + frac_s, np.nan)
@@ -37,7 +53,22 @@ def seconds(ymd: np.ndarray | None, hms: np.ndarray, frac_s: np.ndarray) -> tupl
 
 
 def clock_seconds(text: pd.Series, ms_field: bool) -> tuple[np.ndarray, int]:
-    """:func:`seconds` of clock texts ``[YYYY-M-D ]h:m:s[.f]``; ``ms_field``: up to 3 digits count ms."""
+    """:func:`seconds` of clock texts ``[YYYY-M-D ]h:m:s[.f]``; ``ms_field``: up to 3 digits count ms.
+
+    Parameters
+    ----------
+    text : pandas.Series
+        The clock texts.
+    ms_field : bool
+        Read a fraction of up to 3 digits as milliseconds.
+
+    Returns
+    -------
+    seconds : numpy.ndarray
+        Time from the first row [s].
+    wraps : int
+        Midnight wraps of a dateless clock.
+    """
     p = text.astype(str).str.extract(CLOCK)
     num = p.iloc[:, :6].apply(pd.to_numeric).to_numpy(float)
     frac = p[6].fillna("").astype(object)
@@ -48,7 +79,27 @@ def clock_seconds(text: pd.Series, ms_field: bool) -> tuple[np.ndarray, int]:
 
 
 def clock_fields(t: np.ndarray, path: Path, fmt: str) -> pd.DataFrame:
-    """Date and clock fields of ``t`` [s] counted from 2000-01-01 00:00:00, to 1 ms."""
+    """Date and clock fields of ``t`` [s] counted from 2000-01-01 00:00:00, to 1 ms.
+
+    Parameters
+    ----------
+    t : numpy.ndarray
+        Times [s] from 2000-01-01 00:00:00, increasing.
+    path : Path
+        The file written, for errors.
+    fmt : str
+        The format, for errors.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns year, month, day, hour, minute, second, ms.
+
+    Raises
+    ------
+    LogFormatError
+        When samples are less than 1 ms apart.
+    """
     ms = np.round(t * 1000.0).astype(np.int64)
     if (np.diff(ms) <= 0).any():
         raise LogFormatError(f"samples less than 1 ms apart; format {fmt!r} stores time to 1 ms",
@@ -59,7 +110,20 @@ def clock_fields(t: np.ndarray, path: Path, fmt: str) -> pd.DataFrame:
 
 
 def clock_text(f: pd.DataFrame, style: str) -> pd.Series:
-    """``sdk``: `` 2000-1-1 0:0:5.7``; ``clock``: ``00:00:05.007``; ``date``: ``2000-1-1 00:00:05.007``."""
+    """``sdk``: `` 2000-1-1 0:0:5.7``; ``clock``: ``00:00:05.007``; ``date``: ``2000-1-1 00:00:05.007``.
+
+    Parameters
+    ----------
+    f : pandas.DataFrame
+        Fields from :func:`clock_fields`.
+    style : {"sdk", "clock", "date"}
+        The text style.
+
+    Returns
+    -------
+    pandas.Series
+        The texts.
+    """
     s = {k: v.astype(str) for k, v in f.items()}
     if style == "sdk":
         return (" " + s["year"] + "-" + s["month"] + "-" + s["day"] + " " + s["hour"] + ":" + s["minute"]

@@ -32,6 +32,16 @@ def one_sided_peak_ratio(damping_ratio):
     For ``e^(-sigma t) cos(omega_d t + phi)``, ``t >= 0``, ``x'(0) = 0``: ``|X|^2 ~ (r^2 + 4 xi^2) /
     ((1 - r^2)^2 + 4 xi^2 r^2)``, r = f/f_n, peaks at ``r^2 = sqrt(1 + 8 xi^2) - 4 xi^2``: 0.9944 at xi = 0.2,
     0.9327 at 0.4, between f_d/f_n (0.980, 0.917) and 1.
+
+    Parameters
+    ----------
+    damping_ratio : float or array_like
+        Damping ratio, dimensionless.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        Peak frequency over f_n, dimensionless.
     """
     z2 = np.asarray(damping_ratio, float) ** 2
     return scalar_or_array(np.sqrt(np.sqrt(1.0 + 8.0 * z2) - 4.0 * z2))

@@ -70,7 +70,18 @@ class SuspensionIdentification:
     spectrum_magnitude: np.ndarray
 
     def to_dict(self, include_arrays=False):
-        """JSON-safe dict: scalars (NaN as None), ``warnings`` as a list, arrays as lists on request."""
+        """JSON-safe dict: scalars (NaN as None), ``warnings`` as a list, arrays as lists on request.
+
+        Parameters
+        ----------
+        include_arrays : bool
+            Include the record and spectrum arrays.
+
+        Returns
+        -------
+        dict
+            The identification (SI units).
+        """
         out = {}
         for key, value in asdict(self).items():
             if isinstance(value, np.ndarray):
@@ -83,7 +94,13 @@ class SuspensionIdentification:
         return out
 
     def to_pandas(self):
-        """The scalars as a :class:`pandas.Series`."""
+        """The scalars as a :class:`pandas.Series`.
+
+        Returns
+        -------
+        pandas.Series
+            The scalars.
+        """
         import pandas as pd
         return pd.Series(self.to_dict())
 
@@ -94,6 +111,20 @@ class SuspensionIdentification:
         before ``decay_start_s``, whichever is earlier) and ends when the fitted envelope has fallen to
         ``envelope_fraction`` of its start, kept between ``min_periods`` and ``max_periods`` periods after
         the decay start and never before the last crest used. The whole record if the fit failed.
+
+        Parameters
+        ----------
+        periods_before : float
+            Damped periods shown before the response, dimensionless.
+        envelope_fraction : float
+            Envelope level that ends it, dimensionless.
+        min_periods, max_periods : float
+            Bounds on the periods shown after the decay start, dimensionless.
+
+        Returns
+        -------
+        start, end : float
+            Times [s].
         """
         t = np.asarray(self.record_time_s, float)
         full = (float(t[0]), float(t[-1])) if t.size else (0.0, 1.0)
@@ -126,6 +157,18 @@ class SuspensionIdentification:
 
         ``ax``: None, one or two Axes (the time panel, then the spectrum). ``axis``: the accelerometer axis
         identified, ``"x"``, ``"y"`` or ``"z"``, for the labels.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes or sequence of two, optional
+            Where to draw.
+        axis : {"x", "y", "z"}
+            Accelerometer axis, for the labels.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
         """
         import matplotlib.pyplot as plt
         if axis not in AXIS_NAMES:

@@ -59,7 +59,29 @@ MAX_LOG_BYTES = 256 * 2**20
 
 
 def bounded(value, name: str, low: float, high: float, unit: str) -> float:
-    """``value`` as a float in ``[low, high]``; an InputError naming ``name`` and the range otherwise."""
+    """``value`` as a float in ``[low, high]``; an InputError naming ``name`` and the range otherwise.
+
+    Parameters
+    ----------
+    value : object
+        The value given.
+    name : str
+        Its name, for errors.
+    low, high : float
+        The range, in ``unit``.
+    unit : str
+        Its unit.
+
+    Returns
+    -------
+    float
+        The value.
+
+    Raises
+    ------
+    InputError
+        Not a number or out of range.
+    """
     try:
         if isinstance(value, bool | str):
             raise TypeError
@@ -72,7 +94,27 @@ def bounded(value, name: str, low: float, high: float, unit: str) -> float:
 
 
 def checked_record(time_s, accel_mps2) -> tuple[np.ndarray, np.ndarray]:
-    """Time [s] and acceleration as float arrays: 1-D, one length, finite, time increasing, within bounds."""
+    """Time [s] and acceleration as float arrays: 1-D, one length, finite, time increasing, within bounds.
+
+    Parameters
+    ----------
+    time_s : array_like
+        Times [s].
+    accel_mps2 : array_like
+        Accelerations [m/s^2].
+
+    Returns
+    -------
+    time : numpy.ndarray
+        [s].
+    accel : numpy.ndarray
+        [m/s^2].
+
+    Raises
+    ------
+    InputError
+        On a record that breaks a bound.
+    """
     t, a = np.asarray(time_s, float), np.asarray(accel_mps2, float)
     if a.ndim != 1 or t.shape != a.shape:
         raise InputError(f"expected 1-D arrays of one length, got {t.shape}, {a.shape}", where="accel_mps2")
@@ -103,7 +145,22 @@ def checked_record(time_s, accel_mps2) -> tuple[np.ndarray, np.ndarray]:
 
 
 def checked_resample(rate_hz, span_s: float, *, given: bool) -> float:
-    """The crest-analysis rate [Hz] for a decay of ``span_s``: a given one checked, an automatic one capped."""
+    """The crest-analysis rate [Hz] for a decay of ``span_s``: a given one checked, an automatic one capped.
+
+    Parameters
+    ----------
+    rate_hz : float
+        The rate asked for, or the automatic one [Hz].
+    span_s : float
+        Decay length [s].
+    given : bool
+        Whether the user gave the rate.
+
+    Returns
+    -------
+    float
+        Rate [Hz].
+    """
     budget = MAX_RESAMPLED_SAMPLES / max(span_s, 1e-9)
     if not given:
         return min(float(rate_hz), MAX_RESAMPLE_HZ, budget)

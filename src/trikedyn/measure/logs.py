@@ -168,11 +168,28 @@ class ImuLog:
         return float(np.median(1.0 / dt)) if dt.size else float("nan")
 
     def to_pandas(self) -> pd.DataFrame:
-        """A copy of :attr:`data`."""
+        """A copy of :attr:`data`.
+
+        Returns
+        -------
+        pandas.DataFrame
+            The copy.
+        """
         return self.data.copy()
 
     def channel(self, name: str) -> np.ndarray:
-        """The values of column ``name`` (SI units) as a float array; LogFormatError if absent."""
+        """The values of column ``name`` (SI units) as a float array; LogFormatError if absent.
+
+        Parameters
+        ----------
+        name : str
+            A column (``ax_mps2``, ...).
+
+        Returns
+        -------
+        numpy.ndarray
+            Its values, SI units.
+        """
         if name not in self.data.columns:
             present = list(self.data.columns)
             raise LogFormatError(f"no channel {name!r}; channels present: {', '.join(present)}"
@@ -338,6 +355,16 @@ def _detect(raw: bytes, path: Path) -> str:
 def detect_format(path) -> str:
     """The format key of the log at ``path``, sniffed from its first bytes or header line.
 
+    Parameters
+    ----------
+    path : str or Path
+        The log file.
+
+    Returns
+    -------
+    str
+        The format key.
+
     Raises
     ------
     LogFormatError
@@ -470,6 +497,15 @@ def write_log(log: ImuLog | pd.DataFrame, path, format: str = "witmotion-sdk") -
     00:00:00 and values as exact decimal text; ``wt901sd-binary`` quantises to one LSB of its int16 fields
     and writes 0x50 chip-time frames; ``csv`` writes the SI columns exactly. Only the channels present are
     written; extra columns are appended (text formats) or dropped (binary keeps temperature and magx..z).
+
+    Parameters
+    ----------
+    log : ImuLog or pandas.DataFrame
+        The log, SI columns.
+    path : str or Path
+        The file to write.
+    format : str
+        A writable format.
 
     Returns
     -------

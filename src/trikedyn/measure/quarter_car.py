@@ -127,7 +127,20 @@ def quarter_car_modes(sprung_mass, unsprung_mass, stiffness, damping, tyre_stiff
     *not* ``sqrt(K_s / M_s) / 2 pi``: it is close to ``sqrt(K_eq / M_s) / 2 pi`` with
     ``1/K_eq = 1/K_s + 1/K_t``, shifted further by the unsprung mass and the damping.
 
-    Parameters are those of :func:`quarter_car_matrices`.
+    Parameters
+    ----------
+    sprung_mass : float
+        Sprung mass ``M_s`` carried by the wheel [kg].
+    unsprung_mass : float
+        Unsprung mass ``m`` [kg].
+    stiffness : float
+        Suspension stiffness ``K_s`` at the wheel [N/m].
+    damping : float
+        Suspension damping coefficient ``C_s`` at the wheel [N s/m].
+    tyre_stiffness : float
+        Tyre vertical stiffness ``K_t`` [N/m].
+    tyre_damping : float, optional
+        Tyre vertical damping ``C_t`` [N s/m].
 
     Returns
     -------

@@ -22,7 +22,18 @@ __all__ = ["find_crests", "scalar_or_array", "spectrum_peak", "uniform_record", 
 
 
 def scalar_or_array(x):
-    """``x`` as a float if it is 0-d, else as it is: functions of scalars return scalars."""
+    """``x`` as a float if it is 0-d, else as it is: functions of scalars return scalars.
+
+    Parameters
+    ----------
+    x : float or numpy.ndarray
+        A result.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ``x``.
+    """
     return float(x) if np.ndim(x) == 0 else x
 
 

@@ -30,31 +30,96 @@ __all__ = [
 
 
 def log_decrement(x0, xn, n):
-    """Eq. 1: ``delta = ln(X_0 / X_n) / n`` [-] from crest magnitudes X_0, X_n (same unit) n cycles apart."""
+    """Eq. 1: ``delta = ln(X_0 / X_n) / n`` [-] from crest magnitudes X_0, X_n (same unit) n cycles apart.
+
+    Parameters
+    ----------
+    x0, xn : float or array_like
+        Crest magnitudes (any one unit).
+    n : int or array_like
+        Cycles between them.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        delta, dimensionless.
+    """
     x0, xn, n = (np.asarray(v, float) for v in (x0, xn, n))
     return _out(np.log(x0 / xn) / n)
 
 
 def damping_ratio_from_log_decrement(delta):
-    """Eq. 2: ``xi = delta / sqrt(4 pi^2 + delta^2)`` [-] from the log decrement [-]."""
+    """Eq. 2: ``xi = delta / sqrt(4 pi^2 + delta^2)`` [-] from the log decrement [-].
+
+    Parameters
+    ----------
+    delta : float or array_like
+        Log decrement, dimensionless.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        xi, dimensionless.
+    """
     d = np.asarray(delta, float)
     return _out(d / np.sqrt(4.0 * math.pi**2 + d**2))
 
 
 def stiffness_from_frequency(natural_frequency_hz, sprung_mass_kg):
-    """Eq. 3: ``K = 4 pi^2 f_n^2 M_s`` [N/m] from the undamped natural frequency [Hz] and sprung mass [kg]."""
+    """Eq. 3: ``K = 4 pi^2 f_n^2 M_s`` [N/m] from the undamped natural frequency [Hz] and sprung mass [kg].
+
+    Parameters
+    ----------
+    natural_frequency_hz : float or array_like
+        f_n [Hz].
+    sprung_mass_kg : float or array_like
+        M_s [kg].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        K [N/m].
+    """
     f, m = np.asarray(natural_frequency_hz, float), np.asarray(sprung_mass_kg, float)
     return _out(4.0 * math.pi**2 * f**2 * m)
 
 
 def sprung_mass_from_stiffness(stiffness, natural_frequency_hz):
-    """Eq. 3 inverted: ``M_s = K / (4 pi^2 f_n^2)`` [kg] from K [N/m] and f_n [Hz]."""
+    """Eq. 3 inverted: ``M_s = K / (4 pi^2 f_n^2)`` [kg] from K [N/m] and f_n [Hz].
+
+    Parameters
+    ----------
+    stiffness : float or array_like
+        K [N/m].
+    natural_frequency_hz : float or array_like
+        f_n [Hz].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        M_s [kg].
+    """
     k, f = np.asarray(stiffness, float), np.asarray(natural_frequency_hz, float)
     return _out(k / (4.0 * math.pi**2 * f**2))
 
 
 def damping_coefficient(damping_ratio, stiffness, sprung_mass_kg):
-    """Eq. 4: ``C = 2 xi sqrt(K M_s)`` [N s/m] from xi [-], K [N/m] and M_s [kg]."""
+    """Eq. 4: ``C = 2 xi sqrt(K M_s)`` [N s/m] from xi [-], K [N/m] and M_s [kg].
+
+    Parameters
+    ----------
+    damping_ratio : float or array_like
+        xi, dimensionless.
+    stiffness : float or array_like
+        K [N/m].
+    sprung_mass_kg : float or array_like
+        M_s [kg].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        C [N s/m].
+    """
     z, k, m = (np.asarray(v, float) for v in (damping_ratio, stiffness, sprung_mass_kg))
     return _out(2.0 * z * np.sqrt(k * m))
 
@@ -63,6 +128,23 @@ def suspension_stiffness_from_series(equivalent_stiffness, tyre_stiffness):
     """Suspension stiffness [N/m] of springs in series, ``1/K_eq = 1/K_s + 1/K_t`` [N/m].
 
     Needs ``0 < K_eq < K_t``. It ignores the damper: see :func:`suspension_from_body_mode`.
+
+    Parameters
+    ----------
+    equivalent_stiffness : float or array_like
+        K_eq [N/m].
+    tyre_stiffness : float or array_like
+        K_t [N/m].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        K_s [N/m].
+
+    Raises
+    ------
+    InputError
+        Unless 0 < K_eq < K_t.
     """
     keq, kt = np.asarray(equivalent_stiffness, float), np.asarray(tyre_stiffness, float)
     if np.any(keq >= kt) or np.any(keq <= 0.0):

@@ -145,6 +145,13 @@ class CgMeasurement:
     height: TiltedWeighingResult | None
 
     def to_dict(self) -> dict:
+        """The measurement as one flat JSON-ready dict: the level weighing's fields, and the height's when measured.
+
+        Returns
+        -------
+        dict
+            Masses [kg], CG coordinates and uncertainties [m].
+        """
         out = self.level.to_dict()
         if self.height is not None:
             out.update(self.height.to_dict())
@@ -175,6 +182,21 @@ def load_weighing(path: str | Path) -> dict:
 
     The file must be UTF-8 TOML of at most 1 MiB (:mod:`trikedyn.params.tomlfile`) and follow
     :class:`WeighingRecord`; the dict returned is the file's content as read.
+
+    Parameters
+    ----------
+    path : str or Path
+        The weighing file.
+
+    Returns
+    -------
+    dict
+        Its content.
+
+    Raises
+    ------
+    InputError
+        Missing, too large, not TOML or not a weighing record.
     """
     from ..params.tomlfile import is_file, parse_toml, read_text
 
@@ -194,6 +216,18 @@ def reduce_weighing(record: dict, where: str = "weighing") -> CgMeasurement:
     an :class:`~trikedyn.errors.InputError` naming the file and the table or entry (see the module
     docstring), and a raised-axle reading far off the others is warned about
     (:class:`~trikedyn.plausibility.PlausibilityWarning`).
+
+    Parameters
+    ----------
+    record : dict
+        The weighing record (:func:`load_weighing`).
+    where : str
+        Its name, for errors.
+
+    Returns
+    -------
+    CgMeasurement
+        Mass [kg], CG (x, y, z) [m] with uncertainties.
     """
     g = STANDARD_GRAVITY
     rec = _validated(record, where)
