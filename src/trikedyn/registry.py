@@ -40,7 +40,7 @@ from typing import Any, Generic, TypeVar
 
 from .errors import InputError, did_you_mean
 
-__all__ = ["Option", "PluginWarning", "Registry", "did_you_mean"]
+__all__ = ["Option", "PluginWarning", "Registry", "did_you_mean", "find_option", "first_line", "import_submodules"]
 
 T = TypeVar("T")
 
@@ -134,7 +134,7 @@ class Option:
             unit = f" {self.unit}" if self.unit else ""
             bound = (f"within [{low:g}, {high:g}]{unit}" if math.isfinite(low) and math.isfinite(high)
                      else f">= {low:g}{unit}" if math.isfinite(low) else f"<= {high:g}{unit}")
-            raise InputError(f"must be {bound}, got {number:g}", where=where)
+            raise InputError(f"option '{self.name}' must be {bound}, got {number:g}", where=where)
         return number
 
     def to_dict(self) -> dict:
@@ -147,6 +147,42 @@ class Option:
         if self.maximum is not None:
             out["maximum"] = self.maximum
         return out
+
+
+def first_line(obj, fallback: str = "") -> str:
+    """The first line of ``obj``'s docstring (an entry's one-line help), or ``fallback`` when it has none.
+
+    Parameters
+    ----------
+    obj : object
+        A function or class.
+    fallback : str
+        What to return for an object without a docstring.
+
+    Returns
+    -------
+    str
+    """
+    lines = (getattr(obj, "__doc__", None) or "").strip().splitlines()
+    return lines[0] if lines else fallback
+
+
+def import_submodules(package: str, path) -> None:
+    """Import every public module of a package folder, in name order (built-ins that register themselves).
+
+    Parameters
+    ----------
+    package : str
+        The package's dotted name (its ``__name__``).
+    path : list of str
+        Its ``__path__``.
+    """
+    import importlib
+    import pkgutil
+
+    for info in sorted(pkgutil.iter_modules(path), key=lambda m: m.name):
+        if not info.name.startswith("_"):
+            importlib.import_module(f"{package}.{info.name}")
 
 
 def find_option(options, name: str, owner: str, where: str) -> Option:
@@ -218,6 +254,7 @@ class Registry(Generic[T]):
         """
         if entry is None:
             def decorate(obj):
+                """Register ``obj`` under the name given; returns it unchanged."""
                 self.register(name, obj, replace=replace)
                 return obj
 
@@ -261,8 +298,10 @@ class Registry(Generic[T]):
         raise self.error(self.unknown(name), where=self.where)
 
     def unknown(self, name: str) -> str:
-        """The message for an unknown ``name``: ``unknown <noun> 'x'`` and one close match, if any."""
-        return f"unknown {self.noun} '{name}'" + did_you_mean(str(name), self.names())
+        """The message for an unknown ``name``: ``unknown <noun> 'x'`` and one close match, or the known names."""
+        names = self.names()
+        return f"unknown {self.noun} '{name}'" + (did_you_mean(str(name), names)
+                                                   or (f"; known: {', '.join(names)}" if names else ""))
 
     def names(self) -> tuple[str, ...]:
         """The registered names, in registration order."""

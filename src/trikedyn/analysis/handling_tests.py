@@ -17,15 +17,17 @@ the steer about the raked axis times ``cos(rake)``; sideslip is that of the CG, 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..model.vehicle import VehicleModel, build_model
+from ..registry import Registry
 from ..simulate.closed_loop import run
 from . import handling, metrics, steady_state
 
-__all__ = ["Figures", "SteadyStateTest", "braking_in_turn_test", "frequency_response_test", "manoeuvre_figures",
+__all__ = ["REDUCERS", "Figures", "SteadyStateTest", "braking_in_turn_test", "frequency_response_test", "manoeuvre_figures",
            "reduces", "steady_state_test", "step_steer_test"]
 
 LOST_PATH_M = 1.0
@@ -222,11 +224,13 @@ def steady_state_test(vehicle, *, radius_m: float = 20.0, start_speed_kmh: float
     return reduce_steady_state(result, fit_limit_mps2=fit_limit_mps2)
 
 
-_REDUCERS: dict = {}
+REDUCERS: Registry[Callable] = Registry("handling reducer", group="trikedyn.handling_reducers", where="manoeuvre")
+"""Manoeuvre name -> ``fn(result)`` giving the test's own figures (plug-ins: ``trikedyn.handling_reducers``)."""
 
 
-def reduces(name: str):
-    """Decorator: ``fn(result) -> object with to_dict()`` gives the figures of manoeuvre ``name``.
+def reduces(name: str, *, replace: bool = False):
+    """Decorator: ``fn(result) -> object with to_dict()`` gives the figures of manoeuvre ``name`` (a manoeuvre
+    with a reducer already raises ValueError unless ``replace=True``).
 
     Parameters
     ----------
@@ -243,7 +247,7 @@ def reduces(name: str):
 
     def decorate(fn):
         """Register ``fn`` as the reducer of ``name``; returns it unchanged."""
-        _REDUCERS[name] = fn
+        REDUCERS.register(name, fn, replace=replace)
         return fn
 
     return decorate
@@ -263,9 +267,9 @@ def manoeuvre_figures(result) -> dict | None:
         The reducer's figures, JSON-safe.
     """
     man = result.manoeuvre
-    if man is None or man.name not in _REDUCERS or not metrics.judged_mask(result).any():
+    if man is None or man.name not in REDUCERS or not metrics.judged_mask(result).any():
         return None
-    return _REDUCERS[man.name](result).to_dict()
+    return REDUCERS.get(man.name)(result).to_dict()
 
 
 @reduces("steady-state-circle")

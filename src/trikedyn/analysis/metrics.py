@@ -18,12 +18,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError, did_you_mean
+from ..registry import Registry, first_line
 from ..simulate.result import load_transfer_ratio, rollover_index
 from .window import Lift, cone_strikes, first_lift, judged_mask, until_exit
 from .window import wheel_loads as _wheel_loads
 
-__all__ = ["Lift", "MetricType", "cone_strikes", "evaluate", "first_lift", "judged_mask", "load_transfer_ratio",
+__all__ = ["METRICS", "Lift", "MetricType", "cone_strikes", "evaluate", "first_lift", "judged_mask", "load_transfer_ratio",
            "metric", "metrics", "rollover_index", "summary", "until_exit"]
 
 
@@ -37,11 +37,13 @@ class MetricType:
     fn: Callable
 
 
-_METRICS: dict[str, MetricType] = {}
+METRICS: Registry[MetricType] = Registry("metric", group="trikedyn.metrics", where="metric")
+"""The registered run metrics (plug-ins: entry-point group ``trikedyn.metrics``)."""
 
 
-def metric(name: str, unit: str = "", help: str = ""):  # noqa: A002 - the word users see
-    """Decorator: register ``fn(result) -> number | None`` as a metric.
+def metric(name: str, unit: str = "", help: str = "", *, replace: bool = False):  # noqa: A002 - the word users see
+    """Decorator: register ``fn(result) -> number | None`` as a metric (a taken ``name`` raises ValueError
+    unless ``replace=True``).
 
     Parameters
     ----------
@@ -61,7 +63,7 @@ def metric(name: str, unit: str = "", help: str = ""):  # noqa: A002 - the word 
     """
 
     def decorate(fn):
-        _METRICS[name] = MetricType(name, unit, help or (fn.__doc__ or "").strip().splitlines()[0], fn)
+        METRICS.register(name, MetricType(name, unit, help or first_line(fn), fn), replace=replace)
         return fn
 
     return decorate
@@ -75,11 +77,11 @@ def metrics() -> list[MetricType]:
     list of MetricType
         Name, unit, help and function of each.
     """
-    return list(_METRICS.values())
+    return METRICS.values()
 
 
 def evaluate(result, name: str):
-    """The metric ``name`` of a run.
+    """The metric ``name`` of a run (:class:`InputError` with a close match for an unknown name).
 
     Parameters
     ----------
@@ -93,9 +95,7 @@ def evaluate(result, name: str):
     float or None
         The metric, in its unit (:func:`metrics` lists them).
     """
-    if name not in _METRICS:
-        raise InputError(f"unknown metric '{name}'" + did_you_mean(name, list(_METRICS)), where="metric")
-    return _METRICS[name].fn(result)
+    return METRICS.get(name).fn(result)
 
 
 def _judged(result, channel: str) -> np.ndarray:
@@ -232,6 +232,6 @@ def summary(result, judging=None) -> dict:
         "duration_s": float(result.time_s[-1]),
         "window_s": [float(times[0]), float(times[-1])] if times.size else None,
     }
-    for m in _METRICS.values():
+    for m in METRICS.values():
         out[m.name] = m.fn(result)
     return out

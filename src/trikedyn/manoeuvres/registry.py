@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from dataclasses import replace as _with
 
 from ..errors import InputError
-from ..registry import Option, Registry, find_option
+from ..registry import Option, Registry, did_you_mean, find_option, first_line
 
 __all__ = ["MANOEUVRES", "ManoeuvreType", "Option", "available", "build", "get", "register", "parse_options"]
 
@@ -90,9 +90,8 @@ def register(name: str, title: str, *, options: tuple[Option, ...] = (), closed_
     """
 
     def decorate(builder):
-        doc = (builder.__doc__ or "").strip().splitlines()
         MANOEUVRES.register(name, ManoeuvreType(name, title, builder, tuple(options), closed_loop,
-                                                summary or (doc[0] if doc else title)), replace=replace)
+                                                summary or first_line(builder, title)), replace=replace)
         return builder
 
     return decorate
@@ -105,13 +104,12 @@ def available() -> list[ManoeuvreType]:
 
 def get(name: str) -> ManoeuvreType:
     """The registered manoeuvre ``name``; an :class:`InputError` with a close match when unknown."""
-    if name in MANOEUVRES:
-        return MANOEUVRES.get(name)
     try:
-        return MANOEUVRES.get(name)  # a plug-in installed since the first lookup
-    except InputError as exc:
-        raise InputError(f"{exc.reason} (known: {', '.join(MANOEUVRES.names())}, or a path .csv)",
-                         where="manoeuvre") from None
+        return MANOEUVRES.get(name)
+    except InputError:
+        names = MANOEUVRES.names()
+        raise InputError(f"unknown manoeuvre '{name}'" + did_you_mean(name, names)
+                         + f" (known: {', '.join(names)}, or a path .csv)", where="manoeuvre") from None
 
 
 def build(name: str, params, speed_kmh: float, **options):

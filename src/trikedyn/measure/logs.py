@@ -102,9 +102,10 @@ class _Formats(Mapping):
     """Format key -> one-line description, read live from :mod:`trikedyn.measure.formats`."""
 
     def __getitem__(self, name: str) -> str:
-        if name not in _registry().FORMATS:
-            raise KeyError(name)
-        return _registry().get(name).description
+        try:  # a lookup, not a membership test: a layout installed as a plug-in since is found
+            return _registry().get(name).description
+        except LogFormatError:
+            raise KeyError(name) from None
 
     def __iter__(self) -> Iterator[str]:
         return iter(_registry().available())

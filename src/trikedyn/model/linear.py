@@ -229,7 +229,7 @@ def single_track(model: VehicleModel) -> SingleTrack:
     loads = eq.wheel_loads_N
     f_front = sum(loads[n] for n in front)
     f_rear = sum(v for n, v in loads.items() if n not in front)
-    stiffness = {w.name: linear_stiffnesses(t.model, t.coefficients, loads[w.name])[1]
+    stiffness = {w.name: linear_stiffnesses(t.name or t.model, t.coefficients, loads[w.name])[1]
                  for w, t in zip(model.tree.wheels, model.tyres, strict=True)}
     c_front = sum(stiffness[n] for n in front)
     c_rear = sum(v for n, v in stiffness.items() if n not in front)

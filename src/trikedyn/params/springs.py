@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from pathlib import Path
 
 from ..units import STANDARD_GRAVITY
 from .ops import static_wheel_loads, unsprung_mass
@@ -91,17 +90,9 @@ def wheel_tyre(params: VehicleParameters, wheel) -> TyreOfWheel:
     TyreOfWheel
         Vertical stiffness [N/m] and damping [N s/m].
     """
-    spec = params.tyre
-    if wheel.tyre_file is None:
-        return TyreOfWheel(spec.vertical_stiffness_N_per_m, spec.vertical_damping_Ns_per_m, spec.nominal_load_N,
-                           "Magic Formula of [tyre]")
-    from ..tyre.tir import read_tir
+    from ..tyre.models import for_wheel  # the tyre model that takes the wheel says
 
-    tir = read_tir(wheel.tyre_file)
-    kz = tir.coefficients.get("VERTICAL_STIFFNESS", 0.0) or spec.vertical_stiffness_N_per_m
-    cz = tir.coefficients.get("VERTICAL_DAMPING", 0.0) or 0.0
-    return TyreOfWheel(float(kz), float(cz), float(tir.coefficients["FNOMIN"]),
-                       f"{Path(wheel.tyre_file).name} ({tir.family})")
+    return TyreOfWheel(*for_wheel(params, wheel).vertical(params, wheel))
 
 
 @dataclass(frozen=True)

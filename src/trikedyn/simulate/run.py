@@ -329,13 +329,13 @@ def _warn_if_tyre_data_left(model: VehicleModel, wheels: np.ndarray) -> None:
         return
     import warnings
 
-    from ..tyre.pac2002 import clamped_names
+    from ..tyre.models import get
 
     parts = []
     for k, name in enumerate(model.wheel_names):
         bits = int(np.bitwise_or.reduce(clamped[:, k]))
         if bits:
-            parts.append(f"{name} ({', '.join(clamped_names(bits))})")
+            parts.append(f"{name} ({', '.join(get(model.tyres[k].name).clamp_names(bits))})")
     warnings.warn("tyre inputs left the tyre file's validity ranges and were clamped: " + "; ".join(parts),
                   TyreRangeWarning, stacklevel=3)
 

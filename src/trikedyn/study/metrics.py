@@ -31,44 +31,22 @@ not interactively, when the study runs on Dask.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from difflib import get_close_matches
 
 from ..errors import InputError
+from ..registry import Option, Registry, find_option, first_line
 
-__all__ = ["DEFAULT_METRIC", "MetricOption", "StudyMetric", "course_options", "get", "label", "metrics", "parse_entry",
-           "study_metric", "table_fields"]
+__all__ = ["DEFAULT_METRIC", "STUDY_METRICS", "MetricOption", "Option", "StudyMetric", "course_options", "get",
+           "label", "metrics", "parse_entry", "study_metric", "table_fields"]
 
 DEFAULT_METRIC = "threshold"
 """The metric of a spec that lists none (every study before metrics existed): its scenario ids and table
 columns are exactly those of then."""
 
 
-@dataclass(frozen=True)
-class MetricOption:
-    """An option of a study metric: a number (``float``) or a word (``str``); no default: required."""
-
-    name: str
-    kind: type = float
-    default: float | str | None = None
-    minimum: float | None = None
-    maximum: float | None = None
-    help: str = ""
-
-    def parse(self, value, where: str):
-        if self.kind is float:
-            if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
-                raise InputError(f"option '{self.name}' expects a finite number, got {value!r}", where=where)
-            value = float(value)
-            if (self.minimum is not None and value < self.minimum) or (self.maximum is not None and value > self.maximum):
-                raise InputError(f"option '{self.name}' must be within [{self.minimum:g}, {self.maximum:g}], got "
-                                 f"{value:g}", where=where)
-            return value
-        if not isinstance(value, str):
-            raise InputError(f"option '{self.name}' expects a word, got {value!r}", where=where)
-        return value
+MetricOption = Option
+"""An option of a study metric: :class:`trikedyn.registry.Option` (no default: required; a number or a word)."""
 
 
 @dataclass(frozen=True)
@@ -80,34 +58,30 @@ class StudyMetric:
     help: str
     per_manoeuvre: bool
     uses_search: bool
-    options: tuple[MetricOption, ...] = field(default_factory=tuple)
+    options: tuple[Option, ...] = field(default_factory=tuple)
     fn: Callable = field(default=None, repr=False)
 
-    def option(self, name: str) -> MetricOption:
-        for opt in self.options:
-            if opt.name == name:
-                return opt
-        names = [o.name for o in self.options]
-        hint = get_close_matches(name, names, n=1)
-        tip = f"; did you mean '{hint[0]}'?" if hint else (f" (it has: {', '.join(names)})" if names else
-                                                            " (it has none)")
-        raise InputError(f"metric '{self.name}' has no option '{name}'{tip}", where="metrics")
+    def option(self, name: str) -> Option:
+        """The option ``name``; an :class:`InputError` with a close match when it has none."""
+        return find_option(self.options, name, f"metric '{self.name}'", "metrics")
 
 
-_REGISTRY: dict[str, StudyMetric] = {}
+STUDY_METRICS: Registry[StudyMetric] = Registry("metric", group="trikedyn.study_metrics", where="metrics")
+"""The registered study metrics (plug-ins: entry-point group ``trikedyn.study_metrics``)."""
 
 
 def study_metric(name: str, *, unit: str = "", per_manoeuvre: bool, uses_search: bool = False,
-                 options: tuple[MetricOption, ...] = (), help: str = ""):  # noqa: A002 - the word users see
+                 options: tuple[Option, ...] = (), help: str = "", replace: bool = False):  # noqa: A002
     """Decorator: register ``fn(pset, scenario, **options) -> {"value": number | None, ...}`` as a study metric.
 
     ``pset`` is the scenario's vehicle, varied and loaded; ``scenario`` the scenario dict (its ``manoeuvre``
     is None for a metric not per manoeuvre; the threshold search settings are in it when ``uses_search``).
+    A taken ``name`` raises ValueError unless ``replace=True``.
     """
 
     def decorate(fn):
-        _REGISTRY[name] = StudyMetric(name, unit, help or (fn.__doc__ or "").strip().splitlines()[0],
-                                      per_manoeuvre, uses_search, tuple(options), fn)
+        STUDY_METRICS.register(name, StudyMetric(name, unit, help or first_line(fn), per_manoeuvre, uses_search,
+                                                 tuple(options), fn), replace=replace)
         return fn
 
     return decorate
@@ -115,16 +89,12 @@ def study_metric(name: str, *, unit: str = "", per_manoeuvre: bool, uses_search:
 
 def metrics() -> list[StudyMetric]:
     """Every registered study metric."""
-    return list(_REGISTRY.values())
+    return STUDY_METRICS.values()
 
 
 def get(name: str) -> StudyMetric:
     """The study metric ``name``; an unknown name is an :class:`InputError` with a close match."""
-    if name not in _REGISTRY:
-        hint = get_close_matches(name, list(_REGISTRY), n=1)
-        tip = f"did you mean '{hint[0]}'?" if hint else f"known: {', '.join(_REGISTRY)}"
-        raise InputError(f"unknown metric '{name}'; {tip}", where="metrics")
-    return _REGISTRY[name]
+    return STUDY_METRICS.get(name)
 
 
 def parse_entry(entry) -> tuple[str, dict]:
@@ -142,10 +112,10 @@ def parse_entry(entry) -> tuple[str, dict]:
     metric = get(name)
     options = {}
     for key, value in given.items():
-        options[key] = metric.option(key).parse(value, where=f"metrics[{name}]")
+        options[key] = metric.option(key).parse(value, where=f"metrics[{name}]", text=False)
     for opt in metric.options:
         if opt.name not in options:
-            if opt.default is None:
+            if opt.required:
                 raise InputError(f"metric '{name}' needs the option '{opt.name}' ({opt.help}), e.g. "
                                  f"{{ name = \"{name}\", {opt.name} = ... }}", where="metrics")
             options[opt.name] = opt.default
@@ -213,7 +183,7 @@ def _tilt(pset, scenario):
 
 
 @study_metric("understeer_gradient", unit="deg/g", per_manoeuvre=False,
-              options=(MetricOption("radius_m", float, 20.0, 1.0, 1000.0, "circle radius [m]"),),
+              options=(Option("radius_m", 20.0, "m", "circle radius", minimum=1.0, maximum=1000.0),),
               help="understeer gradient, ISO 4138 constant radius (positive: understeer)")
 def _understeer(pset, scenario, radius_m):
     from ..analysis.handling_tests import steady_state_test
@@ -223,7 +193,7 @@ def _understeer(pset, scenario, radius_m):
             "detail": f"R = {radius_m:g} m; ends at {test.max_lateral_acceleration_mps2:.2f} m/s^2 ({test.limit})"}
 
 
-_SPEED = MetricOption("speed_kmh", float, None, 1.0, 300.0, "speed of the run [km/h]")
+_SPEED = Option("speed_kmh", None, "km/h", "speed of the run", minimum=1.0, maximum=300.0, kind=float)
 
 
 def _run_metric(pset, scenario, speed_kmh, metric_name):

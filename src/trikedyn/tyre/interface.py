@@ -31,124 +31,72 @@ Formula is evaluated at the regularised forward speed ``v_ref`` and smoothed lik
 (:func:`standstill_weight`), as MF-Tyre does below ``VXLOW``: a tyre at rest carries no force that slip
 does not cause, so that a vehicle on such tyres can stand still (static equilibrium exists).
 
-A new tyre model is a new number here and a branch in :func:`tyre_forces` and :func:`tyre_setup`.
+The models are registered in :mod:`trikedyn.tyre.models` (Python side: which wheels, setup, stiffnesses,
+the audit's label, clamp names); a new tyre model is one module there that registers itself, plus its branch
+in :func:`tyre_forces` when it does not reuse one (its ``kernel`` number).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from functools import lru_cache
-from pathlib import Path
+from dataclasses import replace
 
 import numpy as np
 
 from .._jit import jit
 from .contact import contact_geometry, slip_rates
-from .magic_formula import (
-    N_COEFFS,
-    combined_forces,
-    cornering_stiffness,
-    rolling_resistance_moment,
-    slip_stiffness,
-    tyre_coefficients,
-)
-from .pac2002 import (
-    N_PACKED,
-    VERTICAL_DAMPING,
-    VERTICAL_STIFFNESS,
-    mf_forces,
-    mf_relaxation_lengths,
-    mf_stiffness,
-    pack,
-)
+from .magic_formula import combined_forces, rolling_resistance_moment
+from .models import COEFFS_WIDTH, MAGIC_FORMULA, SIMILARITY, TYRE_MODELS, TyreSetup, for_wheel
+from .pac2002 import mf_forces
 
 __all__ = ["COEFFS_WIDTH", "MAGIC_FORMULA", "SIMILARITY", "TYRE_MODELS", "TyreSetup", "linear_stiffnesses",
            "standstill_weight", "tyre_forces", "tyre_setup", "vertical_force", "wheel_wrench"]
 
-SIMILARITY, MAGIC_FORMULA = 0, 1
-TYRE_MODELS = {"similarity": SIMILARITY, "magic-formula": MAGIC_FORMULA}
-"""Tyre model names and their numbers in the compiled records."""
-COEFFS_WIDTH = max(N_COEFFS, N_PACKED)
-"""Width of a wheel's coefficient row: the longest of the models' coefficient vectors."""
-
-
-@dataclass(frozen=True)
-class TyreSetup:
-    """One wheel's tyre, ready for packing.
-
-    Attributes
-    ----------
-    model : int
-        ``SIMILARITY`` or ``MAGIC_FORMULA``.
-    coefficients : numpy.ndarray
-        The model's coefficient vector, padded to ``COEFFS_WIDTH``.
-    vertical_stiffness_N_per_m, vertical_damping_Ns_per_m : float
-    relaxation_x_m, relaxation_y_m : float
-        Relaxation lengths [m].
-    source : str
-        ``"[tyre]"`` or the ``.tir`` file.
-    """
-
-    model: int
-    coefficients: np.ndarray
-    vertical_stiffness_N_per_m: float
-    vertical_damping_Ns_per_m: float
-    relaxation_x_m: float
-    relaxation_y_m: float
-    source: str
-
-
-@lru_cache(maxsize=32)
-def _read(path: str, mtime_ns: int):
-    from .tir import read_tir
-
-    return read_tir(path)
-
 
 def tyre_setup(params, wheel, static_load_N: float) -> TyreSetup:
-    """The tyre of one wheel station: its ``.tir`` file when it names one, else the ``[tyre]`` section.
+    """The tyre of one wheel station, by the tyre model that claims it (:func:`~trikedyn.tyre.models.for_wheel`):
+    its ``.tir`` file when it names one, else the ``[tyre]`` section.
 
     Parameters
     ----------
     params : VehicleParameters
+        The vehicle.
     wheel : WheelSpec
+        The wheel station.
     static_load_N : float
         The wheel's static load [N]: the relaxation lengths of a ``.tir`` tyre are taken there.
+
+    Returns
+    -------
+    TyreSetup
+        With ``name`` the tyre model's.
     """
-    tyre_file = wheel.tyre_file
-    row = np.zeros(COEFFS_WIDTH)
-    if tyre_file is None:
-        spec = params.tyre
-        row[:N_COEFFS] = tyre_coefficients(spec)
-        return TyreSetup(SIMILARITY, row, spec.vertical_stiffness_N_per_m, spec.vertical_damping_Ns_per_m,
-                         spec.relaxation_length_x_m, spec.relaxation_length_y_m, "[tyre]")
-    path = Path(tyre_file)
-    tir = _read(str(path), path.stat().st_mtime_ns)
-    side = "left" if wheel.y_m > 1e-9 else "right" if wheel.y_m < -1e-9 else None
-    row[:N_PACKED] = pack(tir, side)
-    sigma_x, sigma_y = mf_relaxation_lengths(float(static_load_N), 0.0, row[:N_PACKED])
-    # a file without relaxation data (zero or NaN lengths) falls back to the [tyre] section's lengths
-    if not (np.isfinite(sigma_x) and sigma_x > 1e-3):
-        sigma_x = params.tyre.relaxation_length_x_m
-    if not (np.isfinite(sigma_y) and sigma_y > 1e-3):
-        sigma_y = params.tyre.relaxation_length_y_m
-    kz, cz = row[VERTICAL_STIFFNESS], row[VERTICAL_DAMPING]
-    if not kz > 0:
-        kz = params.tyre.vertical_stiffness_N_per_m
-    return TyreSetup(MAGIC_FORMULA, row, float(kz), float(cz), float(sigma_x), float(sigma_y), str(path))
+    model = for_wheel(params, wheel)
+    setup = model.setup(params, wheel, static_load_N)
+    return setup if setup.name == model.name else replace(setup, name=model.name)
 
 
-def linear_stiffnesses(setup_model: int, coefficients: np.ndarray, fz: float) -> tuple[float, float]:
+def linear_stiffnesses(setup_model: int | str, coefficients: np.ndarray, fz: float) -> tuple[float, float]:
     """Slip stiffness [N] and cornering stiffness ``dFy/d(-alpha_ISO)`` > 0 [N/rad] at a load, zero camber.
 
     In trikedyn's sign (``Fy = C_alpha alpha`` with ``tan(alpha) = -vy / |vx|``) both are positive for a
     normal tyre, for either model.
+
+    Parameters
+    ----------
+    setup_model : str or int
+        The tyre model's name (:attr:`TyreSetup.name`), or its kernel number (the first model registered
+        with it).
+    coefficients : numpy.ndarray
+        The wheel's coefficient row.
+    fz : float
+        Vertical load [N].
     """
-    if setup_model == MAGIC_FORMULA:
-        kx, kya = mf_stiffness(float(fz), 0.0, coefficients[:N_PACKED])
-        return float(kx), float(-kya)
-    return float(slip_stiffness(float(fz), coefficients)), float(cornering_stiffness(float(fz), coefficients))
+    if isinstance(setup_model, str):
+        model = TYRE_MODELS.get(setup_model)
+    else:
+        model = next(m for m in TYRE_MODELS.values() if m.kernel == int(setup_model))
+    return model.stiffnesses(coefficients, fz)
 
 
 @jit(inline="always")

@@ -4,8 +4,6 @@ Every module in this folder is imported (in name order) and registers itself wit
 :func:`trikedyn.manoeuvres.registry.register`: a new built-in test is one new file here.
 """
 
-import importlib
-import pkgutil
+from ...registry import import_submodules
 
-for _info in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):
-    importlib.import_module(f"{__name__}.{_info.name}")
+import_submodules(__name__, __path__)

@@ -12,8 +12,6 @@ subclass :class:`TableFormat` and give its headers only.
 from __future__ import annotations
 
 import contextlib
-import importlib
-import pkgutil
 from abc import ABC, abstractmethod
 from collections.abc import Iterator
 from dataclasses import dataclass
@@ -21,7 +19,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, ClassVar
 
 from ...errors import LogFormatError
-from ...registry import Registry
+from ...registry import Registry, import_submodules
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -240,6 +238,4 @@ def detect(data: bytes | str, name: str = "<data>") -> str:
                          where=name)
 
 
-for _info in sorted(pkgutil.iter_modules(__path__), key=lambda m: m.name):
-    if not _info.name.startswith("_"):
-        importlib.import_module(f"{__name__}.{_info.name}")
+import_submodules(__name__, __path__)

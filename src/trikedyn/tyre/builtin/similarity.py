@@ -1,0 +1,39 @@
+"""``similarity``: the reduced Magic Formula with similarity combined slip, from the vehicle file's ``[tyre]``
+section (:mod:`trikedyn.tyre.magic_formula`; the paper's "Pacejka similarity" tyre); every wheel without a
+``.tir`` file."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..magic_formula import N_COEFFS, cornering_stiffness, slip_stiffness, tyre_coefficients
+from ..models import COEFFS_WIDTH, SIMILARITY, TyreModel, TyreSetup, register
+
+
+def claims(params, wheel) -> bool:
+    """Whether the wheel has no ``.tir`` file (its tyre is the ``[tyre]`` section)."""
+    return wheel.tyre_file is None
+
+
+def setup(params, wheel, static_load_N: float) -> TyreSetup:
+    """The ``[tyre]`` section's coefficients, springs and relaxation lengths (the load [N] is not used)."""
+    spec = params.tyre
+    row = np.zeros(COEFFS_WIDTH)
+    row[:N_COEFFS] = tyre_coefficients(spec)
+    return TyreSetup(SIMILARITY, row, spec.vertical_stiffness_N_per_m, spec.vertical_damping_Ns_per_m,
+                     spec.relaxation_length_x_m, spec.relaxation_length_y_m, "[tyre]", "similarity")
+
+
+def stiffnesses(coefficients: np.ndarray, fz: float) -> tuple[float, float]:
+    """Slip stiffness [N] and cornering stiffness [N/rad] at the load ``fz`` [N]."""
+    return float(slip_stiffness(float(fz), coefficients)), float(cornering_stiffness(float(fz), coefficients))
+
+
+def vertical(params, wheel) -> tuple[float, float, float, str]:
+    """The ``[tyre]`` section's vertical stiffness [N/m], damping [N s/m] and nominal load [N]."""
+    spec = params.tyre
+    return (spec.vertical_stiffness_N_per_m, spec.vertical_damping_Ns_per_m, spec.nominal_load_N,
+            "Magic Formula of [tyre]")
+
+
+register(TyreModel("similarity", SIMILARITY, claims, setup, stiffnesses, vertical))

@@ -1,0 +1,80 @@
+"""``magic-formula``: the full Magic Formula of a wheel's ``.tir`` file (:mod:`trikedyn.tyre.pac2002`: PAC2002 /
+MF 5.2 / MF 6.1), with its validity ranges (inputs clamped, named by :func:`clamp_names`)."""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from ..models import COEFFS_WIDTH, MAGIC_FORMULA, TyreModel, TyreSetup, register
+from ..pac2002 import (
+    N_PACKED,
+    VERTICAL_DAMPING,
+    VERTICAL_STIFFNESS,
+    clamped_names,
+    mf_relaxation_lengths,
+    mf_stiffness,
+    pack,
+)
+
+
+@lru_cache(maxsize=32)
+def _read(path: str, mtime_ns: int):
+    from ..tir import read_tir
+
+    return read_tir(path)
+
+
+def claims(params, wheel) -> bool:
+    """Whether the wheel names a ``.tir`` file."""
+    return wheel.tyre_file is not None
+
+
+def setup(params, wheel, static_load_N: float) -> TyreSetup:
+    """The ``.tir`` file packed for the wheel's side; relaxation lengths at the static load [N].
+
+    A file without relaxation data (zero or NaN lengths) or vertical stiffness falls back to the ``[tyre]``
+    section's.
+    """
+    path = Path(wheel.tyre_file)
+    tir = _read(str(path), path.stat().st_mtime_ns)
+    side = "left" if wheel.y_m > 1e-9 else "right" if wheel.y_m < -1e-9 else None
+    row = np.zeros(COEFFS_WIDTH)
+    row[:N_PACKED] = pack(tir, side)
+    sigma_x, sigma_y = mf_relaxation_lengths(float(static_load_N), 0.0, row[:N_PACKED])
+    if not (np.isfinite(sigma_x) and sigma_x > 1e-3):
+        sigma_x = params.tyre.relaxation_length_x_m
+    if not (np.isfinite(sigma_y) and sigma_y > 1e-3):
+        sigma_y = params.tyre.relaxation_length_y_m
+    kz, cz = row[VERTICAL_STIFFNESS], row[VERTICAL_DAMPING]
+    if not kz > 0:
+        kz = params.tyre.vertical_stiffness_N_per_m
+    return TyreSetup(MAGIC_FORMULA, row, float(kz), float(cz), float(sigma_x), float(sigma_y), str(path),
+                     "magic-formula")
+
+
+def stiffnesses(coefficients: np.ndarray, fz: float) -> tuple[float, float]:
+    """Slip stiffness [N] and cornering stiffness ``dFy/d(-alpha_ISO)`` [N/rad] at the load ``fz`` [N]."""
+    kx, kya = mf_stiffness(float(fz), 0.0, coefficients[:N_PACKED])
+    return float(kx), float(-kya)
+
+
+def vertical(params, wheel) -> tuple[float, float, float, str]:
+    """The file's vertical stiffness [N/m] (the ``[tyre]`` one where it gives none), damping [N s/m],
+    ``FNOMIN`` [N] and its name and family."""
+    from ..tir import read_tir
+
+    tir = read_tir(wheel.tyre_file)
+    kz = tir.coefficients.get("VERTICAL_STIFFNESS", 0.0) or params.tyre.vertical_stiffness_N_per_m
+    cz = tir.coefficients.get("VERTICAL_DAMPING", 0.0) or 0.0
+    return float(kz), float(cz), float(tir.coefficients["FNOMIN"]), f"{Path(wheel.tyre_file).name} ({tir.family})"
+
+
+def clamp_names(mask: int) -> list[str]:
+    """Names (``fz``, ``kappa``, ``alpha``, ``gamma``) of the bits set in a clamp mask."""
+    return clamped_names(mask)
+
+
+register(TyreModel("magic-formula", MAGIC_FORMULA, claims, setup, stiffnesses, vertical, clamp_names))

@@ -1,0 +1,1 @@
+"""Plug-ins used by ``tests/test_registry.py``: each extension is one module that registers itself on import."""
