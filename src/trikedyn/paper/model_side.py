@@ -37,7 +37,20 @@ linearly with the throttle held (section 2.2, Fig. 8a)."""
 def model_bump_test(out: Path, figures_on: bool = True) -> list[dict]:
     """Table 1 from the multibody model itself: bump under the front (a central cushion) or under the rear
     wheels (two side cushions), the seat sensor's vertical acceleration at 10 Hz with noise and bias,
-    identified with the paper's method (and the tyre in series); beside the model's own suspension."""
+    identified with the paper's method (and the tyre in series); beside the model's own suspension.
+
+    Parameters
+    ----------
+    out : Path
+        The output folder.
+    figures_on : bool
+        Draw the figures.
+
+    Returns
+    -------
+    list of dict
+        One row per preset and axle: identified f_n [Hz], xi (dimensionless), K [N/m], C [N s/m] beside the model's.
+    """
     rows = []
     lanes = {"front": ((0.0, 0.3), "front"), "rear": ((0.3, 5.0), "rear_left")}
     for preset in ("reference-etrike", "reference-etrike-eq4"):
@@ -76,7 +89,24 @@ def model_bump_test(out: Path, figures_on: bool = True) -> list[dict]:
 
 
 def manoeuvres(out: Path, figures_on: bool = True) -> tuple[dict, list[dict], float]:
-    """Both lane changes on reference-etrike (Figs. 7-9): time histories, rollover index, summaries."""
+    """Both lane changes on reference-etrike (Figs. 7-9): time histories, rollover index, summaries.
+
+    Parameters
+    ----------
+    out : Path
+        The output folder.
+    figures_on : bool
+        Draw the figures.
+
+    Returns
+    -------
+    runs : dict
+        Label -> Result.
+    summaries : list of dict
+        Each run's metrics.
+    static_ri : float
+        Static rollover index, dimensionless.
+    """
     pset = load_vehicle("reference-etrike")
     model = build_model(pset)
     slc = run(model, "slc", speed_kmh=SLC_SPEED_KMH, raise_on_failure=True)
@@ -116,6 +146,16 @@ def speed_controls(out: Path) -> list[dict]:
     trike's own (assumed) drive the searches stop at its top speed. Each row: a lane change at a freight,
     under one speed control, with the threshold under the paper's criterion (lift-off) and under ISO 3888-1's
     validity (course), what limits each, and the speed the course threshold's run drove.
+
+    Parameters
+    ----------
+    out : Path
+        The output folder.
+
+    Returns
+    -------
+    list of dict
+        The rows (speeds [km/h], freight [kg]).
     """
     from ..analysis.threshold import threshold_velocity
     from ..params import with_freight
@@ -153,7 +193,24 @@ STUDY_FINDINGS = ("falls with freight", "rises with stiffness", "damping matters
 
 
 def parametric_study(out: Path, workers: int | None = 2, figures_on: bool = True):
-    """The paper's study (Fig. 10) with its built-in spec (:data:`trikedyn.paper.STUDY_SPEC`); returns the table and the findings."""
+    """The paper's study (Fig. 10) with its built-in spec (:data:`trikedyn.paper.STUDY_SPEC`); returns the table and the findings.
+
+    Parameters
+    ----------
+    out : Path
+        The output folder.
+    workers : int, optional
+        Worker processes.
+    figures_on : bool
+        Draw the figures.
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        Threshold speeds [km/h] by freight [kg] and scales.
+    findings : dict
+        The paper's findings checked.
+    """
     table = study_table(out, workers)
     if figures_on:
         study_figure(table, out)

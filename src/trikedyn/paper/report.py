@@ -96,7 +96,18 @@ _ANIMATION_CAPTIONS = {"slc": "Single lane change (ISO 14791), seen from above",
 
 
 def lane_change_scene(result):
-    """The scene of a lane change for its animation: the judged window and a second either side."""
+    """The scene of a lane change for its animation: the judged window and a second either side.
+
+    Parameters
+    ----------
+    result : Result
+        The lane change run.
+
+    Returns
+    -------
+    Scene
+        The scene, cut to the window and a second either side.
+    """
     from ..report.animation import Scene
 
     scene = Scene.from_result(result)
@@ -125,7 +136,20 @@ def _animate(scene, path: Path) -> Path:
 
 def animate_lane_change(result, path: Path) -> Path:
     """A small GIF of a lane change seen from above (:data:`ANIMATION`): the judged window and a second
-    either side."""
+    either side.
+
+    Parameters
+    ----------
+    result : Result
+        The lane change run.
+    path : Path
+        The GIF file.
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
     return _animate(lane_change_scene(result), Path(path))
 
 
@@ -151,7 +175,13 @@ class Animations:
 
     def wait(self) -> dict[str, Path]:
         """``{"slc": path, "dlc": path}`` once every GIF is written; one that the other process could not
-        draw (it could not start, or died) is drawn here."""
+        draw (it could not start, or died) is drawn here.
+
+        Returns
+        -------
+        dict of str to Path
+            The GIF of each lane change.
+        """
         from concurrent.futures.process import BrokenProcessPool
 
         for key, scene in self._scenes.items():
@@ -168,7 +198,20 @@ class Animations:
 def start_animations(out: Path, runs: dict) -> Animations:
     """Start drawing the GIF of each lane change of ``runs`` (label -> Result) into ``out``, in one other
     process (the drawing is matplotlib's, single-threaded: on a machine with a free core it costs no time).
-    :func:`write_reproduction_report` waits for them (:meth:`Animations.wait`)."""
+    :func:`write_reproduction_report` waits for them (:meth:`Animations.wait`).
+
+    Parameters
+    ----------
+    out : Path
+        The output folder.
+    runs : dict
+        Label -> Result.
+
+    Returns
+    -------
+    Animations
+        The drawing in progress.
+    """
     return Animations(out, {_key(label): lane_change_scene(result) for label, result in runs.items()})
 
 
@@ -198,6 +241,20 @@ def report_sections(out: Path, statements: list[dict], animations: dict[str, Pat
 
     A section whose statements are all missing (the study's, after ``--no-study``) is left out; a file that
     was not written is left out of its section.
+
+    Parameters
+    ----------
+    out : Path
+        The output folder.
+    statements : list of dict
+        The reproduction's statements.
+    animations : dict of str to Path, optional
+        The GIFs.
+
+    Returns
+    -------
+    list of dict
+        The sections.
     """
     out = Path(out)
     by_id = {s["id"]: s for s in statements}
@@ -234,6 +291,20 @@ def write_reproduction_report(out: Path, summary: dict, animations: dict | None 
 
     ``animations`` maps ``"slc"``/``"dlc"`` to the GIF of that lane change beside the report, or is the
     :class:`Animations` being drawn (:func:`start_animations`), which the report waits for.
+
+    Parameters
+    ----------
+    out : Path
+        The output folder.
+    summary : dict
+        The reproduction's summary.
+    animations : dict or Animations, optional
+        The GIFs, or their drawing.
+
+    Returns
+    -------
+    Path
+        ``report.html``.
     """
     from .html import write_report
 

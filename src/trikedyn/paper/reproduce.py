@@ -351,7 +351,26 @@ class _Background:
 
 def reproduce(out_dir: str | Path, *, figures: bool = True, study: bool = True, workers: int | None = 2,
               log=None) -> dict:
-    """Run the reproduction into ``out_dir``; returns the summary (also written as ``summary.json``)."""
+    """Run the reproduction into ``out_dir``; returns the summary (also written as ``summary.json``).
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        The output folder (created).
+    figures : bool
+        Draw the figures.
+    study : bool
+        Run the parametric study (Fig. 10).
+    workers : int, optional
+        Worker processes for the study.
+    log : callable, optional
+        ``log(text)`` for progress (stderr by default).
+
+    Returns
+    -------
+    dict
+        The summary.
+    """
     from . import model_side as rm
 
     out = Path(out_dir)

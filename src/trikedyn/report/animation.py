@@ -93,7 +93,23 @@ class Scene:
 
     @classmethod
     def from_result(cls, result) -> Scene:
-        """The scene of a run held in memory (its manoeuvre and vehicle come with it)."""
+        """The scene of a run held in memory (its manoeuvre and vehicle come with it).
+
+        Parameters
+        ----------
+        result : Result
+            A run that carries its vehicle and manoeuvre.
+
+        Returns
+        -------
+        Scene
+            The scene.
+
+        Raises
+        ------
+        InputError
+            When the run does not carry its vehicle.
+        """
         if result.params is None:
             raise InputError("the run does not carry its vehicle (result.params)", where="result")
         channels = {"time_s": result.time_s, **dict(result.channels)}
@@ -111,6 +127,15 @@ def scene_channels(channels: Mapping, meta: Mapping, where: str = "run") -> tupl
     """The channels an animation draws, checked before anything is rebuilt from the run: ``time_s`` (at least
     2 samples), ``x_m``, ``y_m``, ``yaw_rad``, ``speed_mps`` and each wheel's ``<wheel>_fz_N`` as finite
     floats; ``roll_rad``, ``pitch_rad`` and ``steer_rad`` too when recorded (0 otherwise).
+
+    Parameters
+    ----------
+    channels : mapping of str to array_like
+        The run's channels (SI units).
+    meta : mapping
+        The run's metadata (``wheels``).
+    where : str
+        Names the run in errors.
 
     Returns
     -------
@@ -181,6 +206,11 @@ def scene_from(channels: Mapping, meta: Mapping, *, params, manoeuvre=None, wher
     where : str
         Names the run in errors.
 
+    Returns
+    -------
+    Scene
+        The scene.
+
     Raises
     ------
     InputError
@@ -216,6 +246,20 @@ def scene_from(channels: Mapping, meta: Mapping, *, params, manoeuvre=None, wher
 def check_frames(time_s, every_s: float, max_frames: int = MAX_FRAMES) -> int:
     """The number of frames ``t0, t0 + every_s, ...`` over ``time_s`` [s], counted before any is made.
 
+    Parameters
+    ----------
+    time_s : array_like
+        Sample times [s].
+    every_s : float
+        Time between frames [s].
+    max_frames : int
+        Largest number of frames.
+
+    Returns
+    -------
+    int
+        The number of frames.
+
     Raises
     ------
     InputError
@@ -243,6 +287,20 @@ def _up(x: float) -> str:
 def frame_indices(time_s, every_s: float, max_frames: int = MAX_FRAMES) -> np.ndarray:
     """Sample indices nearest to ``t0, t0 + every_s, ...`` up to the end of the run (the last one included).
 
+    Parameters
+    ----------
+    time_s : array_like
+        Sample times [s].
+    every_s : float
+        Time between frames [s].
+    max_frames : int
+        Largest number of frames.
+
+    Returns
+    -------
+    numpy.ndarray of int
+        Sample indices.
+
     Raises
     ------
     InputError
@@ -258,7 +316,13 @@ def frame_indices(time_s, every_s: float, max_frames: int = MAX_FRAMES) -> np.nd
 
 
 def ffmpeg_available() -> bool:
-    """True when matplotlib can write MP4 (an ``ffmpeg`` program is installed)."""
+    """True when matplotlib can write MP4 (an ``ffmpeg`` program is installed).
+
+    Returns
+    -------
+    bool
+        Whether MP4 can be written.
+    """
     from matplotlib import animation
 
     return bool(animation.writers.is_available("ffmpeg"))

@@ -75,7 +75,20 @@ def _clipped(x, y, window):
 
 
 def draw_3d(fig, scene):
-    """Draw the 3d view of ``scene`` on ``fig``; returns ``update(i)``, which moves everything to sample i."""
+    """Draw the 3d view of ``scene`` on ``fig``; returns ``update(i)``, which moves everything to sample i.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure to draw on.
+    scene : Scene
+        The run's scene.
+
+    Returns
+    -------
+    callable
+        ``update(i)``: moves everything to sample ``i`` and returns the artists changed.
+    """
     from mpl_toolkits.mplot3d.art3d import Line3D, Poly3DCollection
 
     grid = fig.add_gridspec(1, 2, width_ratios=(5.0, 1.0), wspace=0.1, left=0.0, right=0.93, top=0.93,

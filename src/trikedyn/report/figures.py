@@ -27,7 +27,22 @@ def _plt():
 
 def save(fig, path: Path, dpi: int = 110) -> Path:
     """Write a figure atomically (a temporary file renamed into place), in the format its suffix names
-    (PNG without one), and close it."""
+    (PNG without one), and close it.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure (closed afterwards).
+    path : Path
+        The file.
+    dpi : int
+        Resolution of raster formats [dots per inch].
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
     from .._files import atomic_write
     from ..errors import InputError
 
@@ -56,6 +71,20 @@ def time_histories(runs: dict, path: Path, title: str = "") -> Path:
 
     ``runs`` maps a label to a :class:`~trikedyn.simulate.result.Result`; the accelerations and rates
     are those of the emulated seat sensor, as the paper's were.
+
+    Parameters
+    ----------
+    runs : dict of str to Result
+        Label -> run.
+    path : Path
+        The image file.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    Path
+        The file written.
     """
     plt = _plt()
     fig, axes = plt.subplots(3, 1, sharex=True, figsize=(7.5, 6.5))
@@ -80,7 +109,24 @@ def time_histories(runs: dict, path: Path, title: str = "") -> Path:
 
 
 def rollover_index(runs: dict, static_ri: float, path: Path, title: str = "") -> Path:
-    """Fig. 9: the rollover index (Eq. 5) over time, and its static value (dashed)."""
+    """Fig. 9: the rollover index (Eq. 5) over time, and its static value (dashed).
+
+    Parameters
+    ----------
+    runs : dict of str to Result
+        Label -> run.
+    static_ri : float
+        Static rollover index, dimensionless.
+    path : Path
+        The image file.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
     plt = _plt()
     fig, axes = plt.subplots(len(runs), 1, sharex=False, figsize=(7.5, 2.6 * len(runs)), squeeze=False)
     for ax, (label, run) in zip(axes[:, 0], runs.items(), strict=True):
@@ -103,6 +149,20 @@ def threshold_study(table, path: Path, title: str = "") -> Path:
 
     ``table`` is the study's tidy table (columns ``group``/``groups``, ``manoeuvre``, ``freight_kg``,
     ``stiffness_scale``, ``damping_scale``, ``threshold_speed_kmh``).
+
+    Parameters
+    ----------
+    table : pandas.DataFrame
+        The study's tidy table (speeds [km/h], freight [kg], scales dimensionless).
+    path : Path
+        The image file.
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    Path
+        The file written.
     """
     plt = _plt()
     manoeuvres = sorted(table["manoeuvre"].unique())

@@ -119,7 +119,18 @@ def _wheels(channels: dict, meta: dict) -> list[str]:
 
 
 def title_of(meta: Mapping) -> str:
-    """``vehicle - manoeuvre at N km/h (payload P kg)`` from a run's metadata (what it holds of these)."""
+    """``vehicle - manoeuvre at N km/h (payload P kg)`` from a run's metadata (what it holds of these).
+
+    Parameters
+    ----------
+    meta : mapping
+        A run's metadata.
+
+    Returns
+    -------
+    str
+        The title.
+    """
     summary = meta.get("summary") if isinstance(meta.get("summary"), Mapping) else {}
     vehicle = meta.get("vehicle") or summary.get("vehicle")
     manoeuvre = meta.get("manoeuvre") or summary.get("manoeuvre") or meta.get("manoeuvre_name")
@@ -150,7 +161,20 @@ def _shade_window(ax, window, label=None) -> None:
 
 
 def lift_spans(time_s, fz_N) -> list[tuple[float, float]]:
-    """The spans of time ``(t_start, t_end)`` [s] in which a wheel's vertical load is zero or less (lifted)."""
+    """The spans of time ``(t_start, t_end)`` [s] in which a wheel's vertical load is zero or less (lifted).
+
+    Parameters
+    ----------
+    time_s : array_like
+        Times [s].
+    fz_N : array_like
+        Vertical load of one wheel [N].
+
+    Returns
+    -------
+    list of tuple of float
+        ``(t_start, t_end)`` [s] per span.
+    """
     t = np.asarray(time_s, dtype=float)
     off = np.asarray(fz_N, dtype=float) <= 0.0
     if not off.any():
@@ -176,6 +200,20 @@ def _grid(ax) -> None:
 def figure_time(source, meta=None, channels: list[str] | None = None):
     """Stacked time histories: speed [km/h], lateral acceleration [m/s²], yaw rate [deg/s], roll [deg] and the
     rollover index RI (Eq. 5), or the ``channels`` named (each labelled with its unit); the judged window grey.
+
+    Parameters
+    ----------
+    source : Result, pandas.DataFrame or mapping
+        The run (channels in SI units, ``time_s`` [s]).
+    meta : mapping, optional
+        Its metadata (a Result's own by default).
+    channels : list of str, optional
+        The channels to draw.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
 
     Raises
     ------
@@ -214,7 +252,20 @@ def figure_time(source, meta=None, channels: list[str] | None = None):
 
 def figure_wheel_loads(source, meta=None):
     """Each wheel's vertical load [N] over time, the spans with Fz <= 0 (wheel lifted) shaded red and the
-    judged window grey. The lift patches carry ``gid="lift"``."""
+    judged window grey. The lift patches carry ``gid="lift"``.
+
+    Parameters
+    ----------
+    source : Result, pandas.DataFrame or mapping
+        The run (channels in SI units, ``time_s`` [s]).
+    meta : mapping, optional
+        Its metadata (a Result's own by default).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     data, meta = _source(source, meta)
     names = _wheels(data, meta)
     if not names:
@@ -273,7 +324,22 @@ def figure_plan(source, meta=None, every_s: float = 1.0):
     :data:`MAX_FOOTPRINTS` are drawn). The lateral scale is stretched (stated in the axis label, at most
     x1000) so that a lane change is visible over a course 100 m long.
 
-    ``source`` may also be a :class:`~trikedyn.report.animation.Scene`."""
+    ``source`` may also be a :class:`~trikedyn.report.animation.Scene`.
+
+    Parameters
+    ----------
+    source : Result, pandas.DataFrame or mapping
+        The run (channels in SI units, ``time_s`` [s]). Or a :class:`~trikedyn.report.animation.Scene`.
+    meta : mapping, optional
+        Its metadata (a Result's own by default).
+    every_s : float
+        Time between footprints [s].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     from matplotlib.patches import Polygon
 
     from .animation import CONE, _box, _draw_course, _rotate, frame_indices
@@ -321,7 +387,20 @@ def figure_plan(source, meta=None, every_s: float = 1.0):
 
 def figure_gg(source, meta=None):
     """The g-g diagram: longitudinal against lateral acceleration [g] of the body (CG), with circles every
-    0.25 g; the judged window drawn darker."""
+    0.25 g; the judged window drawn darker.
+
+    Parameters
+    ----------
+    source : Result, pandas.DataFrame or mapping
+        The run (channels in SI units, ``time_s`` [s]).
+    meta : mapping, optional
+        Its metadata (a Result's own by default).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     data, meta = _source(source, meta)
     ax_g, ay_g = _need(data, "ax_mps2") / G, _need(data, "ay_mps2") / G
     window = _window(data)
@@ -357,7 +436,20 @@ def figure_gg(source, meta=None):
 
 def figure_roll(source, meta=None):
     """Roll angle [deg] against lateral acceleration [m/s²] (top axis in g), with the roll gradient
-    [deg/(m/s²)] fitted over the samples with every wheel down; the samples with a wheel lifted in red."""
+    [deg/(m/s²)] fitted over the samples with every wheel down; the samples with a wheel lifted in red.
+
+    Parameters
+    ----------
+    source : Result, pandas.DataFrame or mapping
+        The run (channels in SI units, ``time_s`` [s]).
+    meta : mapping, optional
+        Its metadata (a Result's own by default).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
+    """
     data, meta = _source(source, meta)
     ay, roll = _need(data, "ay_mps2"), np.degrees(_need(data, "roll_rad"))
     names = _wheels(data, meta)
@@ -396,6 +488,22 @@ KINDS = {"time": figure_time, "wheel-loads": figure_wheel_loads, "plan": figure_
 
 def figure(kind: str, source, meta=None, **options):
     """The figure of ``kind`` (a key of :data:`KINDS`) of a run.
+
+    Parameters
+    ----------
+    kind : str
+        A key of :data:`KINDS`.
+    source : Result, pandas.DataFrame or mapping
+        The run (channels in SI units, ``time_s`` [s]).
+    meta : mapping, optional
+        Its metadata (a Result's own by default).
+    **options
+        The figure's own options (``every_s`` [s], ``channels``).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The figure.
 
     Raises
     ------
