@@ -29,6 +29,16 @@ class AppendedCsv:
     def logged_rows(self, mismatch: str) -> list[list[str]]:
         """The complete rows logged already, header left out (none when there is no file).
 
+        Parameters
+        ----------
+        mismatch : str
+            What to do when the header differs, for the error.
+
+        Returns
+        -------
+        list of list of str
+            The rows.
+
         Raises
         ------
         InputError
@@ -49,7 +59,13 @@ class AppendedCsv:
         return [row for row in rows[1:] if len(row) == len(self.columns) and row[2] in ("ok", "failed")]
 
     def open(self, fresh: bool) -> None:
-        """Open for appending (``fresh``: empty it first), writing the header into an empty file."""
+        """Open for appending (``fresh``: empty it first), writing the header into an empty file.
+
+        Parameters
+        ----------
+        fresh : bool
+            Empty the file first.
+        """
         from .._files import open_nofollow
 
         fd = open_nofollow(self.path)
@@ -69,11 +85,18 @@ class AppendedCsv:
         self._fh.flush()
 
     def write(self, row: list) -> None:
-        """Append one row, flushed at once."""
+        """Append one row, flushed at once.
+
+        Parameters
+        ----------
+        row : list
+            The cells.
+        """
         csv.writer(self._fh).writerow(row)
         self._fh.flush()
 
     def close(self) -> None:
+        """Close the file (again: nothing)."""
         if self._fh is not None:
             self._fh.close()
             self._fh = None

@@ -41,7 +41,18 @@ and the study's worker functions."""
 
 
 def one_line(exc: BaseException) -> str:
-    """An exception as one line: ``TypeName: message`` with the whitespace collapsed."""
+    """An exception as one line: ``TypeName: message`` with the whitespace collapsed.
+
+    Parameters
+    ----------
+    exc : BaseException
+        The exception.
+
+    Returns
+    -------
+    str
+        The line.
+    """
     return f"{type(exc).__name__}: {' '.join(str(exc).split())}"
 
 
@@ -96,6 +107,25 @@ class InlineExecutor(Executor):
         self._shutdown = False
 
     def submit(self, fn, /, *args, **kwargs) -> Future:
+        """Call ``fn(*args, **kwargs)`` now, in this process.
+
+        Parameters
+        ----------
+        fn : callable
+            The function.
+        *args, **kwargs
+            Its arguments.
+
+        Returns
+        -------
+        concurrent.futures.Future
+            A finished future (its result or exception).
+
+        Raises
+        ------
+        RuntimeError
+            After shutdown.
+        """
         if self._shutdown:
             raise RuntimeError("cannot schedule new futures after shutdown")
         fut: Future = Future()
@@ -109,6 +139,15 @@ class InlineExecutor(Executor):
         return fut
 
     def shutdown(self, wait=True, *, cancel_futures=False):
+        """Refuse further calls.
+
+        Parameters
+        ----------
+        wait : bool
+            Wait for the calls in flight.
+        cancel_futures : bool
+            Cancel the calls not started. (nothing is ever in flight.)
+        """
         self._shutdown = True
 
 
@@ -143,7 +182,17 @@ def _chooses_pool(workers, dask_local, scheduler) -> bool:
 def start_pool_server(workers=None, dask_local=None, scheduler=None) -> None:
     """Start the pool's fork server now if the run's options ask for the pool (:func:`make_executor`), so
     that its imports overlap the caller's set-up (reading the spec and the vehicle) rather than follow the
-    pool's first call."""
+    pool's first call.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Worker processes (all cores when None; 0: in this process).
+    dask_local : int, optional
+        Workers of a local Dask cluster.
+    scheduler : str, optional
+        Address of a Dask scheduler.
+    """
     if _chooses_pool(workers, dask_local, scheduler):
         pool_context()
 
@@ -161,7 +210,15 @@ class ProcessPool(ProcessPoolExecutor):
 
     def shutdown(self, wait=True, *, cancel_futures=False):
         """As :meth:`ProcessPoolExecutor.shutdown`; ``wait=False, cancel_futures=True`` also terminates the
-        workers (the calls in flight are lost): what a second Ctrl-C asks."""
+        workers (the calls in flight are lost): what a second Ctrl-C asks.
+
+        Parameters
+        ----------
+        wait : bool
+            Wait for the calls in flight.
+        cancel_futures : bool
+            Cancel the calls not started.
+        """
         processes = list((getattr(self, "_processes", None) or {}).values())
         super().shutdown(wait=wait, cancel_futures=cancel_futures)
         if not wait and cancel_futures:
@@ -200,11 +257,34 @@ class DaskExecutor(Executor):
         self._closed = False
 
     def submit(self, fn, /, *args, **kwargs) -> Future:
+        """Submit ``fn(*args, **kwargs)`` to the Dask cluster, counted as started at once.
+
+        Parameters
+        ----------
+        fn : callable
+            The function.
+        *args, **kwargs
+            Its arguments.
+
+        Returns
+        -------
+        concurrent.futures.Future
+            Its future.
+        """
         fut = self._executor.submit(fn, *args, **kwargs)
         fut.set_running_or_notify_cancel()  # Dask does not say when a task starts: count it as started
         return fut
 
     def shutdown(self, wait=True, *, cancel_futures=False):
+        """Close the client (once); with ``wait`` and no cancelling, after the calls in flight.
+
+        Parameters
+        ----------
+        wait : bool
+            Wait for the calls in flight.
+        cancel_futures : bool
+            Cancel the calls not started.
+        """
         if self._closed:
             return
         self._closed = True
@@ -216,7 +296,22 @@ class DaskExecutor(Executor):
 
 
 def check_executor(workers, dask_local, scheduler) -> None:
-    """At most one executor, and whole numbers of workers."""
+    """At most one executor, and whole numbers of workers.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Worker processes (0: in this process).
+    dask_local : int, optional
+        Workers of a local Dask cluster.
+    scheduler : str, optional
+        Address of a Dask scheduler.
+
+    Raises
+    ------
+    InputError
+        Two executors chosen, or a count that is not a whole number in range.
+    """
     chosen = [name for name, v in (("workers", workers), ("dask_local", dask_local), ("scheduler", scheduler))
               if v is not None]
     if len(chosen) > 1:
@@ -233,7 +328,24 @@ NOTHING_TO_DO = "no executor: every scenario was stored already"
 def make_executor(workers, dask_local, scheduler, n_todo: int) -> Executor:
     """The executor for a run's options (at most one of ``workers``, ``dask_local``, ``scheduler``) and
     ``n_todo`` calls: in this process when there is nothing to do or ``workers=0``; a :class:`ProcessPool` of
-    ``workers`` (all cores by default, no more than ``n_todo``); or a :class:`DaskExecutor`."""
+    ``workers`` (all cores by default, no more than ``n_todo``); or a :class:`DaskExecutor`.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Worker processes (all cores when None; 0: in this process).
+    dask_local : int, optional
+        Workers of a local Dask cluster.
+    scheduler : str, optional
+        Address of a Dask scheduler.
+    n_todo : int
+        Calls to make.
+
+    Returns
+    -------
+    concurrent.futures.Executor
+        The executor.
+    """
     check_executor(workers, dask_local, scheduler)
     if n_todo == 0:
         return InlineExecutor(NOTHING_TO_DO)

@@ -80,7 +80,18 @@ class Factor:
     covers: tuple[str, ...] = ()
 
     def overrides(self, x: float) -> dict[str, float]:
-        """The dotted paths and values [parameter units] that put this factor at ``x``."""
+        """The dotted paths and values [parameter units] that put this factor at ``x``.
+
+        Parameters
+        ----------
+        x : float
+            The factor's value [parameter unit].
+
+        Returns
+        -------
+        dict of str to float
+            Dotted path -> value.
+        """
         x = float(x)
         if self.kind == "track":
             left, right = self.paths
@@ -88,6 +99,13 @@ class Factor:
         return dict.fromkeys(self.paths, x)
 
     def to_dict(self) -> dict:
+        """The factor as JSON-ready values.
+
+        Returns
+        -------
+        dict
+            Parameter, value, bounds (parameter units), paths set, covers, where the range came from, note.
+        """
         return {"parameter": self.name, "value": self.value, "low": self.low, "high": self.high,
                 "sets": list(self.paths), "covers": list(self.covers), "range_from": self.range_from,
                 "note": self.note}
@@ -112,7 +130,18 @@ def _leaves(node, prefix: str = ""):
 
 
 def numeric_parameters(pset: ParameterSet) -> dict[str, float]:
-    """Every numeric parameter of the vehicle by dotted path (booleans, names and the payload left out)."""
+    """Every numeric parameter of the vehicle by dotted path (booleans, names and the payload left out).
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+
+    Returns
+    -------
+    dict of str to float
+        Dotted path -> value [its unit].
+    """
     return {path: float(value) for path, value in _leaves(pset.params.model_dump(exclude={"ranges"}))
             if _is_number(value) and not path.startswith("payload.")}
 
@@ -157,6 +186,16 @@ def _range_key_value(pset: ParameterSet, key: str, values: dict[str, float]) -> 
 def declared_ranges(pset: ParameterSet) -> dict[str, tuple[float, float]]:
     """The ranges the vehicle file declares (its ``[ranges]`` tables, :class:`~trikedyn.params.schema.VehicleParameters`),
     by key, as ``(low, high)`` in the value's unit (a ``{ rel = f }`` resolved against the value).
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+
+    Returns
+    -------
+    dict of str to tuple of float
+        Key -> (low, high).
 
     Raises
     ------
@@ -409,6 +448,20 @@ def select_factors(pset: ParameterSet, names: Iterable[str], fraction: float = D
     ``cg_height_m``, ``cg_x_fraction``, ``component.NAME.x_m|y_m|z_m|mass_kg``) or a value shared by a pair
     of wheels (``wheels.rear_left+rear_right.radius_m``).
 
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    names : iterable of str
+        The factor names.
+    fraction : float
+        Default relative range, dimensionless.
+
+    Returns
+    -------
+    list of Factor
+        The factors.
+
     Raises
     ------
     InputError
@@ -440,6 +493,20 @@ def select_factors(pset: ParameterSet, names: Iterable[str], fraction: float = D
 def apply_factors(pset: ParameterSet, factors: Iterable[Factor], x) -> ParameterSet:
     """The vehicle with each factor at its value in ``x`` (a new, validated set).
 
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    factors : iterable of Factor
+        The factors.
+    x : sequence of float
+        Their values [parameter units].
+
+    Returns
+    -------
+    ParameterSet
+        The new set.
+
     Raises
     ------
     ParameterError
@@ -457,6 +524,17 @@ def apply_factors(pset: ParameterSet, factors: Iterable[Factor], x) -> Parameter
 # sampling and analysis (SALib)
 # ------------------------------------------------------------------------------------------------
 def problem(factors: Iterable[Factor]) -> dict:
-    """The SALib problem: the factors' names and ``[low, high]`` bounds."""
+    """The SALib problem: the factors' names and ``[low, high]`` bounds.
+
+    Parameters
+    ----------
+    factors : iterable of Factor
+        The factors.
+
+    Returns
+    -------
+    dict
+        ``num_vars``, ``names``, ``bounds``.
+    """
     factors = list(factors)
     return {"num_vars": len(factors), "names": [f.name for f in factors], "bounds": [[f.low, f.high] for f in factors]}

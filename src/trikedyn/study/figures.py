@@ -72,7 +72,18 @@ def _long(frame):
 
 
 def factors(frame) -> list[str]:
-    """The columns of a study table that vary (more than one value), in table order."""
+    """The columns of a study table that vary (more than one value), in table order.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        A study table.
+
+    Returns
+    -------
+    list of str
+        The columns.
+    """
     out = []
     for col in (*_BASE_FACTORS, *_override_columns(frame)):
         if col in frame.columns and frame[col].astype(str).nunique(dropna=False) > 1:
@@ -387,7 +398,18 @@ def _shape(rows, columns) -> tuple[str, list[tuple[str, ...]]]:
 def plan(frame) -> list[tuple[str, str, list[str]]]:
     """What :func:`study_figures` draws for a study table: ``(metric, kind, columns)`` per metric with a
     value, ``kind`` one of :data:`KINDS`, ``columns`` the varying columns (columns that move together count
-    as one factor for the kind)."""
+    as one factor for the kind).
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        A study table.
+
+    Returns
+    -------
+    list of tuple
+        ``(metric, kind, columns)``.
+    """
     data = _long(frame)
     out = []
     for metric, rows in data.groupby("metric", sort=False):
@@ -411,6 +433,17 @@ def _judged_by(rows) -> str:
 
 def study_figures(frame, out_dir: str | Path, title: str | None = None, dpi: int = 110) -> list[Path]:
     """Draw the figures of a study table (:meth:`StudyStore.to_pandas`) into ``out_dir``.
+
+    Parameters
+    ----------
+    frame : pandas.DataFrame
+        The study table.
+    out_dir : str or Path
+        The folder.
+    title : str, optional
+        Figure title.
+    dpi : int
+        Resolution [dots per inch].
 
     Returns
     -------

@@ -44,7 +44,22 @@ MAX_CELLS = 5000
 
 
 def default_grid(pset: ParameterSet) -> tuple[list[float], list[float], list[float]]:
-    """Masses [kg], x [m] and z [m] of the default grid (45 cells) around the vehicle's freight site."""
+    """Masses [kg], x [m] and z [m] of the default grid (45 cells) around the vehicle's freight site.
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+
+    Returns
+    -------
+    masses : list of float
+        [kg].
+    x : list of float
+        [m].
+    z : list of float
+        [m].
+    """
     site = pset.params.freight
     return (list(DEFAULT_MASSES_KG), [round(site.x_m + d, 9) for d in DEFAULT_X_OFFSETS_M],
             [round(site.z_m + d, 9) for d in DEFAULT_Z_OFFSETS_M])
@@ -54,6 +69,26 @@ def grid_cells(pset: ParameterSet, masses_kg: Sequence[float] | None = None, x_m
                z_m: Sequence[float] | None = None) -> tuple[list[float], list[float], list[float]]:
     """The chart's grid: masses [kg], x [m] and z [m], each as given (None: :func:`default_grid`'s) with
     repeats dropped; the cells run in the order ``z``, mass, ``x`` (:meth:`LoadingChart.keys`).
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    masses_kg : sequence of float, optional
+        Freight masses [kg].
+    x_m : sequence of float, optional
+        Fore-aft positions [m].
+    z_m : sequence of float, optional
+        Heights [m].
+
+    Returns
+    -------
+    masses : list of float
+        [kg].
+    x : list of float
+        [m].
+    z : list of float
+        [m].
 
     Raises
     ------
@@ -92,6 +127,16 @@ class CellLog(AppendedCsv):
 
         A row cut short by a kill is skipped (run again).
 
+        Parameters
+        ----------
+        keys : list of tuple of float
+            The chart's cells (mass [kg], x [m], z [m]).
+
+        Returns
+        -------
+        dict
+            ``(mass [kg], x [m], z [m])`` -> ``(threshold [km/h] or None, error or None)``.
+
         Raises
         ------
         InputError
@@ -112,7 +157,19 @@ class CellLog(AppendedCsv):
 
     def append(self, index: int, key: tuple[float, float, float], threshold: float | None,
                error: str | None) -> None:
-        """Log one finished cell (flushed at once)."""
+        """Log one finished cell (flushed at once).
+
+        Parameters
+        ----------
+        index : int
+            The cell's place.
+        key : tuple of float
+            (mass [kg], x [m], z [m]).
+        threshold : float or None
+            Threshold [km/h].
+        error : str or None
+            Why it has none.
+        """
         mass, x, z = key
         self.write([index, repr(mass), "ok" if threshold is not None else "failed",
                     "" if threshold is None else repr(float(threshold)), repr(x), repr(z), error or ""])
@@ -120,7 +177,22 @@ class CellLog(AppendedCsv):
 
 def safe_speed(threshold_kmh: float | None, margin_kmh: float | None = DEFAULT_MARGIN_KMH,
                margin_fraction: float | None = None) -> float | None:
-    """The threshold [km/h] less the margin (``margin_kmh`` or a fraction of it), floored at 0."""
+    """The threshold [km/h] less the margin (``margin_kmh`` or a fraction of it), floored at 0.
+
+    Parameters
+    ----------
+    threshold_kmh : float or None
+        Threshold [km/h].
+    margin_kmh : float, optional
+        Margin [km/h].
+    margin_fraction : float, optional
+        Margin as a fraction, dimensionless.
+
+    Returns
+    -------
+    float or None
+        Speed [km/h].
+    """
     if threshold_kmh is None:
         return None
     if margin_fraction is not None:
@@ -132,7 +204,26 @@ def evaluate_cell(pset: ParameterSet, mass_kg: float, x_m: float, z_m: float,
                   search: Search) -> tuple[float | None, str | None]:
     """The threshold velocity [km/h] with ``mass_kg`` of freight at ``(x_m, z_m)``, or None and why not.
 
-    Runs in a worker process; an invalid vehicle or a failed search is a null cell, not an error."""
+    Runs in a worker process; an invalid vehicle or a failed search is a null cell, not an error.
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    mass_kg : float
+        Freight mass [kg].
+    x_m, z_m : float
+        Freight position [m].
+    search : Search
+        The threshold search (manoeuvre, options, speed range [km/h], criterion).
+
+    Returns
+    -------
+    threshold : float or None
+        [km/h].
+    error : str or None
+        Why there is none.
+    """
     from ..params.knobs import apply_knobs
     from ..params.ops import with_freight
     try:
@@ -180,26 +271,60 @@ class LoadingChart:
 
     @property
     def margin_text(self) -> str:
+        """The margin in words (``'10% below the threshold'`` or ``'5 km/h below the threshold'``)."""
         if self.margin_fraction is not None:
             return f"{self.margin_fraction:.0%} below the threshold"
         return f"{self.margin_kmh:g} km/h below the threshold"
 
     def safe(self, key) -> float | None:
+        """The safe speed of one cell [km/h] (:func:`safe_speed`).
+
+        Parameters
+        ----------
+        key : tuple of float
+            (mass [kg], x [m], z [m]).
+
+        Returns
+        -------
+        float or None
+            Speed [km/h], None without a threshold.
+        """
         return safe_speed(self.threshold[key], self.margin_kmh, self.margin_fraction)
 
     def keys(self):
+        """The cells in their order: z, then mass, then x.
+
+        Returns
+        -------
+        list of tuple of float
+            (mass [kg], x [m], z [m]) per cell.
+        """
         return [(m, x, z) for z in self.z_m for m in self.masses_kg for x in self.x_m]
 
     @property
     def failed(self) -> int:
+        """Number of cells without a threshold."""
         return sum(e is not None for e in self.errors.values())
 
     def cells(self) -> list[dict]:
+        """Each cell as a dict.
+
+        Returns
+        -------
+        list of dict
+            ``freight_kg``, ``freight_position_m``, ``threshold_speed_kmh``, ``safe_speed_kmh``, ``error``.
+        """
         return [{"freight_kg": m, "freight_position_m": [x, z], "threshold_speed_kmh": self.threshold[(m, x, z)],
                  "safe_speed_kmh": self.safe((m, x, z)), "error": self.errors[(m, x, z)]} for m, x, z in self.keys()]
 
     def to_dict(self) -> dict:
-        """The chart as plain data (the ``--json`` output)."""
+        """The chart as plain data (the ``--json`` output).
+
+        Returns
+        -------
+        dict
+            The chart (masses [kg], positions [m], speeds [km/h]).
+        """
         at_limit = sum(t is not None and t >= self.search.high_kmh - 1e-9 for t in self.threshold.values())
         return {
             "vehicle": self.vehicle, "manoeuvre": self.manoeuvre, "options": dict(self.search.options),
@@ -213,7 +338,13 @@ class LoadingChart:
         }
 
     def rows(self) -> list[list]:
-        """The cells as CSV rows, the header first."""
+        """The cells as CSV rows, the header first.
+
+        Returns
+        -------
+        list of list
+            The rows.
+        """
         out = [["freight_kg", "x_m", "z_m", "threshold_speed_kmh", "safe_speed_kmh", "error"]]
         for c in self.cells():
             out.append([c["freight_kg"], *c["freight_position_m"], _blank(c["threshold_speed_kmh"]),
@@ -221,7 +352,13 @@ class LoadingChart:
         return out
 
     def table(self) -> str:
-        """A printable table per height: rows freight mass, columns x; each cell ``safe (threshold)``."""
+        """A printable table per height: rows freight mass, columns x; each cell ``safe (threshold)``.
+
+        Returns
+        -------
+        str
+            The table.
+        """
         lines = [f"{self.vehicle} on {self.manoeuvre}: safe speed [km/h] = threshold - margin "
                  f"({self.margin_text}, not below 0); cells: safe (threshold); the threshold under the "
                  f"{self.search.criterion} criterion, {self.search.speed_control} speed control"]
@@ -249,7 +386,13 @@ class LoadingChart:
         return "\n".join(lines)
 
     def plot(self):
-        """One panel per height: safe speed vs freight mass, one line per fore-aft position; a Figure."""
+        """One panel per height: safe speed vs freight mass, one line per fore-aft position; a Figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         from matplotlib.figure import Figure
 
         n = len(self.z_m)
@@ -285,7 +428,38 @@ def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[fl
 
     Each finished cell is appended to ``log`` if given; with ``resume`` the cells in it already
     (:meth:`CellLog.read`) are taken as they are and not run again. Cells left out by workers that kept
-    dying are null and not logged: a resumed run tries them again."""
+    dying are null and not logged: a resumed run tries them again.
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    search : Search
+        The threshold search (manoeuvre, options, speed range [km/h], criterion).
+    masses_kg : sequence of float, optional
+        Freight masses [kg].
+    x_m : sequence of float, optional
+        Fore-aft positions [m].
+    z_m : sequence of float, optional
+        Heights [m].
+    margin_kmh : float, optional
+        Margin below the threshold [km/h].
+    margin_fraction : float, optional
+        Margin as a fraction of the threshold, dimensionless.
+    workers : int
+        Worker processes.
+    progress : callable, optional
+        ``progress(done, total)``.
+    log : CellLog, optional
+        Where each cell is logged.
+    resume : bool
+        Go on from ``log``.
+
+    Returns
+    -------
+    LoadingChart
+        The chart.
+    """
     start = time.perf_counter()
     masses, xs, zs = grid_cells(pset, masses_kg, x_m, z_m)
     if margin_fraction is not None and not 0 <= margin_fraction < 1:

@@ -64,7 +64,26 @@ def evaluate_layout(pset: ParameterSet, knobs: dict, searches: tuple[Search, ...
     """The threshold velocity [km/h] on each search's manoeuvre of ``pset`` with the design ``knobs`` set
     (none: the vehicle as given) and ``payload_kg`` of the paper's freight, and why any is None.
 
-    Never raises for a bad layout: an invalid vehicle or a failed search is a None with the reason."""
+    Never raises for a bad layout: an invalid vehicle or a failed search is a None with the reason.
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    knobs : dict
+        Knob -> value [its unit].
+    searches : tuple of Search
+        One search per manoeuvre.
+    payload_kg : float
+        Freight [kg].
+
+    Returns
+    -------
+    thresholds : tuple of float or None
+        [km/h].
+    error : str or None
+        Why one is None.
+    """
     from ..params.knobs import apply_knobs
     from ..params.ops import with_freight
 
@@ -235,6 +254,8 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
     log : EvaluationLog, optional
         Where each evaluation is appended as it finishes; with ``resume``, the layouts it holds are not
         searched again.
+    resume : bool
+        Go on from ``log`` (a run killed part way): its layouts are kept, not searched again.
     progress : callable, optional
         ``progress(done, most)``: evaluations done (the reference vehicle's included), and the most the run may
         make.

@@ -19,7 +19,18 @@ __all__ = ["Evaluation", "EvaluationLog", "OptimiseResult", "worst"]
 
 
 def worst(thresholds: Sequence[float | None]) -> float:
-    """The objective of a layout: its lowest threshold [km/h] over the manoeuvres, a None counting as 0."""
+    """The objective of a layout: its lowest threshold [km/h] over the manoeuvres, a None counting as 0.
+
+    Parameters
+    ----------
+    thresholds : sequence of float or None
+        Thresholds [km/h].
+
+    Returns
+    -------
+    float
+        [km/h].
+    """
     return min((0.0 if t is None else float(t)) for t in thresholds)
 
 
@@ -36,6 +47,7 @@ class Evaluation:
 
     @property
     def worst(self) -> float:
+        """The layout's objective, its lowest threshold [km/h] (:func:`worst`)."""
         return worst(self.thresholds)
 
 
@@ -60,6 +72,11 @@ class EvaluationLog(AppendedCsv):
 
     def read(self) -> list[Evaluation]:
         """The evaluations logged already (a row cut short by a kill is left out: evaluated again).
+
+        Returns
+        -------
+        list of Evaluation
+            The evaluations.
 
         Raises
         ------
@@ -87,12 +104,24 @@ class EvaluationLog(AppendedCsv):
                 " ".join((ev.error or "").split()), *values]
 
     def append(self, ev: Evaluation) -> None:
-        """Log one finished evaluation (flushed at once)."""
+        """Log one finished evaluation (flushed at once).
+
+        Parameters
+        ----------
+        ev : Evaluation
+            The evaluation.
+        """
         self.write(self._row(ev))
 
     def rewrite(self, evaluations: Sequence[Evaluation]) -> None:
         """Write the whole log again with ``evaluations`` in their order (atomically: a kill leaves the old
-        file). The log must be closed."""
+        file). The log must be closed.
+
+        Parameters
+        ----------
+        evaluations : sequence of Evaluation
+            All of them.
+        """
         import csv
 
         from .._files import atomic_write
@@ -140,17 +169,27 @@ class OptimiseResult:
 
     @property
     def manoeuvres(self) -> list[str]:
+        """The manoeuvres of the searches, in order."""
         return [s.manoeuvre for s in self.searches]
 
     @property
     def best_threshold_speed_kmh(self) -> float:
+        """The best layout's worst threshold [km/h]."""
         return self.best.worst
 
     @property
     def reference_threshold_speed_kmh(self) -> float:
+        """The reference vehicle's worst threshold [km/h]."""
         return self.reference.worst
 
     def moves(self) -> list[dict]:
+        """How each knob moved from the reference to the best layout.
+
+        Returns
+        -------
+        list of dict
+            ``knob``, ``unit``, ``reference``, ``best``, ``move``, ``low``, ``high`` (in the knob's unit).
+        """
         units = _units(self.spec.names)
         return [{"knob": name, "unit": unit, "reference": ref, "best": best, "move": round(best - ref, 9),
                  "low": low, "high": high}
@@ -158,7 +197,13 @@ class OptimiseResult:
                                                              self.best.values, units, strict=True)]
 
     def to_dict(self) -> dict:
-        """The result as plain data (the ``--json`` output; the command adds ``vehicle_file`` and ``files``)."""
+        """The result as plain data (the ``--json`` output; the command adds ``vehicle_file`` and ``files``).
+
+        Returns
+        -------
+        dict
+            The result.
+        """
         failed = sum(e.error is not None for e in self.evaluations)
         return {
             "vehicle": self.vehicle_name, "spec": self.spec.origin, "description": self.spec.description,
@@ -185,7 +230,13 @@ class OptimiseResult:
         }
 
     def table(self) -> str:
-        """The result for reading."""
+        """The result for reading.
+
+        Returns
+        -------
+        str
+            The text.
+        """
         ref, best = self.reference_threshold_speed_kmh, self.best_threshold_speed_kmh
         what = "worst threshold over " + ", ".join(self.manoeuvres) if len(self.searches) > 1 else \
             f"threshold on {self.manoeuvres[0]}"
@@ -215,7 +266,13 @@ class OptimiseResult:
 
     def plot(self):
         """Left: each layout's (worst) threshold over the evaluations, the best so far and the reference;
-        right: each knob's reference and best value within its bounds. A matplotlib Figure."""
+        right: each knob's reference and best value within its bounds. A matplotlib Figure.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         from matplotlib.figure import Figure
 
         fig = Figure(figsize=(11.0, 4.2))

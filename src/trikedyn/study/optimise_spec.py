@@ -141,7 +141,13 @@ class OptimiseSpec:
         return [k[0] for k in self.knobs]
 
     def to_dict(self) -> dict:
-        """The spec as plain JSON-ready values (what a run's plan records)."""
+        """The spec as plain JSON-ready values (what a run's plan records).
+
+        Returns
+        -------
+        dict
+            The spec.
+        """
         return {"origin": self.origin, "description": self.description,
                 "knobs": {n: [lo, hi] for n, lo, hi in self.knobs}, "manoeuvres": list(self.manoeuvres),
                 "payload_kg": self.payload_kg, "seed": self.seed, "popsize": self.popsize, "maxiter": self.maxiter,
@@ -150,6 +156,11 @@ class OptimiseSpec:
 
     def check(self, pset: ParameterSet) -> None:
         """The knobs exist on ``pset`` and their bounds lie within each knob's own bounds.
+
+        Parameters
+        ----------
+        pset : ParameterSet
+            The vehicle.
 
         Raises
         ------
@@ -176,7 +187,13 @@ def _spec_dir():
 
 
 def list_optimise_specs() -> list[str]:
-    """Names of the optimise specs shipped with trikedyn (``battery-layout``)."""
+    """Names of the optimise specs shipped with trikedyn (``battery-layout``).
+
+    Returns
+    -------
+    list of str
+        The names.
+    """
     from ..params.tomlfile import builtin_names
 
     return builtin_names(_spec_dir())
@@ -184,6 +201,16 @@ def list_optimise_specs() -> list[str]:
 
 def load_optimise_spec(name_or_path: str | Path | OptimiseSpec) -> OptimiseSpec:
     """An optimise spec by built-in name (``"battery-layout"``) or from a TOML file.
+
+    Parameters
+    ----------
+    name_or_path : str, Path or OptimiseSpec
+        A built-in name, a TOML file, or a spec (returned as it is).
+
+    Returns
+    -------
+    OptimiseSpec
+        The spec.
 
     Raises
     ------
@@ -206,6 +233,20 @@ def parse_optimise_spec(source: str | dict, origin: str = "<string>", base_dir: 
     """Validate an optimise spec given as TOML text or as the dict it parses to (see the module docstring).
 
     ``base_dir``: the folder the spec names its path CSVs in (the working folder if None).
+
+    Parameters
+    ----------
+    source : str or dict
+        TOML text or its dict.
+    origin : str
+        Where it came from, for errors.
+    base_dir : str or Path, optional
+        Folder of its path CSVs.
+
+    Returns
+    -------
+    OptimiseSpec
+        The spec.
     """
     return _parse(source, origin, Path.cwd() if base_dir is None else Path(base_dir), "the spec's folder")
 
@@ -246,5 +287,18 @@ def _path_csv(name: str, base_dir: Path, place: str, origin: str) -> str:
 
 
 def population_size(popsize: int, n_knobs: int) -> int:
-    """Layouts per generation: scipy's ``max(5, popsize x n_knobs)``."""
+    """Layouts per generation: scipy's ``max(5, popsize x n_knobs)``.
+
+    Parameters
+    ----------
+    popsize : int
+        scipy's population multiplier.
+    n_knobs : int
+        Number of knobs.
+
+    Returns
+    -------
+    int
+        Layouts per generation.
+    """
     return max(5, popsize * max(1, n_knobs))

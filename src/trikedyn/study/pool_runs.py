@@ -45,6 +45,17 @@ class ResilientPool:
         """``fn(*args)`` for each ``(key, args)`` of ``tasks``: ``on_result(key, value)`` as each finishes,
         ``on_death(key)`` for a call on which workers died twice.
 
+        Parameters
+        ----------
+        fn : callable
+            The function, picklable.
+        tasks : iterable of (key, args)
+            The calls.
+        on_result : callable
+            ``on_result(key, value)``.
+        on_death : callable
+            ``on_death(key)``.
+
         Raises
         ------
         WorkersKeptDying
@@ -82,7 +93,13 @@ class ResilientPool:
                 raise
 
     def close(self, abandon: bool = False) -> None:
-        """Shut the executor down; ``abandon``: now, the calls in flight lost (a dead worker, Ctrl-C)."""
+        """Shut the executor down; ``abandon``: now, the calls in flight lost (a dead worker, Ctrl-C).
+
+        Parameters
+        ----------
+        abandon : bool
+            Shut down now, losing the calls in flight.
+        """
         if self.executor is not None:
             executor, self.executor = self.executor, None
             executor.shutdown(wait=not abandon, cancel_futures=True)

@@ -81,6 +81,23 @@ NUM_LEVELS = 4
 
 
 def check_method(method: str) -> str:
+    """``method`` if it is a known method (``morris`` or ``sobol``).
+
+    Parameters
+    ----------
+    method : str
+        The method.
+
+    Returns
+    -------
+    str
+        ``method``.
+
+    Raises
+    ------
+    InputError
+        For an unknown method (with a close match).
+    """
     if method not in METHODS:
         tip = did_you_mean(str(method), METHODS)
         raise InputError(f"unknown method '{method}'{tip} (expected morris or sobol)", where="--method")
@@ -88,7 +105,20 @@ def check_method(method: str) -> str:
 
 
 def group_size(method: str, k: int) -> int:
-    """Rows of one Morris trajectory (``k + 1``) or of one Sobol block (``k + 2``, first-order and total)."""
+    """Rows of one Morris trajectory (``k + 1``) or of one Sobol block (``k + 2``, first-order and total).
+
+    Parameters
+    ----------
+    method : str
+        ``morris`` or ``sobol``.
+    k : int
+        Number of factors.
+
+    Returns
+    -------
+    int
+        Rows per group.
+    """
     return k + 1 if check_method(method) == "morris" else k + 2
 
 
@@ -107,6 +137,11 @@ def sample(prob: dict, method: str, samples: int, seed: int = 1) -> np.ndarray:
         Trajectories or base samples.
     seed : int
         Seed of the sampling (the same seed, the same rows).
+
+    Returns
+    -------
+    numpy.ndarray
+        The inputs [factor units], one row per evaluation.
     """
     check_method(method)
     if isinstance(samples, bool) or int(samples) != samples or samples < 2:
@@ -132,6 +167,18 @@ def unsettled_places(indices: list[dict], top: int = 10) -> list[tuple[int, int]
     ``indices`` are ranked, most important first (:func:`analyse`): Morris rows overlap when
     ``mu_star +/- mu_star_conf`` do, Sobol rows when ``ST +/- ST_conf`` do. A chain may run past ``top``; a
     row whose interval is not finite ends one.
+
+    Parameters
+    ----------
+    indices : list of dict
+        Ranked indices.
+    top : int
+        Places looked at.
+
+    Returns
+    -------
+    list of tuple of int
+        (first, last) places of each chain.
     """
     key = "mu_star" if indices and "mu_star" in indices[0] else "ST"
     rows = indices[: top + 1]
@@ -272,6 +319,7 @@ class SensitivityResult:
 
     @property
     def failed(self) -> int:
+        """Number of evaluations that failed."""
         return int(sum(e is not None for e in self.errors))
 
     @property
@@ -280,7 +328,13 @@ class SensitivityResult:
         return int(np.sum(self.Y >= self.search.high_kmh - 1e-9))
 
     def to_dict(self) -> dict:
-        """The result as plain data (the ``--json`` output)."""
+        """The result as plain data (the ``--json`` output).
+
+        Returns
+        -------
+        dict
+            The result (indices in [km/h] for Morris, dimensionless for Sobol).
+        """
         failures: dict[str, int] = {}
         for err in self.errors:
             if err is not None:
@@ -302,7 +356,18 @@ class SensitivityResult:
 
     def plot(self, top: int | None = None):
         """Bars of ``mu_star`` with its confidence interval and ``sigma`` [km/h] (Morris), or ``ST`` and ``S1``
-        with theirs [-] (Sobol), most important at the top; returns a :class:`matplotlib.figure.Figure`."""
+        with theirs [-] (Sobol), most important at the top; returns a :class:`matplotlib.figure.Figure`.
+
+        Parameters
+        ----------
+        top : int, optional
+            Show only the most important factors.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         from matplotlib.figure import Figure
 
         rows = [r for r in self.indices if all(isinstance(v, str) or math.isfinite(v) for v in r.values())]
@@ -366,8 +431,15 @@ def run_sensitivity(pset: ParameterSet, search: Search, factors: list[Factor], *
     log : SampleLog, optional
         Where each sample is appended as it finishes; with ``resume``, the samples logged already are not
         evaluated again.
+    resume : bool
+        Go on from ``log`` (a run killed part way): the samples it holds are kept.
     progress : callable, optional
         ``progress(done, total)`` (see :func:`run_samples`).
+
+    Returns
+    -------
+    SensitivityResult
+        The samples, thresholds [km/h] and indices.
     """
     start = time.perf_counter()
     check_method(method)

@@ -287,36 +287,78 @@ class StudyStore:
         return cur.rowcount == 1
 
     def begin_run(self, token: str, planned: int, executor: str) -> None:
-        """Record the start of a run (``planned``: scenarios it will compute)."""
+        """Record the start of a run (``planned``: scenarios it will compute).
+
+        Parameters
+        ----------
+        token : str
+            The run's token.
+        planned : int
+            Scenarios it will compute.
+        executor : str
+            The executor's description.
+        """
         with self._transaction() as c:
             c.execute("INSERT INTO runs VALUES (?, ?, ?, ?, ?, ?, NULL, 'running')",
                       (token, os.getpid(), socket.gethostname(), executor, planned, time.time()))
 
     def end_run(self, token: str, outcome: str) -> None:
-        """Record how a run ended: ``"completed"``, ``"interrupted"``, ``"incomplete"`` or ``"failed"``."""
+        """Record how a run ended: ``"completed"``, ``"interrupted"``, ``"incomplete"`` or ``"failed"``.
+
+        Parameters
+        ----------
+        token : str
+            The run's token.
+        outcome : str
+            How it ended.
+        """
         with self._transaction() as c:
             c.execute("UPDATE runs SET ended_at = ?, outcome = ? WHERE run_token = ?", (time.time(), outcome, token))
 
     # -- reading ----------------------------------------------------------------------------------
     def meta(self) -> dict[str, str]:
-        """The ``meta`` table as a dict."""
+        """The ``meta`` table as a dict.
+
+        Returns
+        -------
+        dict of str to str
+            The table.
+        """
         return dict(self._conn.execute("SELECT key, value FROM meta").fetchall())
 
     def done_ids(self) -> set[str]:
-        """Ids of the scenarios stored (finished, ``ok`` or ``error``)."""
+        """Ids of the scenarios stored (finished, ``ok`` or ``error``).
+
+        Returns
+        -------
+        set of str
+            The ids.
+        """
         return {r[0] for r in self._conn.execute("SELECT scenario_id FROM results")}
 
     def __len__(self) -> int:
         return self._conn.execute("SELECT COUNT(*) FROM results").fetchone()[0]
 
     def runs(self) -> list[dict]:
-        """The runs recorded, oldest first."""
+        """The runs recorded, oldest first.
+
+        Returns
+        -------
+        list of dict
+            The runs.
+        """
         cur = self._conn.execute("SELECT * FROM runs ORDER BY started_at")
         names = [d[0] for d in cur.description]
         return [dict(zip(names, r, strict=True)) for r in cur.fetchall()]
 
     def rows(self) -> list[dict]:
-        """Every stored row, flat: scenario fields, ``status``, the result's keys, ``error`` and run info."""
+        """Every stored row, flat: scenario fields, ``status``, the result's keys, ``error`` and run info.
+
+        Returns
+        -------
+        list of dict
+            The rows.
+        """
         cur = self._conn.execute(
             "SELECT scenario, status, result, error, traceback, wall_time_s, worker, run_token, finished_at"
             " FROM results")
@@ -386,6 +428,13 @@ class StudyStore:
     def export(self, order: list[str], folder: str | Path | None = None) -> dict[str, Path]:
         """Write ``results.csv`` and ``results.parquet`` (spec order, deterministic columns only), each
         atomically (a temporary file in the same folder, renamed into place).
+
+        Parameters
+        ----------
+        order : list of str
+            Scenario ids in the spec's order.
+        folder : str or Path, optional
+            Where to write (beside the store by default).
 
         Returns
         -------

@@ -65,10 +65,22 @@ class Input:
 
     @property
     def name(self) -> str:
+        """The input's name (its factor's)."""
         return self.factor.name
 
     def from_unit(self, u: np.ndarray) -> np.ndarray:
-        """The values [parameter unit] at the quantiles ``u`` in (0, 1)."""
+        """The values [parameter unit] at the quantiles ``u`` in (0, 1).
+
+        Parameters
+        ----------
+        u : numpy.ndarray
+            Quantiles in (0, 1), dimensionless.
+
+        Returns
+        -------
+        numpy.ndarray
+            Values [parameter unit].
+        """
         f = self.factor
         if self.distribution == "normal":
             from scipy.stats import truncnorm
@@ -77,6 +89,13 @@ class Input:
         return f.low + np.asarray(u, dtype=float) * (f.high - f.low)
 
     def to_dict(self) -> dict:
+        """The input as JSON-ready values.
+
+        Returns
+        -------
+        dict
+            Parameter, distribution and its values (mean, std, truncation or low, high; parameter units), paths set, source.
+        """
         f = self.factor
         if self.distribution == "normal":
             return {"parameter": f.name, "distribution": "normal", "mean": f.value, "std": self.std,
@@ -87,6 +106,16 @@ class Input:
 
 def parse_std(items: Iterable[str]) -> dict[str, float]:
     """``PATH=SIGMA`` items (``mass.cg_z_m=0.01``) -> ``{path: sigma}`` [parameter units].
+
+    Parameters
+    ----------
+    items : iterable of str
+        ``PATH=SIGMA`` items.
+
+    Returns
+    -------
+    dict of str to float
+        Path -> sigma [parameter unit].
 
     Raises
     ------
@@ -116,6 +145,26 @@ def build_inputs(pset: ParameterSet, parameters: Iterable[str] = (), stds: dict[
 
     A path given both ways is normal. ``sources``: path -> where its sigma came from (``"--std"`` if not
     given). Returns the inputs and the assumed values left out (with why; empty when parameters are named).
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    parameters : iterable of str
+        Factors taken uniform.
+    stds : dict of str to float, optional
+        Path -> sigma [parameter unit], taken normal.
+    fraction : float
+        Default relative range, dimensionless.
+    sources : dict of str to str, optional
+        Path -> where its sigma came from.
+
+    Returns
+    -------
+    inputs : list of Input
+        The inputs.
+    excluded : dict of str to str
+        Candidates left out and why.
     """
     sources = dict(sources or {})
     stds = dict(stds or {})
@@ -165,12 +214,29 @@ class Measured:
     source: str
 
     def to_dict(self) -> dict:
+        """The measured sigma as JSON-ready values.
+
+        Returns
+        -------
+        dict
+            ``parameter``, ``std`` [parameter unit], ``measured``, ``source``.
+        """
         return {"parameter": self.path, "std": self.std, "measured": self.measured, "source": self.source}
 
 
 def weighing_stds(path: str | Path) -> list[Measured]:
     """The CG's standard deviations from a weighing file (:mod:`trikedyn.measure.weighing`): x and y from
     the level weighing (the readings' ``reading_std_kg``), z from the ``[[tilted]]`` weighings if any.
+
+    Parameters
+    ----------
+    path : str or Path
+        The weighing file.
+
+    Returns
+    -------
+    list of Measured
+        CG sigmas [m].
 
     Raises
     ------
@@ -219,6 +285,18 @@ def identification_stds(path: str | Path, suspension: str) -> list[Measured]:
     C are functions of them (Eqs. 3-4, or the quarter car with the tyre in series when ``tyre_stiffness_N_per_m``
     was given: :func:`~trikedyn.measure.suspension.suspension_from_body_mode`), so their sigmas follow to first
     order, f_n and xi taken as independent.
+
+    Parameters
+    ----------
+    path : str or Path
+        The identification JSON, or a folder holding one.
+    suspension : str
+        The suspension it measured.
+
+    Returns
+    -------
+    list of Measured
+        K [N/m] and C [N s/m] with their sigmas.
 
     Raises
     ------
@@ -306,7 +384,22 @@ def _suspension_of(pset: ParameterSet, item: str) -> tuple[str, str]:
 def measured_stds(pset: ParameterSet, weighing: str | Path | None = None, identifications: Iterable[str] = (),
                   ) -> list[Measured]:
     """The measured sigmas from a weighing file and identifications (``[NAME=]FILE``, NAME a suspension of the
-    vehicle, needed when it has more than one), in that order; a path measured twice keeps the last."""
+    vehicle, needed when it has more than one), in that order; a path measured twice keeps the last.
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    weighing : str or Path, optional
+        A weighing file.
+    identifications : iterable of str
+        ``[NAME=]FILE`` items.
+
+    Returns
+    -------
+    list of Measured
+        The sigmas.
+    """
     found: dict[str, Measured] = {}
     if weighing is not None:
         found.update((m.path, m) for m in weighing_stds(weighing))
@@ -317,7 +410,22 @@ def measured_stds(pset: ParameterSet, weighing: str | Path | None = None, identi
 
 
 def sample(inputs: Iterable[Input], samples: int, seed: int = 1) -> np.ndarray:
-    """The Latin-hypercube samples [parameter units], one row per sample, one column per input (seeded)."""
+    """The Latin-hypercube samples [parameter units], one row per sample, one column per input (seeded).
+
+    Parameters
+    ----------
+    inputs : iterable of Input
+        The inputs.
+    samples : int
+        Number of samples, >= 2.
+    seed : int
+        Random seed.
+
+    Returns
+    -------
+    numpy.ndarray
+        One row per sample [parameter units].
+    """
     from scipy.stats import qmc
 
     inputs = list(inputs)
@@ -357,13 +465,22 @@ class UncertaintyResult:
 
     @property
     def ok(self) -> np.ndarray:
+        """The thresholds that were found [km/h]."""
         return self.Y[np.isfinite(self.Y)]
 
     @property
     def failed(self) -> int:
+        """Number of samples without a threshold."""
         return int(sum(e is not None for e in self.errors))
 
     def statistics(self) -> dict:
+        """Statistics of the thresholds found.
+
+        Returns
+        -------
+        dict
+            ``median_kmh``, ``p05_kmh``, ``p95_kmh``, ``mean_kmh``, ``std_kmh`` [km/h], ``n``, ``failed``.
+        """
         y = self.ok
         return {"median_kmh": _stat(y, np.median), "p05_kmh": _stat(y, lambda v: np.percentile(v, 5)),
                 "p95_kmh": _stat(y, lambda v: np.percentile(v, 95)), "mean_kmh": _stat(y, np.mean),
@@ -371,7 +488,13 @@ class UncertaintyResult:
                 "n": int(y.size), "failed": self.failed}
 
     def to_dict(self) -> dict:
-        """The result as plain data (the ``--json`` output)."""
+        """The result as plain data (the ``--json`` output).
+
+        Returns
+        -------
+        dict
+            The result (thresholds [km/h]).
+        """
         names = [i.name for i in self.inputs]
         rows = []
         for k, (x, y, err) in enumerate(zip(self.X, self.Y, self.errors, strict=True)):
@@ -407,7 +530,13 @@ class UncertaintyResult:
 
     def plot(self):
         """Histogram of the thresholds [km/h], the 5-95 % band, the median and the reference threshold marked;
-        returns a :class:`matplotlib.figure.Figure`."""
+        returns a :class:`matplotlib.figure.Figure`.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure.
+        """
         from matplotlib.figure import Figure
 
         s = self.statistics()
@@ -448,6 +577,36 @@ def run_uncertainty(pset: ParameterSet, search: Search, inputs: list[Input], *, 
 
     Parameters are those of :func:`~trikedyn.study.sensitivity.run_sensitivity`; ``inputs`` from
     :func:`build_inputs`; ``log`` a :class:`SampleLog` over ``[i.factor for i in inputs]`` (group 1).
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    search : Search
+        The threshold search (manoeuvre, options, speed range [km/h], criterion).
+    inputs : list of Input
+        The uncertain inputs.
+    samples : int
+        Number of samples.
+    seed : int
+        Random seed.
+    fraction : float
+        Default relative range, dimensionless.
+    excluded : dict, optional
+        Candidates left out, recorded.
+    workers : int
+        Worker processes.
+    log : SampleLog, optional
+        Where each sample is logged.
+    resume : bool
+        Go on from ``log``: what it holds is not evaluated again.
+    progress : callable, optional
+        ``progress(done, total)``.
+
+    Returns
+    -------
+    UncertaintyResult
+        Samples, thresholds [km/h] and statistics.
     """
     start = time.perf_counter()
     if not inputs:
