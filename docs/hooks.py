@@ -540,7 +540,8 @@ API_MODULES = (
                  "trikedyn.study.loading", "trikedyn.study.optimise", "trikedyn.study.optimise_spec")),
     ("The reference paper", ("trikedyn.paper", "trikedyn.paper.data", "trikedyn.paper.reproduce",
                              "trikedyn.paper.report", "trikedyn.paper.html")),
-    ("Tyres", ("trikedyn.tyre.magic_formula", "trikedyn.tyre.tir", "trikedyn.tyre.pac2002")),
+    ("Tyres", ("trikedyn.tyre.magic_formula", "trikedyn.tyre.tir", "trikedyn.tyre.pac2002", "trikedyn.tyre.models")),
+    ("Registries and plug-ins", ("trikedyn.registry",)),
     ("Errors and units", ("trikedyn.errors", "trikedyn.units")),
 )
 """The main modules of the API reference, by theme (each object of the flat API is documented once, there)."""

@@ -36,39 +36,22 @@ def _plugin(module: str, registry, name: str):
     assert name not in registry
 
 
-@pytest.fixture
-def cruise():
-    from trikedyn.manoeuvres.registry import MANOEUVRES
+def _fixture(module: str, registry: str, name: str):
+    """A fixture that registers the plug-in ``module`` for one test; ``registry`` is ``"module:ATTRIBUTE"``."""
 
-    yield from _plugin("cruise_manoeuvre", MANOEUVRES, "test-cruise")
+    @pytest.fixture
+    def plugin():
+        where, attribute = registry.split(":")
+        yield from _plugin(module, getattr(importlib.import_module(where), attribute), name)
 
-
-@pytest.fixture
-def pothole():
-    from trikedyn.measure.formats import FORMATS
-
-    yield from _plugin("pothole_layout", FORMATS, "test-pothole")
+    return plugin
 
 
-@pytest.fixture
-def span_metric():
-    from trikedyn.analysis.metrics import METRICS
-
-    yield from _plugin("span_metric", METRICS, "test_window_span_s")
-
-
-@pytest.fixture
-def wheelbase_metric():
-    from trikedyn.study.metrics import STUDY_METRICS
-
-    yield from _plugin("wheelbase_metric", STUDY_METRICS, "test_wheelbase")
-
-
-@pytest.fixture
-def soft_tyre():
-    from trikedyn.tyre.models import TYRE_MODELS
-
-    yield from _plugin("soft_tyre", TYRE_MODELS, "test-soft")
+cruise = _fixture("cruise_manoeuvre", "trikedyn.manoeuvres.registry:MANOEUVRES", "test-cruise")
+pothole = _fixture("pothole_layout", "trikedyn.measure.formats:FORMATS", "test-pothole")
+span_metric = _fixture("span_metric", "trikedyn.analysis.metrics:METRICS", "test_window_span_s")
+wheelbase_metric = _fixture("wheelbase_metric", "trikedyn.study.metrics:STUDY_METRICS", "test_wheelbase")
+soft_tyre = _fixture("soft_tyre", "trikedyn.tyre.models:TYRE_MODELS", "test-soft")
 
 
 # ------------------------------------------------------------------------------------------------

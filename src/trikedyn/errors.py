@@ -9,6 +9,7 @@ from __future__ import annotations
 
 __all__ = [
     "InputError",
+    "close_match",
     "did_you_mean",
     "LogFormatError",
     "ParameterError",
@@ -83,7 +84,29 @@ def did_you_mean(name: str, choices, cutoff: float = 0.6) -> str:
     str
         The hint, or an empty string when nothing is close enough.
     """
+    hint = close_match(name, choices, cutoff)
+    return f"; did you mean '{hint}'?" if hint is not None else ""
+
+
+def close_match(name: str, choices, cutoff: float = 0.6) -> str | None:
+    """The closest of ``choices`` to a mistyped ``name`` (:func:`difflib.get_close_matches`), or None: the one
+    close-match search behind :func:`did_you_mean` and the messages that word their hint otherwise.
+
+    Parameters
+    ----------
+    name : str
+        What the user typed.
+    choices : iterable
+        The valid names (converted with ``str``).
+    cutoff : float
+        Similarity ratio a match must reach, 0 to 1, dimensionless.
+
+    Returns
+    -------
+    str or None
+        The closest name, or None when nothing is close enough.
+    """
     from difflib import get_close_matches
 
     hint = get_close_matches(str(name), [str(c) for c in choices], n=1, cutoff=cutoff)
-    return f"; did you mean '{hint[0]}'?" if hint else ""
+    return hint[0] if hint else None

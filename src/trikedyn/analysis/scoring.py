@@ -11,14 +11,13 @@ records (:meth:`Comparison.to_pandas`), a JSON-safe summary (:meth:`Comparison.t
 
 from __future__ import annotations
 
-import difflib
 import math
 from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
 
-from ..errors import InputError
+from ..errors import InputError, did_you_mean
 from .alignment import DEFAULT_ALIGN, TIME
 
 __all__ = ["ChannelComparison", "Comparison", "channel_metrics"]
@@ -202,6 +201,4 @@ def _json_float(value: float) -> float | None:
 
 def unknown_channel(name: str, choices: list[str], what: str) -> str:
     """'unknown channel NAME; WHAT channels: ...; did you mean ...?' for an error message."""
-    close = difflib.get_close_matches(name, choices, n=1)
-    hint = f"; did you mean {close[0]!r}?" if close else ""
-    return f"unknown channel {name!r}; {what} channels: {', '.join(choices) or 'none'}{hint}"
+    return f"unknown channel {name!r}; {what} channels: {', '.join(choices) or 'none'}{did_you_mean(name, choices)}"

@@ -393,10 +393,10 @@ class VehicleParameters(_Spec):
     def _consistent_layout(self):
         for w in self.wheels:
             if w.suspension not in self.suspension:
-                from difflib import get_close_matches
+                from ..errors import close_match
 
-                hint = get_close_matches(w.suspension, list(self.suspension), n=1)
-                tip = f" (did you mean '{hint[0]}'?)" if hint else ""
+                hint = close_match(w.suspension, self.suspension)
+                tip = f" (did you mean '{hint}'?)" if hint is not None else ""
                 raise ValueError(
                     f"wheel '{w.name}' names suspension '{w.suspension}', which is not defined{tip}; "
                     f"defined: {', '.join(self.suspension)}"
