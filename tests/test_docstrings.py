@@ -18,7 +18,10 @@ own body.
 
 The command functions of the CLI (the callbacks registered on the Typer apps of :mod:`trikedyn.cli`, all in
 :mod:`trikedyn.commands`) are exempt from rule 2: their docstring is their ``--help`` text and their
-parameters are described by the options' own help.
+parameters are described by the options' own help. So are the builders of the registered manoeuvres: an
+option is stated once, in the manoeuvre's ``Option`` table (name, unit, bounds, help), so instead of a
+Parameters section each keyword of the builder must be a declared option, with a unit where its name says it
+carries one.
 
 ``tests/docstring_backlog.txt`` lists the names not yet brought up to the rules (one qualified name a line).
 It may only shrink: a listed name that now passes, or that no longer exists, fails the test too.
@@ -86,6 +89,27 @@ def _command_callbacks() -> set:
 
     walk(cli.app)
     return found
+
+
+def _manoeuvre_builders() -> dict:
+    """{builder function: its registered manoeuvre type} of every registered manoeuvre."""
+    from trikedyn.manoeuvres.registry import available
+
+    return {_unwrap(kind.builder): kind for kind in available()}
+
+
+def builder_problems(qual: str, func, kind) -> list[str]:
+    """What a manoeuvre builder's keywords lack: each a declared option, with a unit where it is physical."""
+    options = {o.name: o for o in kind.options}
+    out = []
+    for p in inspect.signature(func).parameters.values():
+        if p.kind is not inspect.Parameter.KEYWORD_ONLY:
+            continue  # (params, speed_kmh): the same for every builder, described by the registry
+        if p.name not in options:
+            out.append(f"{qual}: keyword {p.name!r} is not a declared option of manoeuvre {kind.name!r}")
+        elif _physical(p) and not options[p.name].unit:
+            out.append(f"{qual}: option {p.name!r} has no unit")
+    return out
 
 
 def _unwrap(obj):
@@ -257,12 +281,15 @@ def problems(qual: str, kind: str, obj, exempt: bool, doc: str | None = None) ->
 def all_problems() -> dict[str, list[str]]:
     """{qualified name: its problems} over the whole package (names with none are left out)."""
     exempt = _command_callbacks()
+    builders = _manoeuvre_builders()
     seen, out = set(), {}
     for qual, kind, obj, doc in _public_objects():
         if qual in seen:
             continue
         seen.add(qual)
-        found = problems(qual, kind, obj, obj in exempt, doc)
+        found = problems(qual, kind, obj, obj in exempt or obj in builders, doc)
+        if obj in builders:
+            found += builder_problems(qual, obj, builders[obj])
         out[qual] = found
     return out
 
@@ -358,6 +385,45 @@ def test_the_check_finds_what_it_should():
     assert problems("m.generator", "function", generator, False) == ["m.generator: no Yields section"]
     assert problems("m.nothing", "function", nothing, False) == ["m.nothing: no docstring"]
     assert problems("m.missing", "function", missing, True) == []  # a CLI command: the docstring is its help
+
+
+def test_the_check_reads_inherited_docstrings_and_builders():
+    """An undocumented override is checked with the docstring it shows; a manoeuvre builder's keywords are
+    checked against its declared options."""
+    from types import SimpleNamespace
+
+    from trikedyn.registry import Option
+
+    class Base:
+        def area(self, width_m):
+            """Area.
+
+            Parameters
+            ----------
+            width_m : float
+                Width [m].
+
+            Returns
+            -------
+            float
+                Area [m^2].
+            """
+            return width_m
+
+    class Child(Base):
+        def area(self, width_m):
+            return 2 * width_m
+
+    assert _inherited_doc(Child, "area") == Base.area.__doc__
+    assert problems("m.Child.area", "method", Child.area, False, _inherited_doc(Child, "area")) == []
+
+    def build(params, speed_kmh, *, radius_m, laps):
+        """Drive round."""
+
+    kind = SimpleNamespace(name="round", options=(Option("radius_m", 10.0, ""),))
+    assert builder_problems("m.build", build, kind) == [
+        "m.build: option 'radius_m' has no unit",
+        "m.build: keyword 'laps' is not a declared option of manoeuvre 'round'"]
 
 
 def test_the_walk_sees_the_package():

@@ -138,7 +138,13 @@ class Option:
         return number
 
     def to_dict(self) -> dict:
-        """The option as JSON-safe data (``trikedyn manoeuvres --json``)."""
+        """The option as JSON-safe data (``trikedyn manoeuvres --json``).
+
+        Returns
+        -------
+        dict
+            Name, default, unit, help, and choices and bounds where it has them.
+        """
         out = {"name": self.name, "default": self.default, "unit": self.unit, "help": self.help}
         if self.choices:
             out["choices"] = list(self.choices)
@@ -196,6 +202,11 @@ def find_option(options, name: str, owner: str, where: str) -> Option:
         What has the options, for the message (``manoeuvre 'dlc'``).
     where : str
         The error's ``where``.
+
+    Returns
+    -------
+    Option
+        The option.
     """
     options = tuple(options)
     for opt in options:
@@ -243,6 +254,15 @@ class Registry(Generic[T]):
     def register(self, name: str, entry: T | None = None, *, replace: bool = False):
         """Register ``entry`` under ``name``; without ``entry``, a decorator registering what it decorates.
 
+        Parameters
+        ----------
+        name : str
+            The registered name.
+        entry : object, optional
+            The entry; a decorator is returned without it.
+        replace : bool
+            Replace an entry of the same name.
+
         Returns
         -------
         The entry (or the decorator).
@@ -267,12 +287,36 @@ class Registry(Generic[T]):
         return entry
 
     def unregister(self, name: str) -> T:
-        """Remove ``name`` and return its entry (:class:`KeyError` if it is not registered)."""
+        """Remove ``name`` and return its entry (:class:`KeyError` if it is not registered).
+
+        Parameters
+        ----------
+        name : str
+            The registered name.
+
+        Returns
+        -------
+        object
+            The entry removed.
+        """
         return self._entries.pop(name)
 
     @contextlib.contextmanager
     def registered(self, name: str, entry: T) -> Iterator[T]:
-        """Register ``entry`` for the ``with`` block only (tests); yields it."""
+        """Register ``entry`` for the ``with`` block only (tests); yields it.
+
+        Parameters
+        ----------
+        name : str
+            The registered name.
+        entry : object
+            The entry.
+
+        Yields
+        ------
+        object
+            ``entry``, registered until the block ends.
+        """
         self.register(name, entry)
         try:
             yield entry
@@ -283,6 +327,16 @@ class Registry(Generic[T]):
     # -- looking up ----------------------------------------------------------------------------------------
     def get(self, name: str) -> T:
         """The entry ``name``.
+
+        Parameters
+        ----------
+        name : str
+            The registered name.
+
+        Returns
+        -------
+        object
+            The entry.
 
         Raises
         ------
@@ -298,23 +352,52 @@ class Registry(Generic[T]):
         raise self.error(self.unknown(name), where=self.where)
 
     def unknown(self, name: str) -> str:
-        """The message for an unknown ``name``: ``unknown <noun> 'x'`` and one close match, or the known names."""
+        """The message for an unknown ``name``: ``unknown <noun> 'x'`` and one close match, or the known names.
+
+        Parameters
+        ----------
+        name : str
+            The unknown name.
+
+        Returns
+        -------
+        str
+            The message.
+        """
         names = self.names()
         return f"unknown {self.noun} '{name}'" + (did_you_mean(str(name), names)
                                                    or (f"; known: {', '.join(names)}" if names else ""))
 
     def names(self) -> tuple[str, ...]:
-        """The registered names, in registration order."""
+        """The registered names, in registration order.
+
+        Returns
+        -------
+        tuple of str
+            The names.
+        """
         self._load()
         return tuple(self._entries)
 
     def values(self) -> list[T]:
-        """The registered entries, in registration order."""
+        """The registered entries, in registration order.
+
+        Returns
+        -------
+        list
+            The entries.
+        """
         self._load()
         return list(self._entries.values())
 
     def items(self) -> list[tuple[str, T]]:
-        """``(name, entry)`` pairs, in registration order."""
+        """``(name, entry)`` pairs, in registration order.
+
+        Returns
+        -------
+        list of tuple
+            ``(name, entry)`` pairs.
+        """
         self._load()
         return list(self._entries.items())
 

@@ -30,6 +30,20 @@ def load_run(run: Path, every_s: float | None = None):
     (:func:`trikedyn.report.animation.scene_channels`) and, given ``every_s``, the number of frames
     (:func:`trikedyn.report.animation.check_frames`). So a refusal is one line, never after a warning.
 
+    Parameters
+    ----------
+    run : Path
+        The run file (.parquet or .csv).
+    every_s : float, optional
+        Time between frames [s], checked against the frame limit when given.
+
+    Returns
+    -------
+    scene : Scene
+        The scene.
+    notes : dict of str to str
+        How the ``vehicle`` and the ``course`` were found.
+
     Raises
     ------
     InputError

@@ -66,7 +66,34 @@ def read_options(fmt: str = "auto", sensor: int = 1, rate: float | None = None, 
                  time_unit: str | None = None, delimiter: str | None = None, decimal: str | None = None,
                  column: list[str] = (), unit: list[str] = ()) -> dict:
     """The keyword arguments of :func:`trikedyn.measure.logs.read_log` (after the path) that a command's log
-    options give: ``--format``, ``--sensor``, ``--sample-rate`` and the table options."""
+    options give: ``--format``, ``--sensor``, ``--sample-rate`` and the table options.
+
+    Parameters
+    ----------
+    fmt : str
+        Log format (``auto``: sniffed).
+    sensor : int
+        Sensor number in a multi-sensor file.
+    rate : float, optional
+        Sample rate [Hz] for a log without times.
+    time_column : str, optional
+        The time column of a table.
+    time_unit : str, optional
+        Its unit.
+    delimiter : str, optional
+        Field separator.
+    decimal : str, optional
+        Decimal mark.
+    column : list of str
+        ``SI=HEADER`` pairs.
+    unit : list of str
+        ``SI=UNIT`` pairs.
+
+    Returns
+    -------
+    dict
+        The keyword arguments.
+    """
     return {"format": fmt, "sensor": sensor, "sample_rate_hz": rate, "time_column": time_column,
             "time_unit": time_unit, "delimiter": delimiter, "decimal": decimal,
             "columns": _pairs(list(column), "--column"), "units": _pairs(list(unit), "--unit")}

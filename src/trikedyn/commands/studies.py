@@ -48,7 +48,18 @@ def study_cmd(
 
 
 def study_summary_text(s: dict) -> str:
-    """The text summary of a study run (:attr:`trikedyn.study.runner.StudyRun.summary`)."""
+    """The text summary of a study run (:attr:`trikedyn.study.runner.StudyRun.summary`).
+
+    Parameters
+    ----------
+    s : dict
+        The summary.
+
+    Returns
+    -------
+    str
+        The text.
+    """
     n = s["scenarios"]
     lines = [
         f"study '{s['study']}': {n['done']} of {n['total']} scenarios stored ({n['failed']} failed); "
@@ -69,7 +80,32 @@ def run_study_cmd(spec, out, *, workers=None, dask_local=None, scheduler=None, m
                   as_json=False, force=False) -> dict:
     """Run or resume a study, print its summary (text or JSON) and progress (a bar on a terminal, a line every
     few seconds otherwise); SIGINT -> exit 130, SIGTERM -> 143, lost workers or scheduler -> exit 1 (each with
-    one line on stderr)."""
+    one line on stderr).
+
+    Parameters
+    ----------
+    spec : str
+        The study spec (a TOML file, or ``paper``).
+    out : Path
+        The output folder.
+    workers : int, optional
+        Processes on this machine.
+    dask_local : int, optional
+        Workers of a local Dask cluster.
+    scheduler : str, optional
+        Dask scheduler address.
+    max_scenarios : int
+        Largest number of scenarios accepted.
+    as_json : bool
+        Print the summary as JSON.
+    force : bool
+        Write into a folder that holds other files.
+
+    Returns
+    -------
+    dict
+        The run's summary.
+    """
     from ..study.runner import StudyIncomplete, StudyInterrupted, execute_study
     from ._common import on_interrupt
 

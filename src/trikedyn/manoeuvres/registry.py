@@ -47,11 +47,37 @@ class ManoeuvreType:
     summary: str = ""
 
     def option(self, name: str) -> Option:
-        """The option ``name``; an :class:`InputError` with a close match when it has none."""
+        """The option ``name``; an :class:`InputError` with a close match when it has none.
+
+        Parameters
+        ----------
+        name : str
+            The option's name.
+
+        Returns
+        -------
+        Option
+            The option (name, default, unit, bounds).
+        """
         return find_option(self.options, name, f"manoeuvre '{self.name}'", "manoeuvre options")
 
     def build(self, params, speed_kmh: float, **options):
-        """The manoeuvre for a vehicle at a target speed [km/h], options checked against the declared ones."""
+        """The manoeuvre for a vehicle at a target speed [km/h], options checked against the declared ones.
+
+        Parameters
+        ----------
+        params : VehicleParameters
+            The vehicle (its width lays out the lanes).
+        speed_kmh : float
+            Target speed [km/h], > 0 and <= 400.
+        **options
+            Option values (numbers, or text parsed by the options).
+
+        Returns
+        -------
+        Manoeuvre
+            The manoeuvre, its ``parameters`` holding every option's value.
+        """
         speed = float(speed_kmh)
         if not math.isfinite(speed) or speed <= 0 or speed > 400:
             raise InputError(f"speed must be > 0 and <= 400 km/h, got {speed_kmh!r}", where="speed")
@@ -63,6 +89,13 @@ class ManoeuvreType:
         return _with(man, parameters={**values, **man.parameters})
 
     def to_dict(self) -> dict:
+        """The manoeuvre type as JSON-safe data (``trikedyn manoeuvres --json``).
+
+        Returns
+        -------
+        dict
+            ``name``, ``title``, ``closed_loop``, ``summary`` and ``options`` (each with its unit and bounds).
+        """
         return {"name": self.name, "title": self.title, "closed_loop": self.closed_loop, "summary": self.summary,
                 "options": [o.to_dict() for o in self.options]}
 
@@ -83,6 +116,26 @@ def register(name: str, title: str, *, options: tuple[Option, ...] = (), closed_
     The builder is called with every option's value (the defaults of :class:`Option` filled in), and the
     manoeuvre records them in its ``parameters``: an option is stated once, in ``options``.
 
+    Parameters
+    ----------
+    name : str
+        The manoeuvre's name.
+    title : str
+        Human title.
+    options : tuple of Option
+        The options the builder takes, with units and bounds.
+    closed_loop : bool
+        A path-following manoeuvre (True) or open-loop steer.
+    summary : str
+        One line; the builder's first docstring line by default.
+    replace : bool
+        Replace a manoeuvre of the same name.
+
+    Returns
+    -------
+    callable
+        The decorator (returns the builder unchanged).
+
     Raises
     ------
     ValueError
@@ -98,12 +151,34 @@ def register(name: str, title: str, *, options: tuple[Option, ...] = (), closed_
 
 
 def available() -> list[ManoeuvreType]:
-    """Every registered manoeuvre, in registration order."""
+    """Every registered manoeuvre, in registration order.
+
+    Returns
+    -------
+    list of ManoeuvreType
+        The manoeuvres.
+    """
     return MANOEUVRES.values()
 
 
 def get(name: str) -> ManoeuvreType:
-    """The registered manoeuvre ``name``; an :class:`InputError` with a close match when unknown."""
+    """The registered manoeuvre ``name``; an :class:`InputError` with a close match when unknown.
+
+    Parameters
+    ----------
+    name : str
+        A registered name.
+
+    Returns
+    -------
+    ManoeuvreType
+        The manoeuvre type.
+
+    Raises
+    ------
+    InputError
+        For an unknown name (with a close match and the known names).
+    """
     try:
         return MANOEUVRES.get(name)
     except InputError:
@@ -113,14 +188,49 @@ def get(name: str) -> ManoeuvreType:
 
 
 def build(name: str, params, speed_kmh: float, **options):
-    """Build manoeuvre ``name`` (or the path in a ``.csv`` file) for a vehicle at ``speed_kmh`` [km/h]."""
+    """Build manoeuvre ``name`` (or the path in a ``.csv`` file) for a vehicle at ``speed_kmh`` [km/h].
+
+    Parameters
+    ----------
+    name : str
+        A registered name, or a path ``.csv`` file.
+    params : VehicleParameters
+        The vehicle.
+    speed_kmh : float
+        Target speed [km/h].
+    **options
+        The manoeuvre's options.
+
+    Returns
+    -------
+    Manoeuvre
+        The manoeuvre.
+    """
     if str(name).lower().endswith(".csv"):
         return get("path").build(params, speed_kmh, file=str(name), **options)
     return get(name).build(params, speed_kmh, **options)
 
 
 def parse_options(pairs: list[str] | tuple[str, ...], where: str = "--option") -> dict[str, str]:
-    """``["radius_m=15", "laps=2"]`` as a dict of text values (checked later by the manoeuvre's options)."""
+    """``["radius_m=15", "laps=2"]`` as a dict of text values (checked later by the manoeuvre's options).
+
+    Parameters
+    ----------
+    pairs : list of str
+        ``KEY=VALUE`` items.
+    where : str
+        The option named in errors.
+
+    Returns
+    -------
+    dict of str to str
+        Key -> text value.
+
+    Raises
+    ------
+    InputError
+        On an item that is not ``KEY=VALUE``.
+    """
     out = {}
     for pair in pairs:
         key, sep, value = pair.partition("=")

@@ -91,6 +91,11 @@ def linear_stiffnesses(setup_model: int | str, coefficients: np.ndarray, fz: flo
         The wheel's coefficient row.
     fz : float
         Vertical load [N].
+
+    Returns
+    -------
+    kx, ky : float
+        Slip stiffness [N] and cornering stiffness [N/rad].
     """
     if isinstance(setup_model, str):
         model = TYRE_MODELS.get(setup_model)
@@ -101,7 +106,22 @@ def linear_stiffnesses(setup_model: int | str, coefficients: np.ndarray, fz: flo
 
 @jit(inline="always")
 def vertical_force(deflection, rate, w):
-    """``Fz = max(0, kz d + cz d')`` in contact (``d > 0``), else 0 [N]; ``w`` a wheel record."""
+    """``Fz = max(0, kz d + cz d')`` in contact (``d > 0``), else 0 [N]; ``w`` a wheel record.
+
+    Parameters
+    ----------
+    deflection : float
+        Tyre deflection [m].
+    rate : float
+        Deflection rate [m/s].
+    w : record
+        The wheel record (``vertical_stiffness`` [N/m], ``vertical_damping`` [N s/m]).
+
+    Returns
+    -------
+    float
+        Fz [N].
+    """
     if deflection <= 0.0:
         return 0.0
     fz = w.vertical_stiffness * deflection + w.vertical_damping * rate
@@ -111,7 +131,20 @@ def vertical_force(deflection, rate, w):
 @jit(inline="always")
 def standstill_weight(vx, v_low):
     """``0.5 (1 - cos(pi |vx| / v_low))`` below ``v_low``, 1 above: how much of a tyre's zero-slip force
-    (the Magic Formula's offsets and camber thrust) it carries at the forward speed ``vx`` [m/s]."""
+    (the Magic Formula's offsets and camber thrust) it carries at the forward speed ``vx`` [m/s].
+
+    Parameters
+    ----------
+    vx : float
+        Forward speed [m/s].
+    v_low : float
+        Regularisation speed [m/s].
+
+    Returns
+    -------
+    float
+        The weight, 0 to 1, dimensionless.
+    """
     speed = abs(vx)
     if speed >= v_low:
         return 1.0

@@ -64,7 +64,18 @@ class TyreSetup:
 
 
 def _no_clamps(mask: int) -> list[str]:
-    """No clamp bits: a model without validity ranges."""
+    """No clamp bits: a model without validity ranges.
+
+    Parameters
+    ----------
+    mask : int
+        Bit mask of ``CLAMPED_*`` flags.
+
+    Returns
+    -------
+    list of str
+        Always empty.
+    """
     return []
 
 
@@ -114,14 +125,38 @@ TYRE_MODELS: Registry[TyreModel] = Registry("tyre model", group="trikedyn.tyre_m
 
 
 def register(model: TyreModel, *, replace: bool = False) -> TyreModel:
-    """Register ``model`` under its name (a taken name raises ValueError unless ``replace=True``)."""
+    """Register ``model`` under its name (a taken name raises ValueError unless ``replace=True``).
+
+    Parameters
+    ----------
+    model : TyreModel
+        The model.
+    replace : bool
+        Replace a model of the same name.
+
+    Returns
+    -------
+    TyreModel
+        ``model``.
+    """
     if not isinstance(model, TyreModel):
         raise ValueError(f"expected a TyreModel, got {model!r}")
     return TYRE_MODELS.register(model.name, model, replace=replace)
 
 
 def get(name: str) -> TyreModel:
-    """The tyre model ``name``; an :class:`~trikedyn.errors.InputError` with a close match when unknown."""
+    """The tyre model ``name``; an :class:`~trikedyn.errors.InputError` with a close match when unknown.
+
+    Parameters
+    ----------
+    name : str
+        The model's name.
+
+    Returns
+    -------
+    TyreModel
+        The model.
+    """
     return TYRE_MODELS.get(name)
 
 
@@ -134,6 +169,11 @@ def for_wheel(params, wheel) -> TyreModel:
         The vehicle.
     wheel : WheelSpec
         One of its wheels.
+
+    Returns
+    -------
+    TyreModel
+        The model.
 
     Raises
     ------

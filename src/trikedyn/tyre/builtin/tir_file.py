@@ -28,7 +28,20 @@ def _read(path: str, mtime_ns: int):
 
 
 def claims(params, wheel) -> bool:
-    """Whether the wheel names a ``.tir`` file."""
+    """Whether the wheel names a ``.tir`` file.
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+    wheel : WheelSpec
+        One of its wheels.
+
+    Returns
+    -------
+    bool
+        Whether this model takes the wheel.
+    """
     return wheel.tyre_file is not None
 
 
@@ -37,6 +50,20 @@ def setup(params, wheel, static_load_N: float) -> TyreSetup:
 
     A file without relaxation data (zero or NaN lengths) or vertical stiffness falls back to the ``[tyre]``
     section's.
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+    wheel : WheelSpec
+        One of its wheels.
+    static_load_N : float
+        The wheel's static load [N].
+
+    Returns
+    -------
+    TyreSetup
+        Kernel id, coefficient row, vertical stiffness [N/m] and damping [N s/m], relaxation lengths [m], source and name.
     """
     path = Path(wheel.tyre_file)
     tir = _read(str(path), path.stat().st_mtime_ns)
@@ -56,14 +83,48 @@ def setup(params, wheel, static_load_N: float) -> TyreSetup:
 
 
 def stiffnesses(coefficients: np.ndarray, fz: float) -> tuple[float, float]:
-    """Slip stiffness [N] and cornering stiffness ``dFy/d(-alpha_ISO)`` [N/rad] at the load ``fz`` [N]."""
+    """Slip stiffness [N] and cornering stiffness ``dFy/d(-alpha_ISO)`` [N/rad] at the load ``fz`` [N].
+
+    Parameters
+    ----------
+    coefficients : numpy.ndarray
+        The wheel's coefficient row.
+    fz : float
+        Vertical load [N].
+
+    Returns
+    -------
+    kx : float
+        Slip stiffness [N].
+    ky : float
+        Cornering stiffness [N/rad], > 0 for a normal tyre.
+    """
     kx, kya = mf_stiffness(float(fz), 0.0, coefficients[:N_PACKED])
     return float(kx), float(-kya)
 
 
 def vertical(params, wheel) -> tuple[float, float, float, str]:
     """The file's vertical stiffness [N/m] (the ``[tyre]`` one where it gives none), damping [N s/m],
-    ``FNOMIN`` [N] and its name and family."""
+    ``FNOMIN`` [N] and its name and family.
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+    wheel : WheelSpec
+        One of its wheels.
+
+    Returns
+    -------
+    kz : float
+        Vertical stiffness [N/m].
+    cz : float
+        Vertical damping [N s/m].
+    fz0 : float
+        Nominal load [N].
+    label : str
+        Where they come from, for the audit.
+    """
     from ..tir import read_tir
 
     tir = read_tir(wheel.tyre_file)
@@ -73,7 +134,18 @@ def vertical(params, wheel) -> tuple[float, float, float, str]:
 
 
 def clamp_names(mask: int) -> list[str]:
-    """Names (``fz``, ``kappa``, ``alpha``, ``gamma``) of the bits set in a clamp mask."""
+    """Names (``fz``, ``kappa``, ``alpha``, ``gamma``) of the bits set in a clamp mask.
+
+    Parameters
+    ----------
+    mask : int
+        Bit mask of ``CLAMPED_*`` flags.
+
+    Returns
+    -------
+    list of str
+        The names.
+    """
     return clamped_names(mask)
 
 
