@@ -173,11 +173,12 @@ def test_result_reports_its_runs(reference):
 # the paper's study: margin search against bisection
 # ------------------------------------------------------------------------------------------------------------
 def _paper_vehicles():
+    from trikedyn.study.scenarios import expand
     from trikedyn.study.spec import load_spec
 
     spec = load_spec("paper")
     base = spec.load_vehicle()
-    for s in spec.scenarios():
+    for s in expand(spec):
         pset = scale_suspension(base, stiffness=s["stiffness_scale"], damping=s["damping_scale"])
         if s["overrides"]:
             pset = override(pset, s["overrides"])

@@ -7,6 +7,7 @@ import pytest
 from trikedyn.manoeuvres.registry import build
 from trikedyn.params.knobs import apply_knobs
 from trikedyn.study.sample_runs import Search
+from trikedyn.study.scenarios import expand
 from trikedyn.study.spec import parse_spec
 
 
@@ -34,7 +35,7 @@ def test_a_design_search_meets_the_reference_course(reference):
 def test_study_scenarios_carry_the_base_width_for_the_lane_changes_only(reference):
     spec = parse_spec({"name": "w", "manoeuvres": ["dlc", "slc"], "metrics": ["threshold", "tilt_angle"],
                        "groups": [{"name": "track", "overrides": {"track_m": [1.1, 1.3]}}]})
-    rows = spec.scenarios()
+    rows = expand(spec)
     dlc = [s for s in rows if s["manoeuvre"] == "dlc"]
     assert dlc and all(s["course_width_m"] == reference.params.body.overall_width_m for s in dlc)
     assert all(s["course_width_m"] is None for s in rows if s["manoeuvre"] != "dlc")

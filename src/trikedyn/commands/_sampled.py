@@ -5,29 +5,10 @@ figure and JSON they end with."""
 from __future__ import annotations
 
 import json
-import sys
-import time
 from pathlib import Path
 
 from ..errors import InputError
-
-
-class ProgressLine:
-    """``LABEL: 12/45 UNIT`` on stderr at the start, every ``every_s`` seconds, and at the end (a line, not a
-    bar: it also works without a terminal)."""
-
-    def __init__(self, label: str, unit: str = "runs", every_s: float = 5.0):
-        self.label, self.unit, self.every_s = label, unit, every_s
-        self.last = None
-        self.shown = None
-
-    def __call__(self, done: int, total: int) -> None:
-        now = time.monotonic()
-        if (done, total) == self.shown:
-            return
-        if self.last is None or done == total or now - self.last >= self.every_s:
-            print(f"{self.label}: {done}/{total} {self.unit}", file=sys.stderr, flush=True)
-            self.last, self.shown = now, (done, total)
+from ..study.progress import ProgressLine  # noqa: F401  (the sampled commands' progress line)
 
 
 def check_resume(out: Path | None, resume: bool, force: bool) -> None:

@@ -28,7 +28,6 @@ from __future__ import annotations
 import json
 import os
 import re
-from dataclasses import dataclass, field, replace
 from importlib import resources
 from pathlib import Path
 
@@ -36,9 +35,10 @@ import tomli_w
 from pydantic import ValidationError
 
 from .._reading import file_problem, named_file
-from .._validation import describe_validation_error
 from ..errors import ParameterError, did_you_mean
 from ..plausibility import unit_slip_hint
+from .parameter_set import ParameterSet
+from .parameter_set import describe_error as _describe
 from .plausibility import warn_implausible
 from .schema import VehicleParameters
 from .tomlfile import MAX_FILE_BYTES, builtin_names, is_file, parse_toml, read_text
@@ -51,54 +51,6 @@ MAX_EXTENDS = 8
 """Most ``extends`` links in a chain (a file that extends one that extends ...)."""
 
 
-@dataclass(frozen=True)
-class ParameterSet:
-    """A validated vehicle parameter set with the provenance of its values.
-
-    Attributes
-    ----------
-    params : VehicleParameters
-        The values.
-    notes : dict
-        Dotted parameter path -> {"assumed" | "source" | "note": text}.
-    origin : str
-        Preset name or file path it was read from.
-    """
-
-    params: VehicleParameters
-    notes: dict = field(default_factory=dict)
-    origin: str = ""
-
-    @property
-    def name(self) -> str:
-        """The vehicle's name (``params.name``)."""
-        return self.params.name
-
-    @property
-    def mass_kg(self) -> float:
-        """Total mass [kg]: the vehicle (driver included) with its payload
-        (:func:`~trikedyn.params.ops.mass_properties`)."""
-        from .ops import mass_properties
-
-        return float(mass_properties(self.params).mass_kg)
-
-    @property
-    def cg_m(self):
-        """Centre of gravity ``[x, y, z]`` [m] in vehicle axes, payload included (a new numpy array)."""
-        from .ops import mass_properties
-
-        return mass_properties(self.params).cg_m.copy()
-
-    def assumed(self) -> dict[str, str]:
-        """Every assumed value's path and reason."""
-        return {k: v["assumed"] for k, v in self.notes.items() if "assumed" in v}
-
-    def with_params(self, params: VehicleParameters, origin: str | None = None) -> ParameterSet:
-        """The same provenance with other values (after a scaling or an override)."""
-        return replace(self, params=params, origin=self.origin if origin is None else origin)
-
-
-# ------------------------------------------------------------------------------------------------
 def _preset_dir():
     return resources.files("trikedyn.params") / "presets"
 
@@ -474,8 +426,3 @@ def _merge_notes(data: dict, notes: dict) -> None:
                 break
         if isinstance(node, dict) and keys[-1] in node:
             node[keys[-1]] = {"value": node[keys[-1]], **note}
-
-
-def _describe(exc: ValidationError, plain: dict) -> str:
-    """One line for the first validation error of a parameter set."""
-    return describe_validation_error(exc, plain, VehicleParameters)

@@ -54,7 +54,7 @@ import numpy as np
 
 from ..errors import ParameterError, did_you_mean
 from ..mechanics import Box, MassProperties
-from .io import ParameterSet
+from .parameter_set import ParameterSet, revalidated
 from .schema import VehicleParameters
 
 __all__ = ["KNOBS", "Knob", "apply_knobs", "inconsistent_override", "is_knob", "knob_names", "knob_problem"]
@@ -371,10 +371,8 @@ def apply_knobs(vehicle, knobs: Mapping[str, float]) -> ParameterSet:
     data = params.model_dump()
     for _, (key, target), _, value in sorted(steps, key=lambda s: s[0]):
         KNOBS[key].function(data, value, target)
-    from .ops import _revalidate
-
     text = ", ".join(f"{name} = {value:.10g}" for _, _, name, value in steps)
-    new = _revalidate(pset, data, f"knobs ({text})")
+    new = revalidated(pset, data, f"knobs ({text})")
     before, after = _leaves(params.model_dump()), _leaves(new.params.model_dump())
     notes = dict(new.notes)
     for path, value in after.items():

@@ -7,46 +7,21 @@ place. These are the operations a parametric study applies (Tables 2-3 of the pa
 from __future__ import annotations
 
 import numpy as np
-from pydantic import ValidationError
 
 from ..errors import ParameterError, did_you_mean
-from ..mechanics import Box, MassProperties, Payload, PointMass, wheel_loads_from_cg
+from ..mechanics import Payload, PointMass, wheel_loads_from_cg
 from ..units import STANDARD_GRAVITY
-from .io import ParameterSet, _describe
+from .parameter_set import ParameterSet, mass_properties, revalidated
 from .schema import VehicleParameters
 
 __all__ = ["freight", "mass_properties", "override", "scale_suspension", "static_wheel_loads", "unsprung_mass",
            "with_freight", "with_payload"]
 
 
-def _base_mass_properties(params: VehicleParameters) -> MassProperties:
-    m = params.mass
-    return MassProperties(m.total_kg, m.cg_m, np.array(m.inertia_tensor_kgm2))
-
-
-def _item(spec) -> Box:
-    return Box(spec.mass_kg, (spec.x_m, spec.y_m, spec.z_m), (spec.length_m, spec.width_m, spec.height_m), spec.name)
-
-
-def mass_properties(params: VehicleParameters) -> MassProperties:
-    """The whole vehicle's mass [kg], CG [m] and inertia about the CG [kg m^2], payload included."""
-    added = Payload("added", tuple(_item(i) for i in params.payload if not i.removed))
-    removed = Payload("removed", tuple(_item(i) for i in params.payload if i.removed))
-    return removed.removed_from(added.added_to(_base_mass_properties(params)))
-
-
 def freight(params: VehicleParameters, mass_kg: float) -> Payload:
     """The paper's freight (Table 3): ``mass_kg`` as a point mass at the vehicle's freight site."""
     site = params.freight
     return Payload("paper-freight", (PointMass(mass_kg, (site.x_m, site.y_m, site.z_m), name="freight"),))
-
-
-def _revalidate(pset: ParameterSet, data: dict, what: str) -> ParameterSet:
-    try:
-        params = VehicleParameters.model_validate(data)
-    except ValidationError as exc:
-        raise ParameterError(_describe(exc, data), where=what) from None
-    return pset.with_params(params)
 
 
 def with_payload(pset: ParameterSet, payload: Payload, *, remove: bool = False) -> ParameterSet:
@@ -68,7 +43,7 @@ def with_payload(pset: ParameterSet, payload: Payload, *, remove: bool = False) 
         )
     data = pset.params.model_dump()
     data["payload"] = list(data["payload"]) + items
-    new = _revalidate(pset, data, f"payload '{payload.name}'")
+    new = revalidated(pset, data, f"payload '{payload.name}'")
     mass_properties(new.params)  # removing more than there is fails here, with a clear message
     return new
 
@@ -100,7 +75,7 @@ def scale_suspension(
             raise ParameterError(f"no suspension '{name}' (have {', '.join(data['suspension'])})", where="suspensions")
         data["suspension"][name]["stiffness_N_per_m"] *= stiffness
         data["suspension"][name]["damping_Ns_per_m"] *= damping
-    return _revalidate(pset, data, "scale_suspension")
+    return revalidated(pset, data, "scale_suspension")
 
 
 def override(pset: ParameterSet, values: dict) -> ParameterSet:
@@ -139,7 +114,7 @@ def override(pset: ParameterSet, values: dict) -> ParameterSet:
             tip = did_you_mean(keys[-1], list(node) if isinstance(node, dict) else [])
             raise ParameterError(f"no parameter '{dotted}'{tip}", where="override")
         node[keys[-1]] = value
-    new = _revalidate(pset, data, "override") if paths or not knobs else pset
+    new = revalidated(pset, data, "override") if paths or not knobs else pset
     return apply_knobs(new, knobs) if knobs else new
 
 

@@ -5,7 +5,7 @@ A reporter is what :func:`trikedyn.study.runner.run_study` takes as ``progress``
 (e.g. "SIGINT: stopping after the scenarios in flight") and ``close()``. :func:`reporter` makes the default
 one; the runner itself never prints.
 
-Without a terminal, the line is the sampled studies' :class:`~trikedyn.commands._sampled.ProgressLine`
+Without a terminal, the line is :class:`ProgressLine` (also the sampled studies' line)
 (every few seconds and at the end), with the time spent and an estimate of the time left::
 
     study: 12/50 scenarios, 8.1 s, ~25 s left
@@ -16,15 +16,31 @@ from __future__ import annotations
 import sys
 import time
 
-__all__ = ["BarProgress", "LineProgress", "reporter"]
+__all__ = ["BarProgress", "LineProgress", "ProgressLine", "reporter"]
+
+
+class ProgressLine:
+    """``LABEL: 12/45 UNIT`` on stderr at the start, every ``every_s`` seconds, and at the end (a line, not a
+    bar: it also works without a terminal)."""
+
+    def __init__(self, label: str, unit: str = "runs", every_s: float = 5.0):
+        self.label, self.unit, self.every_s = label, unit, every_s
+        self.last = None
+        self.shown = None
+
+    def __call__(self, done: int, total: int) -> None:
+        now = time.monotonic()
+        if (done, total) == self.shown:
+            return
+        if self.last is None or done == total or now - self.last >= self.every_s:
+            print(f"{self.label}: {done}/{total} {self.unit}", file=sys.stderr, flush=True)
+            self.last, self.shown = now, (done, total)
 
 
 class LineProgress:
     """``study: 12/50 scenarios, 8.1 s, ~25 s left`` on stderr every ``every_s`` seconds and at the end."""
 
     def __init__(self, label: str = "study", every_s: float = 5.0):
-        from ..commands._sampled import ProgressLine
-
         self._line = ProgressLine(label, "scenarios", every_s=every_s)
         self._start = time.monotonic()
         self._first: int | None = None

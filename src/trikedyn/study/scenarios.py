@@ -15,10 +15,10 @@ import json
 import math
 from typing import TYPE_CHECKING
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # the spec is the data; this module expands it (spec.py does not import it)
     from .spec import StudySpec
 
-__all__ = ["SCENARIO_KEYS", "canonical_json", "count_scenarios", "expand", "norm", "scenario_id"]
+__all__ = ["SCENARIO_KEYS", "canonical_json", "count_scenarios", "expand", "scenario_id"]
 
 SCENARIO_KEYS = (
     "scenario_id",
@@ -48,13 +48,6 @@ SCENARIO_KEYS = (
 _NOT_HASHED = ("scenario_id", "groups", "metric_label")
 _JUDGING = ("criterion", "speed_control", "speed_band_percent", "speed_band_kmh", "course_width_m")
 """How a run is judged, driven and laid out: None on a scenario whose metric or manoeuvre does not use it."""
-
-
-def norm(value):
-    """Numbers as float (so that 75 and 75.0 give the same scenario), other scalars as they are."""
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        return value
-    return float(value)
 
 
 # ------------------------------------------------------------------------------------------------

@@ -72,13 +72,13 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_valida
 
 from .._validation import describe_validation_error
 from ..errors import InputError, did_you_mean
-from .scenarios import expand, norm
 
 __all__ = [
     "GroupSpec",
     "StudySpec",
     "list_specs",
     "load_spec",
+    "norm",
     "parse_spec",
 ]
 
@@ -246,15 +246,29 @@ class StudySpec:
     speed_band_kmh: float = 1.0
     course_width_m: float | None = None
 
-    def scenarios(self) -> list[dict]:
-        """The unique scenarios, in spec order (see :func:`expand`)."""
-        return expand(self)
-
     def load_vehicle(self):
         """The study's base vehicle (:class:`~trikedyn.params.io.ParameterSet`), before any variation."""
         from ..params import load_vehicle
 
         return load_vehicle(self.vehicle_source)
+
+
+def norm(value):
+    """Numbers as float (so that 75 and 75.0 give the same scenario), other scalars as they are.
+
+    Parameters
+    ----------
+    value : object
+        A value of a study axis or an override.
+
+    Returns
+    -------
+    object
+        ``float(value)`` for an int or a float (not a bool), else ``value`` itself.
+    """
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return value
+    return float(value)
 
 
 def _spec_dir():
