@@ -56,7 +56,13 @@ def _preset_dir():
 
 
 def list_presets() -> list[str]:
-    """Names of the parameter sets shipped with trikedyn."""
+    """Names of the parameter sets shipped with trikedyn.
+
+    Returns
+    -------
+    list of str
+        The names, sorted.
+    """
     return builtin_names(_preset_dir())
 
 
@@ -64,6 +70,16 @@ def load_vehicle(name_or_path: str | Path) -> ParameterSet:
     """Load a preset by name, or a parameter file by path.
 
     A file is read if it is a regular UTF-8 file of at most 1 MiB (:mod:`trikedyn.params.tomlfile`).
+
+    Parameters
+    ----------
+    name_or_path : str or Path
+        A preset name, or a ``.toml`` file.
+
+    Returns
+    -------
+    ParameterSet
+        The parameters with their origin and provenance notes.
 
     Raises
     ------
@@ -100,6 +116,23 @@ def parse_vehicle(toml_text: str, origin: str = "<string>") -> ParameterSet:
     and must not come back to a file already in it. A refused ``extends`` names what was written and why,
     never the target's content nor where a link points. A wheel's ``tyre_file`` follows the same rule (see
     the module docstring).
+
+    Parameters
+    ----------
+    toml_text : str
+        The TOML text.
+    origin : str
+        Where it came from (errors; its folder resolves ``extends``).
+
+    Returns
+    -------
+    ParameterSet
+        The parameter set.
+
+    Raises
+    ------
+    ParameterError
+        As :func:`load_vehicle`.
     """
     return _parse(toml_text, origin, _real(Path(origin)).parent, (("text", origin),))
 
@@ -183,6 +216,18 @@ def save_vehicle(pset: ParameterSet | VehicleParameters, path: str | Path) -> Pa
     folder (which the new file could not name: the rule of :mod:`trikedyn._reading`) is copied beside the
     new file under its own name first, byte for byte; an existing file of that name is used only if it is
     the same bytes, and never replaced.
+
+    Parameters
+    ----------
+    pset : ParameterSet or VehicleParameters
+        The vehicle.
+    path : str or Path
+        The TOML file to write.
+
+    Returns
+    -------
+    Path
+        The file written.
 
     Raises
     ------

@@ -208,12 +208,34 @@ def _params(vehicle) -> VehicleParameters:
 
 def is_knob(name: str) -> bool:
     """Whether ``name`` is written as a knob (a registered name, or ``component.NAME.FIELD``), known or not
-    to a given vehicle."""
+    to a given vehicle.
+
+    Parameters
+    ----------
+    name : str
+        A name.
+
+    Returns
+    -------
+    bool
+        Whether it is written as a knob.
+    """
     return name in KNOBS and _PLACEHOLDER not in name or name.startswith("component.")
 
 
 def knob_names(vehicle) -> list[str]:
-    """Every knob of ``vehicle`` (a ParameterSet or VehicleParameters), its components' knobs spelled out."""
+    """Every knob of ``vehicle`` (a ParameterSet or VehicleParameters), its components' knobs spelled out.
+
+    Parameters
+    ----------
+    vehicle : ParameterSet or VehicleParameters
+        The vehicle.
+
+    Returns
+    -------
+    list of str
+        The knob names.
+    """
     params = _params(vehicle)
     names = [n for n in KNOBS if _PLACEHOLDER not in n]
     for c in params.components:
@@ -265,7 +287,22 @@ def _value_problem(key: str, value) -> str | None:
 
 def knob_problem(vehicle, name: str, values=()) -> str | None:
     """Why ``name`` with ``values`` is not a knob setting for ``vehicle`` (None if it is): an unknown knob
-    (with a close match) or a value that is not a number within the knob's bounds. One line."""
+    (with a close match) or a value that is not a number within the knob's bounds. One line.
+
+    Parameters
+    ----------
+    vehicle : ParameterSet or VehicleParameters
+        The vehicle.
+    name : str
+        The knob.
+    values : iterable
+        Its values [the knob's unit].
+
+    Returns
+    -------
+    str or None
+        The problem, one line.
+    """
     params = _params(vehicle)
     resolved = _resolve(params, name)
     if isinstance(resolved, str):
@@ -294,6 +331,11 @@ def inconsistent_override(vehicle, dotted: str, together: Mapping | None = None)
         The other overrides of the same grid (path -> list of values). A wheel's ``x_m`` or ``y_m`` is
         allowed when the other wheel of the pair gets the same field and each has a single value: one
         deliberate layout, not an axis that crosses the two wheels' values into lopsided combinations.
+
+    Returns
+    -------
+    str or None
+        The reason, one line.
     """
     params = _params(vehicle)
     keys = dotted.split(".")

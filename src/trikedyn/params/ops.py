@@ -19,7 +19,20 @@ __all__ = ["freight", "mass_properties", "override", "scale_suspension", "static
 
 
 def freight(params: VehicleParameters, mass_kg: float) -> Payload:
-    """The paper's freight (Table 3): ``mass_kg`` as a point mass at the vehicle's freight site."""
+    """The paper's freight (Table 3): ``mass_kg`` as a point mass at the vehicle's freight site.
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+    mass_kg : float
+        Freight mass [kg].
+
+    Returns
+    -------
+    Payload
+        The freight as one point mass.
+    """
     site = params.freight
     return Payload("paper-freight", (PointMass(mass_kg, (site.x_m, site.y_m, site.z_m), name="freight"),))
 
@@ -29,6 +42,20 @@ def with_payload(pset: ParameterSet, payload: Payload, *, remove: bool = False) 
 
     Items are point masses (:class:`~trikedyn.measure.cg.PointMass`) or boxes
     (:class:`~trikedyn.measure.cg.Box`); they are appended to ``params.payload``.
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    payload : Payload
+        Point masses and boxes (masses [kg], positions and sizes [m]).
+    remove : bool
+        Take the masses off instead.
+
+    Returns
+    -------
+    ParameterSet
+        The new set.
     """
     items = []
     for item in payload.items:
@@ -49,7 +76,25 @@ def with_payload(pset: ParameterSet, payload: Payload, *, remove: bool = False) 
 
 
 def with_freight(pset: ParameterSet, mass_kg: float) -> ParameterSet:
-    """The vehicle with the paper's freight of ``mass_kg`` [kg] in its trunk (Table 3)."""
+    """The vehicle with the paper's freight of ``mass_kg`` [kg] in its trunk (Table 3).
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    mass_kg : float
+        Freight mass [kg], >= 0.
+
+    Returns
+    -------
+    ParameterSet
+        The new set (``pset`` itself for no freight).
+
+    Raises
+    ------
+    ParameterError
+        On a negative or non-finite mass.
+    """
     if not np.isfinite(mass_kg) or mass_kg < 0:
         raise ParameterError(f"freight mass must be >= 0 kg, got {mass_kg!r}", where="payload")
     return with_payload(pset, freight(pset.params, mass_kg)) if mass_kg > 0 else pset
@@ -62,8 +107,19 @@ def scale_suspension(
 
     Parameters
     ----------
+    pset : ParameterSet
+        The vehicle.
+    stiffness : float
+        Factor on the spring rates, dimensionless (> 0).
+    damping : float
+        Factor on the damper rates, dimensionless (> 0).
     suspensions : iterable of str, optional
         Names of the suspensions to scale; all by default.
+
+    Returns
+    -------
+    ParameterSet
+        The new set.
     """
     for name, factor in (("stiffness", stiffness), ("damping", damping)):
         if not np.isfinite(factor) or factor <= 0:
@@ -87,6 +143,18 @@ def override(pset: ParameterSet, values: dict) -> ParameterSet:
     ``freight.x_m|y_m|z_m``) changes the vehicle consistently. The paths are set first, then the knobs are
     applied (in the order of :data:`~trikedyn.params.knobs.KNOBS`). A path of one wheel of the pair is set
     as written here (an asymmetric vehicle is allowed); a study spec refuses it and points to ``track_m``.
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    values : dict
+        Dotted path or knob -> value [its unit].
+
+    Returns
+    -------
+    ParameterSet
+        The new, validated set.
 
     Raises
     ------
@@ -119,7 +187,20 @@ def override(pset: ParameterSet, values: dict) -> ParameterSet:
 
 
 def unsprung_mass(params: VehicleParameters, wheel_name: str) -> float:
-    """Mass moving with the wheel vertically [kg]: wheel plus fork slider, or plus half the swing arm."""
+    """Mass moving with the wheel vertically [kg]: wheel plus fork slider, or plus half the swing arm.
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+    wheel_name : str
+        The wheel.
+
+    Returns
+    -------
+    float
+        Mass [kg].
+    """
     wheel = params.wheel(wheel_name)
     susp = params.suspension[wheel.suspension]
     share = 1.0 if susp.kind == "telescopic" else 0.5  # arm's CG taken midway between pivot and axle
@@ -127,7 +208,20 @@ def unsprung_mass(params: VehicleParameters, wheel_name: str) -> float:
 
 
 def static_wheel_loads(params: VehicleParameters, g: float = STANDARD_GRAVITY) -> dict[str, float]:
-    """Static vertical load on each wheel [N] of the vehicle as a rigid body on level ground."""
+    """Static vertical load on each wheel [N] of the vehicle as a rigid body on level ground.
+
+    Parameters
+    ----------
+    params : VehicleParameters
+        The vehicle.
+    g : float
+        Gravity [m/s^2].
+
+    Returns
+    -------
+    dict of str to float
+        Wheel -> load [N].
+    """
     contacts = [(w.x_m, w.y_m) for w in params.wheels]
     mp = mass_properties(params)
     loads = wheel_loads_from_cg(mp.mass_kg, mp.cg_m[:2], contacts, g)

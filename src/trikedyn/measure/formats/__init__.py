@@ -67,6 +67,18 @@ class Head:
 
     @classmethod
     def of(cls, data: bytes | str) -> Head:
+        """The head of a file's bytes or text.
+
+        Parameters
+        ----------
+        data : bytes or str
+            The file's content (the first ``HEAD_BYTES`` are used).
+
+        Returns
+        -------
+        Head
+            Raw bytes, whether binary, text, first line, separator and header keys.
+        """
         raw = (data.encode("utf-8") if isinstance(data, str) else bytes(data))[:HEAD_BYTES]
         if b"\x00" in raw:
             return cls(raw, True, "", "", None, frozenset())
@@ -111,19 +123,61 @@ class LogFormat(ABC):
     order: ClassVar[float] = 100.0
 
     def sniff(self, head: Head) -> float | bool:
+        """Score how well the layout fits a file (0 here: a layout that never claims a file unasked).
+
+        Parameters
+        ----------
+        head : Head
+            The file's first bytes.
+
+        Returns
+        -------
+        float or bool
+            The score: 0 or False when the layout does not fit.
+        """
         return 0.0
 
     @abstractmethod
     def read(self, raw: bytes, path: Path, options: ReadOptions) -> ImuLog:
         """The log in ``raw`` (the file's bytes) as an :class:`~trikedyn.measure.logs.ImuLog`; every layout
-        reads."""
+        reads.
+
+        Parameters
+        ----------
+        raw : bytes
+            The file's bytes.
+        path : Path
+            The file, for errors.
+        options : ReadOptions
+            What the caller asked for (sensor, rate [Hz], columns, units, ...).
+
+        Returns
+        -------
+        ImuLog
+            The log, SI columns (time [s], accelerations [m/s^2], rates [rad/s], angles [rad]).
+        """
 
     def write(self, data: pd.DataFrame, path: Path) -> None:
+        """Write ``data`` in this layout (here: refused, the layout can only be read).
+
+        Parameters
+        ----------
+        data : pandas.DataFrame
+            SI columns (``time_s`` [s] increasing, ...).
+        path : Path
+            The file to write.
+
+        Raises
+        ------
+        LogFormatError
+            For a layout that is read-only.
+        """
         raise LogFormatError(f"format {self.name!r} can be read but not written; writable formats: "
                              f"{', '.join(n for n in available() if get(n).writable)}", where=str(path))
 
     @property
     def writable(self) -> bool:
+        """Whether the layout can be written (its class overrides :meth:`write`)."""
         return type(self).write is not LogFormat.write
 
     def __repr__(self) -> str:
@@ -142,10 +196,38 @@ class TableFormat(LogFormat):
     columns: ClassVar[dict[str, tuple[str, float]]] = {}
 
     def sniff(self, head: Head) -> float:
+        """5 when every header of ``columns`` is in the first line, else 0.
+
+        Parameters
+        ----------
+        head : Head
+            The file's first bytes.
+
+        Returns
+        -------
+        float
+            The score.
+        """
         fields = {h.strip() for h in head.first.split(self.sep)}
         return 5.0 if head.sep and set(self.columns) <= fields else 0.0
 
     def read(self, raw: bytes, path: Path, options: ReadOptions) -> ImuLog:
+        """The table as an :class:`~trikedyn.measure.logs.ImuLog`: the ``columns`` converted to SI, the others kept.
+
+        Parameters
+        ----------
+        raw : bytes
+            The file's bytes.
+        path : Path
+            The file, for errors.
+        options : ReadOptions
+            What the caller asked for (sensor, rate [Hz], columns, units, ...).
+
+        Returns
+        -------
+        ImuLog
+            The log, SI columns (time [s], accelerations [m/s^2], rates [rad/s], angles [rad]).
+        """
         from .. import logs
 
         logs._one_sensor(options.sensor, self.name, path)
@@ -177,6 +259,23 @@ def register(fmt: LogFormat | type[LogFormat], *, replace: bool = False):
     """Add a layout (an instance, or a class that is instantiated); returns what it was given.
 
     Usable as a class decorator. A name already registered is an error unless ``replace=True``.
+
+    Parameters
+    ----------
+    fmt : LogFormat or type of LogFormat
+        The layout, or its class.
+    replace : bool
+        Replace a layout of the same name.
+
+    Returns
+    -------
+    LogFormat or type
+        ``fmt``.
+
+    Raises
+    ------
+    ValueError
+        Not a named layout, or a name taken.
     """
     obj = fmt() if isinstance(fmt, type) else fmt
     if not isinstance(obj, LogFormat) or not obj.name or obj.name == "auto":
@@ -186,13 +285,35 @@ def register(fmt: LogFormat | type[LogFormat], *, replace: bool = False):
 
 
 def unregister(name: str) -> LogFormat:
-    """Remove the layout ``name`` and return it (KeyError if it is not registered)."""
+    """Remove the layout ``name`` and return it (KeyError if it is not registered).
+
+    Parameters
+    ----------
+    name : str
+        The layout's name.
+
+    Returns
+    -------
+    LogFormat
+        The layout removed.
+    """
     return FORMATS.unregister(name)
 
 
 @contextlib.contextmanager
 def registered(fmt: LogFormat | type[LogFormat]) -> Iterator[LogFormat]:
-    """Register ``fmt`` for the ``with`` block only (for tests); yields the registered instance."""
+    """Register ``fmt`` for the ``with`` block only (for tests); yields the registered instance.
+
+    Parameters
+    ----------
+    fmt : LogFormat or type of LogFormat
+        The layout, or its class.
+
+    Yields
+    ------
+    LogFormat
+        The registered instance.
+    """
     obj = fmt() if isinstance(fmt, type) else fmt
     register(obj)
     try:
@@ -203,19 +324,48 @@ def registered(fmt: LogFormat | type[LogFormat]) -> Iterator[LogFormat]:
 
 
 def available() -> tuple[str, ...]:
-    """The names of the registered layouts, built-ins first in their usual order."""
+    """The names of the registered layouts, built-ins first in their usual order.
+
+    Returns
+    -------
+    tuple of str
+        The names.
+    """
     entries = FORMATS.items()
     rank = {name: (fmt.order, i) for i, (name, fmt) in enumerate(entries)}
     return tuple(sorted(rank, key=rank.__getitem__))
 
 
 def get(name: str) -> LogFormat:
-    """The layout registered as ``name`` (:class:`LogFormatError` with a close match if none)."""
+    """The layout registered as ``name`` (:class:`LogFormatError` with a close match if none).
+
+    Parameters
+    ----------
+    name : str
+        The layout's name.
+
+    Returns
+    -------
+    LogFormat
+        The layout.
+    """
     return FORMATS.get(name)
 
 
 def detect(data: bytes | str, name: str = "<data>") -> str:
     """The name of the layout that fits ``data`` (a file's bytes or text) best.
+
+    Parameters
+    ----------
+    data : bytes or str
+        The file's content.
+    name : str
+        Its name, for errors.
+
+    Returns
+    -------
+    str
+        The format's name.
 
     Raises
     ------

@@ -24,7 +24,20 @@ TIME_HEADERS = {TIME: "s", "time_ms": "ms", "time_us": "us"}
 def separator(head: str, first_row: str) -> str:
     """The field separator of a table: of tab, ``;`` and ``,`` (in that order), the first that splits the
     header and the first data row into the same number (> 1) of fields; else the first found in the header;
-    else ``,``."""
+    else ``,``.
+
+    Parameters
+    ----------
+    head : str
+        The header line.
+    first_row : str
+        The first data row.
+
+    Returns
+    -------
+    str
+        The separator.
+    """
     for sep in ("\t", ";", ","):
         if head.count(sep) and head.count(sep) == first_row.count(sep):
             return sep
@@ -48,11 +61,33 @@ class GenericCsv(LogFormat):
     takes_columns = True
 
     def sniff(self, head):
-        """Any separated header: the fallback."""
+        """Any separated header: the fallback.
+
+        Parameters
+        ----------
+        head : Head
+            The file's first bytes.
+
+        Returns
+        -------
+        float
+            0.5 for a separated header, else 0.
+        """
         return 0.5 if head.sep else 0.0
 
     def default_columns(self, header: list[str]) -> dict[str, str]:
-        """SI name -> header, for the columns this layout recognises without being told."""
+        """SI name -> header, for the columns this layout recognises without being told.
+
+        Parameters
+        ----------
+        header : list of str
+            The table's headers.
+
+        Returns
+        -------
+        dict of str to str
+            SI name -> header.
+        """
         found = {h: h for h in header if h in (*CHANNELS, TEMP)}
         time = next((h for h in TIME_HEADERS if h in header), None)
         if time is not None:
@@ -60,7 +95,22 @@ class GenericCsv(LogFormat):
         return found
 
     def read(self, raw: bytes, path: Path, options: ReadOptions) -> ImuLog:
-        """The table as an :class:`~trikedyn.measure.logs.ImuLog` (see the module docstring)."""
+        """The table as an :class:`~trikedyn.measure.logs.ImuLog` (see the module docstring).
+
+        Parameters
+        ----------
+        raw : bytes
+            The file's bytes.
+        path : Path
+            The file, for errors.
+        options : ReadOptions
+            What the caller asked for (sensor, rate [Hz], columns, units, ...).
+
+        Returns
+        -------
+        ImuLog
+            The log, SI columns (time [s], accelerations [m/s^2], rates [rad/s], angles [rad]).
+        """
         logs._one_sensor(options.sensor, self.name, path)
         columns, units, rate, notes = options.columns, options.units, options.sample_rate_hz, []
         text = logs._decode(raw, path, ("utf-8-sig",))
@@ -115,7 +165,15 @@ class GenericCsv(LogFormat):
         return logs._table_log(path, self.name, t, header, cells, lines, spec, set(), notes)
 
     def write(self, data: pd.DataFrame, path: Path) -> None:
-        """The SI columns as they are, comma-separated."""
+        """The SI columns as they are, comma-separated.
+
+        Parameters
+        ----------
+        data : pandas.DataFrame
+            SI columns (``time_s`` [s] increasing, ...).
+        path : Path
+            The file to write.
+        """
         data.to_csv(path, index=False)
 
 

@@ -40,12 +40,34 @@ class Phyphox(GenericCsv):
     order = 55
 
     def sniff(self, head):
-        """3 when the header holds ``Time (s)`` and a phyphox acceleration or gyroscope column."""
+        """3 when the header holds ``Time (s)`` and a phyphox acceleration or gyroscope column.
+
+        Parameters
+        ----------
+        head : Head
+            The file's first bytes.
+
+        Returns
+        -------
+        float
+            3 or 0.
+        """
         keys = {_key(h) for h in head.first.split(head.sep)} if head.sep else set()
         return 3.0 if "time(s)" in keys and len(keys & set(HEADERS)) >= 2 else 0.0
 
     def default_columns(self, header):
-        """The phyphox headers found, by their SI names (the first of each), and headers that are SI names."""
+        """The phyphox headers found, by their SI names (the first of each), and headers that are SI names.
+
+        Parameters
+        ----------
+        header : list of str
+            The table's headers.
+
+        Returns
+        -------
+        dict of str to str
+            SI name -> header.
+        """
         found = super().default_columns(header)
         for h in header:
             si = HEADERS.get(_key(h))
@@ -54,7 +76,22 @@ class Phyphox(GenericCsv):
         return found
 
     def read(self, raw, path, options):
-        """As :class:`~trikedyn.measure.formats.generic_csv.GenericCsv`, with the phyphox headers mapped."""
+        """As :class:`~trikedyn.measure.formats.generic_csv.GenericCsv`, with the phyphox headers mapped.
+
+        Parameters
+        ----------
+        raw : bytes
+            The file's bytes.
+        path : Path
+            The file, for errors.
+        options : ReadOptions
+            What the caller asked for (sensor, rate [Hz], columns, units, ...).
+
+        Returns
+        -------
+        ImuLog
+            The log, SI columns (time [s], accelerations [m/s^2], rates [rad/s], angles [rad]).
+        """
         log = super().read(raw, path, options)
         linear = [c for c, h in log.original_columns.items() if _key(h).startswith("linearacceleration")]
         if linear:
@@ -68,7 +105,15 @@ class Phyphox(GenericCsv):
 
     def write(self, data, path):
         """phyphox's headers (quoted, comma-separated, decimal point; the numbers in full) for the time,
-        acceleration and gyroscope columns, the others under their own names."""
+        acceleration and gyroscope columns, the others under their own names.
+
+        Parameters
+        ----------
+        data : pandas.DataFrame
+            SI columns (``time_s`` [s] increasing, ...).
+        path : Path
+            The file to write.
+        """
         names = {si: header for header, si in _WRITTEN.items()}
         table = data.rename(columns={c: names.get(c, c) for c in data.columns})
         table.to_csv(path, index=False, quoting=csv.QUOTE_NONNUMERIC)
