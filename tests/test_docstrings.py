@@ -23,9 +23,6 @@ option is stated once, in the manoeuvre's ``Option`` table (name, unit, bounds, 
 Parameters section each keyword of the builder must be a declared option, with a unit where its name says it
 carries one.
 
-``tests/docstring_backlog.txt`` lists the names not yet brought up to the rules (one qualified name a line).
-It may only shrink: a listed name that now passes, or that no longer exists, fails the test too.
-
 numpydoc is not a dependency; sections are found by their underlined headers (a line followed by a line of
 dashes), as numpydoc itself does.
 """
@@ -38,13 +35,10 @@ import inspect
 import pkgutil
 import re
 import textwrap
-from pathlib import Path
 
 import pytest
 
 import trikedyn
-
-BACKLOG = Path(__file__).with_name("docstring_backlog.txt")
 
 UNIT_SUFFIXES = (
     "_m", "_mm", "_km", "_s", "_ms", "_h", "_kg", "_g", "_N", "_kN", "_Nm", "_Npm", "_Nspm", "_mps", "_mps2",
@@ -294,13 +288,6 @@ def all_problems() -> dict[str, list[str]]:
     return out
 
 
-def _backlog() -> list[str]:
-    if not BACKLOG.exists():
-        return []
-    return [ln.strip() for ln in BACKLOG.read_text(encoding="utf-8").splitlines()
-            if ln.strip() and not ln.startswith("#")]
-
-
 # ---------------------------------------------------------------------------------------------------------
 # the tests
 # ---------------------------------------------------------------------------------------------------------
@@ -310,18 +297,8 @@ def checked():
 
 
 def test_every_public_name_has_a_numpydoc_docstring(checked):
-    backlog = set(_backlog())
-    offenders = [line for qual, found in sorted(checked.items()) if qual not in backlog for line in found]
+    offenders = [line for _, found in sorted(checked.items()) for line in found]
     assert not offenders, f"{len(offenders)} docstring problems:\n" + "\n".join(offenders)
-
-
-def test_backlog_only_shrinks(checked):
-    listed = _backlog()
-    assert len(listed) == len(set(listed)), "names listed twice in docstring_backlog.txt"
-    gone = [q for q in listed if q not in checked]
-    fixed = [q for q in listed if q in checked and not checked[q]]
-    assert not gone, "listed in docstring_backlog.txt but no longer public (remove them):\n" + "\n".join(gone)
-    assert not fixed, "listed in docstring_backlog.txt but now pass (remove them):\n" + "\n".join(fixed)
 
 
 def test_the_check_finds_what_it_should():

@@ -62,7 +62,18 @@ class StudyMetric:
     fn: Callable = field(default=None, repr=False)
 
     def option(self, name: str) -> Option:
-        """The option ``name``; an :class:`InputError` with a close match when it has none."""
+        """The option ``name``; an :class:`InputError` with a close match when it has none.
+
+        Parameters
+        ----------
+        name : str
+            The option's name.
+
+        Returns
+        -------
+        Option
+            The option (default, unit, bounds).
+        """
         return find_option(self.options, name, f"metric '{self.name}'", "metrics")
 
 
@@ -77,6 +88,28 @@ def study_metric(name: str, *, unit: str = "", per_manoeuvre: bool, uses_search:
     ``pset`` is the scenario's vehicle, varied and loaded; ``scenario`` the scenario dict (its ``manoeuvre``
     is None for a metric not per manoeuvre; the threshold search settings are in it when ``uses_search``).
     A taken ``name`` raises ValueError unless ``replace=True``.
+
+    Parameters
+    ----------
+    name : str
+        The metric's name.
+    unit : str
+        Its unit, for the table.
+    per_manoeuvre : bool
+        Evaluated once per manoeuvre (True) or once per vehicle.
+    uses_search : bool
+        It takes the threshold search settings.
+    options : tuple of Option
+        Its options, with units and bounds.
+    help : str
+        One line; the function's first docstring line by default.
+    replace : bool
+        Replace a metric of the same name.
+
+    Returns
+    -------
+    callable
+        The decorator.
     """
 
     def decorate(fn):
@@ -88,18 +121,53 @@ def study_metric(name: str, *, unit: str = "", per_manoeuvre: bool, uses_search:
 
 
 def metrics() -> list[StudyMetric]:
-    """Every registered study metric."""
+    """Every registered study metric.
+
+    Returns
+    -------
+    list of StudyMetric
+        The metrics.
+    """
     return STUDY_METRICS.values()
 
 
 def get(name: str) -> StudyMetric:
-    """The study metric ``name``; an unknown name is an :class:`InputError` with a close match."""
+    """The study metric ``name``; an unknown name is an :class:`InputError` with a close match.
+
+    Parameters
+    ----------
+    name : str
+        The metric's name.
+
+    Returns
+    -------
+    StudyMetric
+        The metric.
+    """
     return STUDY_METRICS.get(name)
 
 
 def parse_entry(entry) -> tuple[str, dict]:
     """A spec's ``metrics`` entry (a name, or a table ``{name = ..., option = value}``) -> (name, options),
-    the options complete (defaults filled in) and checked."""
+    the options complete (defaults filled in) and checked.
+
+    Parameters
+    ----------
+    entry : str or dict
+        The entry.
+
+    Returns
+    -------
+    name : str
+        The metric.
+    options : dict
+        Its options, complete and checked.
+
+    Raises
+    ------
+    InputError
+        An unknown metric or option, or a value out of its bounds.
+    """
     if isinstance(entry, str):
         name, given = entry, {}
     elif isinstance(entry, dict):
@@ -124,7 +192,20 @@ def parse_entry(entry) -> tuple[str, dict]:
 
 def label(name: str, options: dict) -> str:
     """The metric as the table and the figures show it: ``peak_ri(speed_kmh=40)``; options at their default
-    are left out (``understeer_gradient``)."""
+    are left out (``understeer_gradient``).
+
+    Parameters
+    ----------
+    name : str
+        The metric's name.
+    options : dict
+        Its options.
+
+    Returns
+    -------
+    str
+        The label.
+    """
     try:
         defaults = {o.name: o.default for o in get(name).options}
     except InputError:
@@ -155,7 +236,18 @@ def _threshold(pset, scenario):
 
 
 def course_options(scenario: dict) -> dict:
-    """The manoeuvre options a scenario sets: the base vehicle's width for a course laid out from it."""
+    """The manoeuvre options a scenario sets: the base vehicle's width for a course laid out from it.
+
+    Parameters
+    ----------
+    scenario : dict
+        The scenario.
+
+    Returns
+    -------
+    dict
+        ``course_width_m`` [m] when the scenario sets it, else empty.
+    """
     width = scenario.get("course_width_m")
     return {} if width is None else {"course_width_m": width}
 
@@ -163,7 +255,18 @@ def course_options(scenario: dict) -> dict:
 def table_fields(result) -> dict:
     """A threshold result as the study table's columns: its fields, the speed driven flattened
     (``driven_min_kmh``, ``driven_mean_kmh``, ``driven_max_kmh``), and the lift-off search's limit under
-    ``both`` (``lift_off_limit``)."""
+    ``both`` (``lift_off_limit``).
+
+    Parameters
+    ----------
+    result : ThresholdResult
+        The search's result.
+
+    Returns
+    -------
+    dict
+        Column -> value (speeds [km/h]).
+    """
     out = result.to_dict()
     window = out.pop("window_speed_kmh", None) or {}
     lift = out.pop("lift_off", None)

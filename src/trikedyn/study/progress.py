@@ -57,9 +57,17 @@ class LineProgress:
         self._line(done, total)
 
     def note(self, text: str) -> None:
+        """Print ``text`` as a line (stderr).
+
+        Parameters
+        ----------
+        text : str
+            The note.
+        """
         print(text, file=sys.stderr, flush=True)
 
     def close(self) -> None:
+        """Nothing to close (lines are printed as they come)."""
         return None
 
 
@@ -79,16 +87,37 @@ class BarProgress:
         self._bar.update(done - self._bar.n)
 
     def note(self, text: str) -> None:
+        """Print ``text`` on its own line below the bar (stderr).
+
+        Parameters
+        ----------
+        text : str
+            The note.
+        """
         print(f"\n{text}", file=sys.stderr, flush=True)
 
     def close(self) -> None:
+        """Close the bar."""
         if self._bar is not None:
             self._bar.close()
 
 
 def reporter(progress=True, label: str = "study"):
     """The reporter for ``progress``: True -> a bar on a terminal, a line every 5 s otherwise; False or None
-    -> None (silent); anything else (a callable ``(done, total)``) is used as it is."""
+    -> None (silent); anything else (a callable ``(done, total)``) is used as it is.
+
+    Parameters
+    ----------
+    progress : bool or callable
+        What the caller asked for.
+    label : str
+        What is counted, for the bar or line.
+
+    Returns
+    -------
+    callable or None
+        ``(done, total)`` reporter.
+    """
     if progress is True:
         return BarProgress(label) if sys.stderr.isatty() else LineProgress(label)
     if progress is False or progress is None:

@@ -253,6 +253,15 @@ def check_study_folder(out_dir: str | Path, spec: StudySpec, force: bool = False
     writes there may be one it reads (the spec, its vehicle with the files that one reads, a path CSV, a
     ``tyre_file`` override: :func:`trikedyn._files.check_not_inputs`).
 
+    Parameters
+    ----------
+    out_dir : str or Path
+        The folder.
+    spec : StudySpec
+        The study.
+    force : bool
+        Accept a folder holding other files.
+
     Raises
     ------
     InputError
@@ -295,6 +304,32 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
 
     Takes the arguments of :func:`run_study`. Returns a :class:`StudyRun` (its ``raise_unfinished()`` raises
     what :func:`run_study` raises). ``InputError`` (bad spec, options, folder) is raised.
+
+    Parameters
+    ----------
+    spec : str, Path or StudySpec
+        A built-in name, a TOML file or a loaded spec.
+    out_dir : str or Path
+        The output folder.
+    workers : int, optional
+        Local processes (all cores by default; 0: this process).
+    dask_local : int, optional
+        Workers of a new local Dask cluster.
+    scheduler : str, optional
+        Address of an existing Dask scheduler.
+    progress : bool or callable
+        Progress reporting (:func:`~trikedyn.study.progress.reporter`).
+    max_scenarios : int or None
+        Refuse a larger spec.
+    figures : bool
+        Draw the figures once every scenario is stored.
+    force : bool
+        Write into a folder holding other files.
+
+    Returns
+    -------
+    StudyRun
+        The run: its table, summary and how it ended.
     """
     from .progress import reporter
 

@@ -49,7 +49,13 @@ class Search:
                              where="speed_control")
 
     def to_dict(self) -> dict:
-        """The settings, as a plan file records them."""
+        """The settings, as a plan file records them.
+
+        Returns
+        -------
+        dict
+            Manoeuvre, options, speeds [km/h], time step [s], criterion, speed control.
+        """
         return {"manoeuvre": self.manoeuvre, "options": dict(self.options), "resolution_kmh": self.resolution_kmh,
                 "low_kmh": self.low_kmh, "high_kmh": self.high_kmh, "dt_s": self.dt_s, "criterion": self.criterion,
                 "speed_control": self.speed_control}
@@ -62,7 +68,18 @@ class Search:
 
         For designs that compare vehicles (the optimiser, the loading chart, a study's grid). Sensitivity and
         uncertainty do not use it: they ask what the threshold of *this* vehicle is when an assumed value is
-        off, and by ISO 3888 the course of a vehicle of another width is laid out for that width."""
+        off, and by ISO 3888 the course of a vehicle of another width is laid out for that width.
+
+        Parameters
+        ----------
+        pset : ParameterSet
+            The vehicle. (the design's reference)
+
+        Returns
+        -------
+        Search
+            The search (itself when the course does not follow the width).
+        """
         if self.manoeuvre.lower().endswith(".csv") or "course_width_m" in self.options:
             return self
         from ..manoeuvres.registry import get
@@ -72,7 +89,13 @@ class Search:
         return self
 
     def course_note(self) -> str | None:
-        """Which course the variants meet, in words (None when the manoeuvre's course is the same for all)."""
+        """Which course the variants meet, in words (None when the manoeuvre's course is the same for all).
+
+        Returns
+        -------
+        str or None
+            The note.
+        """
         if "course_width_m" not in self.options:
             return None
         width = float(self.options["course_width_m"])
@@ -83,7 +106,20 @@ class Search:
 
     def run(self, pset: ParameterSet, dt_s: float | None = None):
         """The threshold search on ``pset``, with the time step ``dt_s`` [s] (default: :attr:`dt_s`; None: the
-        loop's automatic step, :func:`~trikedyn.simulate.run.automatic_step`)."""
+        loop's automatic step, :func:`~trikedyn.simulate.run.automatic_step`).
+
+        Parameters
+        ----------
+        pset : ParameterSet
+            The vehicle.
+        dt_s : float, optional
+            Time step [s].
+
+        Returns
+        -------
+        ThresholdResult
+            The search's result.
+        """
         from ..analysis.threshold import threshold_velocity
 
         return threshold_velocity(pset, self.manoeuvre, options=dict(self.options), low_kmh=self.low_kmh,
@@ -92,7 +128,20 @@ class Search:
                                   speed_control=self.speed_control)
 
     def threshold(self, pset: ParameterSet) -> tuple[float | None, str | None]:
-        """The threshold velocity [km/h] of ``pset``, or None and why there is none (see :meth:`outcome`)."""
+        """The threshold velocity [km/h] of ``pset``, or None and why there is none (see :meth:`outcome`).
+
+        Parameters
+        ----------
+        pset : ParameterSet
+            The vehicle.
+
+        Returns
+        -------
+        threshold : float or None
+            [km/h].
+        error : str or None
+            Why there is none.
+        """
         speed, error, _ = self.outcome(pset)
         return speed, error
 
@@ -104,6 +153,20 @@ class Search:
         or none found up to the top of the range). Never raises for a failed search: a
         sampled study reports it and goes on. A variant whose fastest mode needs a finer time step than
         :attr:`dt_s` (a stiffer or lighter part) is searched again with half the step.
+
+        Parameters
+        ----------
+        pset : ParameterSet
+            The vehicle.
+
+        Returns
+        -------
+        threshold : float or None
+            [km/h].
+        error : str or None
+            Why there is none.
+        limit : str
+            What limits it.
         """
         from .executors import one_line
 
@@ -125,7 +188,18 @@ class Search:
 def raise_interrupt(exc: BaseException) -> None:
     """Raise KeyboardInterrupt if ``exc`` came of one: a Ctrl-C that lands in compiled code (numba) comes back
     as a ``SystemError`` ("returned a result with an exception set") caused by it, which a search must not
-    report as a failed sample: the run was interrupted, the sample is not done."""
+    report as a failed sample: the run was interrupted, the sample is not done.
+
+    Parameters
+    ----------
+    exc : BaseException
+        The exception a search raised.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        When ``exc`` or one of its causes is one.
+    """
     seen: BaseException | None = exc
     for _ in range(32):  # the chain of causes, bounded
         if seen is None:
@@ -146,21 +220,56 @@ _LIMIT_WORDS = {"lift-off": "a wheel lifted first", "tracking": "the driver lost
 
 def limit_counts(limits) -> dict[str, int]:
     """Samples per limit, for every limit that occurs (``{"lift-off": n, "cone strike": m}``; samples without a
-    threshold or without a limit left out); ``lift-off`` and ``tracking`` always listed."""
+    threshold or without a limit left out); ``lift-off`` and ``tracking`` always listed.
+
+    Parameters
+    ----------
+    limits : iterable of str
+        Each sample's limit (empty or None for none).
+
+    Returns
+    -------
+    dict of str to int
+        Limit -> samples.
+    """
     found = [str(limit) for limit in limits if limit]
     names = [*LIMITS[:2], *(n for n in LIMITS[2:] if n in found), *sorted(set(found) - set(LIMITS))]
     return {name: found.count(name) for name in names}
 
 
 def regimes(limits) -> dict[str, int]:
-    """The limits that occur with their counts, when there are two or more (else empty)."""
+    """The limits that occur with their counts, when there are two or more (else empty).
+
+    Parameters
+    ----------
+    limits : iterable of str
+        Each sample's limit (empty or None for none).
+
+    Returns
+    -------
+    dict of str to int
+        Limit -> samples, empty for fewer than two limits.
+    """
     count = {k: v for k, v in limit_counts(limits).items() if v}
     return count if len(count) > 1 else {}
 
 
 def limits_line(limits, consequence: str = "") -> str | None:
     """The samples' limits in words for a text summary (``consequence`` appended), or None when every sample with
-    a threshold had the same one (nothing to say)."""
+    a threshold had the same one (nothing to say).
+
+    Parameters
+    ----------
+    limits : iterable of str
+        Each sample's limit (empty or None for none).
+    consequence : str
+        Appended to the line.
+
+    Returns
+    -------
+    str or None
+        The line.
+    """
     count = regimes(limits)
     if not count:
         return None
@@ -176,6 +285,26 @@ def evaluate_sample(pset: ParameterSet, factors: tuple[Factor, ...], x,
 
     A failed sample (an invalid vehicle, a search with no threshold, a simulation error) is not an error:
     the sensitivity run goes on and reports it.
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    factors : tuple of Factor
+        The factors.
+    x : sequence of float
+        Their values [factor units].
+    search : Search
+        The threshold search.
+
+    Returns
+    -------
+    threshold : float or None
+        [km/h].
+    error : str or None
+        Why it failed.
+    limit : str
+        What limits it.
     """
     try:
         varied = apply_factors(pset, factors, x)
@@ -191,6 +320,14 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
 
     Parameters
     ----------
+    pset : ParameterSet
+        The vehicle.
+    factors : iterable of Factor
+        The factors.
+    X : numpy.ndarray
+        Inputs, one row per sample [factor units].
+    search : Search
+        The threshold search.
     workers : int
         Processes (0: one row after the other in this process).
     known : dict, optional
@@ -255,7 +392,36 @@ def run_logged_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndar
                        workers: int = 2, log: SampleLog | None = None, resume: bool = False,
                        progress: Callable | None = None) -> tuple[np.ndarray, list[str | None], list[str]]:
     """:func:`run_samples` with each finished sample appended to ``log``; with ``resume`` the samples logged
-    already (:meth:`SampleLog.read`, which checks they are this run's) are not evaluated again."""
+    already (:meth:`SampleLog.read`, which checks they are this run's) are not evaluated again.
+
+    Parameters
+    ----------
+    pset : ParameterSet
+        The vehicle.
+    factors : iterable of Factor
+        The factors.
+    X : numpy.ndarray
+        Inputs, one row per sample [factor units].
+    search : Search
+        The threshold search.
+    workers : int
+        Processes.
+    log : SampleLog, optional
+        Where each sample is appended.
+    resume : bool
+        Go on from ``log``.
+    progress : callable, optional
+        ``progress(done, total)``.
+
+    Returns
+    -------
+    thresholds : numpy.ndarray
+        [km/h], NaN for a failed sample.
+    errors : list of str or None
+        Why each failed.
+    limits : list of str
+        What limits each.
+    """
     if log is None:
         return run_samples(pset, factors, X, search, workers=workers, progress=progress)
     known = log.read(X) if resume else {}
@@ -290,6 +456,16 @@ class SampleLog(AppendedCsv):
         A row cut short by a kill (the last, without its line end) is skipped: evaluated again. A row whose
         inputs are not those of ``X`` means the file belongs to another run.
 
+        Parameters
+        ----------
+        X : numpy.ndarray
+            The run's inputs, one row per sample [factor units].
+
+        Returns
+        -------
+        dict
+            Index -> ``(threshold [km/h] or None, error or None, limit)``.
+
         Raises
         ------
         InputError
@@ -310,7 +486,21 @@ class SampleLog(AppendedCsv):
         return known
 
     def append(self, index: int, x, threshold: float | None, error: str | None, limit: str = "") -> None:
-        """Log one finished sample (flushed at once)."""
+        """Log one finished sample (flushed at once).
+
+        Parameters
+        ----------
+        index : int
+            The sample's row.
+        x : sequence of float
+            Its inputs [factor units].
+        threshold : float or None
+            Threshold [km/h].
+        error : str or None
+            Why it has none.
+        limit : str
+            What limits it.
+        """
         status = "ok" if threshold is not None else "failed"
         self.write([index, index // self.group, status, "" if threshold is None else repr(float(threshold)), limit,
                     " ".join((error or "").split()), *(repr(float(v)) for v in x)])

@@ -54,7 +54,18 @@ _JUDGING = ("criterion", "speed_control", "speed_band_percent", "speed_band_kmh"
 # expansion (pure)
 # ------------------------------------------------------------------------------------------------
 def canonical_json(scenario: dict) -> str:
-    """The canonical JSON of a scenario's defining fields (sorted keys, no spaces): what its id hashes."""
+    """The canonical JSON of a scenario's defining fields (sorted keys, no spaces): what its id hashes.
+
+    Parameters
+    ----------
+    scenario : dict
+        The scenario.
+
+    Returns
+    -------
+    str
+        The JSON.
+    """
     keys = [k for k in SCENARIO_KEYS if k not in _NOT_HASHED]
     data = {k: scenario.get(k) for k in keys}
     data["overrides"] = dict(sorted(data["overrides"].items()))
@@ -67,7 +78,18 @@ def canonical_json(scenario: dict) -> str:
 
 
 def scenario_id(scenario: dict) -> str:
-    """A short, deterministic id of a scenario: the first 16 hex digits of SHA-256 of its canonical JSON."""
+    """A short, deterministic id of a scenario: the first 16 hex digits of SHA-256 of its canonical JSON.
+
+    Parameters
+    ----------
+    scenario : dict
+        The scenario.
+
+    Returns
+    -------
+    str
+        16 hex digits.
+    """
     return hashlib.sha256(canonical_json(scenario).encode()).hexdigest()[:16]
 
 
@@ -78,6 +100,11 @@ def expand(spec: StudySpec) -> list[dict]:
     then group (as listed), then stiffness scale, damping scale, overrides (each as listed) and freight. A
     scenario met again in a later group keeps its first place and adds that group's name to ``groups``
     (names joined by ``;``).
+
+    Parameters
+    ----------
+    spec : StudySpec
+        The study.
 
     Returns
     -------
@@ -163,6 +190,11 @@ def count_scenarios(spec: StudySpec) -> tuple[int, bool]:
     whose grids do not meet are pruned, so this is cheap for any spec written by hand. Past
     ``2**16`` overlapping subsets it stops and returns the sum of the group grids instead, an upper bound.
     Freight multiplies every group alike; so does each metric, once per manoeuvre or once.
+
+    Parameters
+    ----------
+    spec : StudySpec
+        The study.
 
     Returns
     -------

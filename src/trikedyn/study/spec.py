@@ -247,7 +247,13 @@ class StudySpec:
     course_width_m: float | None = None
 
     def load_vehicle(self):
-        """The study's base vehicle (:class:`~trikedyn.params.io.ParameterSet`), before any variation."""
+        """The study's base vehicle (:class:`~trikedyn.params.io.ParameterSet`), before any variation.
+
+        Returns
+        -------
+        ParameterSet
+            The base vehicle.
+        """
         from ..params import load_vehicle
 
         return load_vehicle(self.vehicle_source)
@@ -276,7 +282,13 @@ def _spec_dir():
 
 
 def list_specs() -> list[str]:
-    """Names of the study specs shipped with trikedyn (``paper``: the paper's Fig. 10)."""
+    """Names of the study specs shipped with trikedyn (``paper``: the paper's Fig. 10).
+
+    Returns
+    -------
+    list of str
+        The names.
+    """
     from ..params.tomlfile import builtin_names
 
     return builtin_names(_spec_dir())
@@ -284,6 +296,16 @@ def list_specs() -> list[str]:
 
 def load_spec(name_or_path: str | Path | StudySpec) -> StudySpec:
     """Load a study spec by name (``"paper"``) or from a TOML file.
+
+    Parameters
+    ----------
+    name_or_path : str, Path or StudySpec
+        A built-in name, a TOML file, or a spec (returned as it is).
+
+    Returns
+    -------
+    StudySpec
+        The spec.
 
     Raises
     ------
@@ -313,6 +335,11 @@ def parse_spec(source: str | dict, origin: str = "<string>", base_dir: str | Pat
     base_dir : path, optional
         The folder the spec's files are named in (the spec file's; the working folder if None): a vehicle
         path and a ``tyre_file`` override lie in it or below it.
+
+    Returns
+    -------
+    StudySpec
+        The spec.
     """
     return _parse(source, origin, Path.cwd() if base_dir is None else Path(base_dir), "the spec's folder")
 
