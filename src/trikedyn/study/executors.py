@@ -266,18 +266,6 @@ class DaskExecutor(Executor):
         *args, **kwargs
             Its arguments.
 
-        Parameters
-        ----------
-        fn : callable
-            The function (picklable).
-        *args, **kwargs
-            Its arguments.
-
-        Returns
-        -------
-        concurrent.futures.Future
-            Its future, counted as started.
-
         Returns
         -------
         concurrent.futures.Future
@@ -296,13 +284,6 @@ class DaskExecutor(Executor):
             Wait for the calls in flight.
         cancel_futures : bool
             Cancel the calls not started.
-
-        Parameters
-        ----------
-        wait : bool
-            Wait for the tasks submitted (unless the scheduler is lost).
-        cancel_futures : bool
-            Do not wait for them.
         """
         if self._closed:
             return
