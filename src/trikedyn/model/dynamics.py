@@ -111,16 +111,10 @@ def joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, e, r, rot):
     ----------
     q : numpy.ndarray, shape (n,)
         Generalised coordinates: base position [m], ZYX Euler angles [rad], joint coordinates [rad or m].
-    parent : numpy.ndarray of int, shape (nb,)
-        Parent index of each body (body 0, the floating base, has none).
-    jtype : numpy.ndarray of int, shape (nb,)
-        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
-    jaxis : numpy.ndarray, shape (nb, 3)
-        Unit joint axis of each body in its own coordinates, dimensionless.
-    tree_e : numpy.ndarray, shape (nb, 3, 3)
-        Rotation parent -> body at zero joint coordinate, dimensionless.
-    tree_r : numpy.ndarray, shape (nb, 3)
-        Joint origin in parent coordinates at zero joint coordinate [m].
+    parent, jtype, jaxis, tree_e, tree_r : numpy.ndarray
+        The tree (:meth:`~trikedyn.model.topology.Tree.arrays`): parent indices (nb,), joint types (nb,), unit joint
+        axes (nb, 3) and, at zero joint coordinate, rotations parent -> body (nb, 3, 3), all dimensionless, and
+        joint origins in parent coordinates (nb, 3) [m].
     e : numpy.ndarray, shape (nb, 3, 3)
         Written with the rotations.
     r : numpy.ndarray, shape (nb, 3)
@@ -165,10 +159,9 @@ def world_transforms_into(parent, e, r, ew, pw):
     ----------
     parent : numpy.ndarray of int, shape (nb,)
         Parent index of each body (body 0, the floating base, has none).
-    e : numpy.ndarray, shape (nb, 3, 3)
-        Parent -> body rotations (world -> base for body 0), dimensionless.
-    r : numpy.ndarray, shape (nb, 3)
-        Body origins in parent coordinates (the base in the world) [m].
+    e, r : numpy.ndarray
+        Parent -> body rotations (nb, 3, 3), dimensionless (world -> base for body 0), and body origins in
+        parent coordinates (nb, 3) [m].
     ew : numpy.ndarray, shape (nb, 3, 3)
         Written with the world -> body rotations.
     pw : numpy.ndarray, shape (nb, 3)
@@ -192,19 +185,14 @@ def body_velocities_into(e, r, u, parent, jtype, jaxis, v):
 
     Parameters
     ----------
-    e : numpy.ndarray, shape (nb, 3, 3)
-        Parent -> body rotations (world -> base for body 0), dimensionless.
-    r : numpy.ndarray, shape (nb, 3)
-        Body origins in parent coordinates (the base in the world) [m].
+    e, r : numpy.ndarray
+        Parent -> body rotations (nb, 3, 3), dimensionless (world -> base for body 0), and body origins in
+        parent coordinates (nb, 3) [m].
     u : numpy.ndarray, shape (n,)
         Generalised velocities: base spatial velocity (omega [rad/s], v [m/s]) in base coordinates, joint
         rates [rad/s or m/s].
-    parent : numpy.ndarray of int, shape (nb,)
-        Parent index of each body (body 0, the floating base, has none).
-    jtype : numpy.ndarray of int, shape (nb,)
-        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
-    jaxis : numpy.ndarray, shape (nb, 3)
-        Unit joint axis of each body in its own coordinates, dimensionless.
+    parent, jtype, jaxis : numpy.ndarray
+        Parent indices (nb,), joint types (nb,) and unit joint axes (nb, 3), dimensionless.
     v : numpy.ndarray, shape (nb, 6)
         Written with each body's velocity (omega [rad/s], v [m/s]) in its own coordinates.
     """
@@ -227,10 +215,9 @@ def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar,
 
     Parameters
     ----------
-    e : numpy.ndarray, shape (nb, 3, 3)
-        Parent -> body rotations (world -> base for body 0), dimensionless.
-    r : numpy.ndarray, shape (nb, 3)
-        Body origins in parent coordinates (the base in the world) [m].
+    e, r : numpy.ndarray
+        Parent -> body rotations (nb, 3, 3), dimensionless (world -> base for body 0), and body origins in
+        parent coordinates (nb, 3) [m].
     u : numpy.ndarray, shape (n,)
         Generalised velocities: base spatial velocity (omega [rad/s], v [m/s]) in base coordinates, joint
         rates [rad/s or m/s].
@@ -240,18 +227,11 @@ def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar,
         External spatial force on each body, in its coordinates about its origin (moment [N m], force [N]).
     gravity : numpy.ndarray, shape (3,)
         Gravity vector in the world [m/s^2], e.g. (0, 0, -9.81).
-    parent : numpy.ndarray of int, shape (nb,)
-        Parent index of each body (body 0, the floating base, has none).
-    jtype : numpy.ndarray of int, shape (nb,)
-        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
-    jaxis : numpy.ndarray, shape (nb, 3)
-        Unit joint axis of each body in its own coordinates, dimensionless.
-    mass : numpy.ndarray, shape (nb,)
-        Body masses [kg].
-    h : numpy.ndarray, shape (nb, 3)
-        First moments of mass about each body's origin [kg m].
-    ibar : numpy.ndarray, shape (nb, 3, 3)
-        Rotational inertias about each body's origin [kg m^2].
+    parent, jtype, jaxis : numpy.ndarray
+        Parent indices (nb,), joint types (nb,) and unit joint axes (nb, 3), dimensionless.
+    mass, h, ibar : numpy.ndarray
+        Body masses (nb,) [kg], first moments (nb, 3) [kg m] and rotational inertias (nb, 3, 3) [kg m^2] about
+        each body's origin.
     ws : Workspace
         Scratch arrays from :func:`workspace`.
     tau : numpy.ndarray, shape (n,)
@@ -309,22 +289,14 @@ def crba_into(e, r, parent, jtype, jaxis, mass, h, ibar, ws):
 
     Parameters
     ----------
-    e : numpy.ndarray, shape (nb, 3, 3)
-        Parent -> body rotations (world -> base for body 0), dimensionless.
-    r : numpy.ndarray, shape (nb, 3)
-        Body origins in parent coordinates (the base in the world) [m].
-    parent : numpy.ndarray of int, shape (nb,)
-        Parent index of each body (body 0, the floating base, has none).
-    jtype : numpy.ndarray of int, shape (nb,)
-        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
-    jaxis : numpy.ndarray, shape (nb, 3)
-        Unit joint axis of each body in its own coordinates, dimensionless.
-    mass : numpy.ndarray, shape (nb,)
-        Body masses [kg].
-    h : numpy.ndarray, shape (nb, 3)
-        First moments of mass about each body's origin [kg m].
-    ibar : numpy.ndarray, shape (nb, 3, 3)
-        Rotational inertias about each body's origin [kg m^2].
+    e, r : numpy.ndarray
+        Parent -> body rotations (nb, 3, 3), dimensionless (world -> base for body 0), and body origins in
+        parent coordinates (nb, 3) [m].
+    parent, jtype, jaxis : numpy.ndarray
+        Parent indices (nb,), joint types (nb,) and unit joint axes (nb, 3), dimensionless.
+    mass, h, ibar : numpy.ndarray
+        Body masses (nb,) [kg], first moments (nb, 3) [kg m] and rotational inertias (nb, 3, 3) [kg m^2] about
+        each body's origin.
     ws : Workspace
         Scratch arrays from :func:`workspace`.
     """
@@ -469,16 +441,10 @@ def joint_transforms(q, parent, jtype, jaxis, tree_e, tree_r):
     ----------
     q : numpy.ndarray, shape (n,)
         Generalised coordinates: base position [m], ZYX Euler angles [rad], joint coordinates [rad or m].
-    parent : numpy.ndarray of int, shape (nb,)
-        Parent index of each body (body 0, the floating base, has none).
-    jtype : numpy.ndarray of int, shape (nb,)
-        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
-    jaxis : numpy.ndarray, shape (nb, 3)
-        Unit joint axis of each body in its own coordinates, dimensionless.
-    tree_e : numpy.ndarray, shape (nb, 3, 3)
-        Rotation parent -> body at zero joint coordinate, dimensionless.
-    tree_r : numpy.ndarray, shape (nb, 3)
-        Joint origin in parent coordinates at zero joint coordinate [m].
+    parent, jtype, jaxis, tree_e, tree_r : numpy.ndarray
+        The tree (:meth:`~trikedyn.model.topology.Tree.arrays`): parent indices (nb,), joint types (nb,), unit joint
+        axes (nb, 3) and, at zero joint coordinate, rotations parent -> body (nb, 3, 3), all dimensionless, and
+        joint origins in parent coordinates (nb, 3) [m].
 
     Returns
     -------
@@ -502,10 +468,9 @@ def world_transforms(parent, e, r):
     ----------
     parent : numpy.ndarray of int, shape (nb,)
         Parent index of each body (body 0, the floating base, has none).
-    e : numpy.ndarray, shape (nb, 3, 3)
-        Parent -> body rotations (world -> base for body 0), dimensionless.
-    r : numpy.ndarray, shape (nb, 3)
-        Body origins in parent coordinates (the base in the world) [m].
+    e, r : numpy.ndarray
+        Parent -> body rotations (nb, 3, 3), dimensionless (world -> base for body 0), and body origins in
+        parent coordinates (nb, 3) [m].
 
     Returns
     -------
@@ -538,22 +503,13 @@ def rnea(q, u, udot, fext, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, 
         External spatial force on each body, in its coordinates about its origin (moment [N m], force [N]).
     gravity : numpy.ndarray, shape (3,)
         Gravity vector in the world [m/s^2], e.g. (0, 0, -9.81).
-    parent : numpy.ndarray of int, shape (nb,)
-        Parent index of each body (body 0, the floating base, has none).
-    jtype : numpy.ndarray of int, shape (nb,)
-        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
-    jaxis : numpy.ndarray, shape (nb, 3)
-        Unit joint axis of each body in its own coordinates, dimensionless.
-    tree_e : numpy.ndarray, shape (nb, 3, 3)
-        Rotation parent -> body at zero joint coordinate, dimensionless.
-    tree_r : numpy.ndarray, shape (nb, 3)
-        Joint origin in parent coordinates at zero joint coordinate [m].
-    mass : numpy.ndarray, shape (nb,)
-        Body masses [kg].
-    h : numpy.ndarray, shape (nb, 3)
-        First moments of mass about each body's origin [kg m].
-    ibar : numpy.ndarray, shape (nb, 3, 3)
-        Rotational inertias about each body's origin [kg m^2].
+    parent, jtype, jaxis, tree_e, tree_r : numpy.ndarray
+        The tree (:meth:`~trikedyn.model.topology.Tree.arrays`): parent indices (nb,), joint types (nb,), unit joint
+        axes (nb, 3) and, at zero joint coordinate, rotations parent -> body (nb, 3, 3), all dimensionless, and
+        joint origins in parent coordinates (nb, 3) [m].
+    mass, h, ibar : numpy.ndarray
+        Body masses (nb,) [kg], first moments (nb, 3) [kg m] and rotational inertias (nb, 3, 3) [kg m^2] about
+        each body's origin.
 
     Returns
     -------
@@ -575,22 +531,13 @@ def crba(q, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar):
     ----------
     q : numpy.ndarray, shape (n,)
         Generalised coordinates: base position [m], ZYX Euler angles [rad], joint coordinates [rad or m].
-    parent : numpy.ndarray of int, shape (nb,)
-        Parent index of each body (body 0, the floating base, has none).
-    jtype : numpy.ndarray of int, shape (nb,)
-        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
-    jaxis : numpy.ndarray, shape (nb, 3)
-        Unit joint axis of each body in its own coordinates, dimensionless.
-    tree_e : numpy.ndarray, shape (nb, 3, 3)
-        Rotation parent -> body at zero joint coordinate, dimensionless.
-    tree_r : numpy.ndarray, shape (nb, 3)
-        Joint origin in parent coordinates at zero joint coordinate [m].
-    mass : numpy.ndarray, shape (nb,)
-        Body masses [kg].
-    h : numpy.ndarray, shape (nb, 3)
-        First moments of mass about each body's origin [kg m].
-    ibar : numpy.ndarray, shape (nb, 3, 3)
-        Rotational inertias about each body's origin [kg m^2].
+    parent, jtype, jaxis, tree_e, tree_r : numpy.ndarray
+        The tree (:meth:`~trikedyn.model.topology.Tree.arrays`): parent indices (nb,), joint types (nb,), unit joint
+        axes (nb, 3) and, at zero joint coordinate, rotations parent -> body (nb, 3, 3), all dimensionless, and
+        joint origins in parent coordinates (nb, 3) [m].
+    mass, h, ibar : numpy.ndarray
+        Body masses (nb,) [kg], first moments (nb, 3) [kg m] and rotational inertias (nb, 3, 3) [kg m^2] about
+        each body's origin.
 
     Returns
     -------
@@ -621,22 +568,13 @@ def forward_dynamics(q, u, tau, fext, gravity, parent, jtype, jaxis, tree_e, tre
         External spatial force on each body, in its coordinates about its origin (moment [N m], force [N]).
     gravity : numpy.ndarray, shape (3,)
         Gravity vector in the world [m/s^2], e.g. (0, 0, -9.81).
-    parent : numpy.ndarray of int, shape (nb,)
-        Parent index of each body (body 0, the floating base, has none).
-    jtype : numpy.ndarray of int, shape (nb,)
-        Joint type of each body (``JOINT_REVOLUTE``, ``JOINT_PRISMATIC``, ``JOINT_ROTOR``), dimensionless.
-    jaxis : numpy.ndarray, shape (nb, 3)
-        Unit joint axis of each body in its own coordinates, dimensionless.
-    tree_e : numpy.ndarray, shape (nb, 3, 3)
-        Rotation parent -> body at zero joint coordinate, dimensionless.
-    tree_r : numpy.ndarray, shape (nb, 3)
-        Joint origin in parent coordinates at zero joint coordinate [m].
-    mass : numpy.ndarray, shape (nb,)
-        Body masses [kg].
-    h : numpy.ndarray, shape (nb, 3)
-        First moments of mass about each body's origin [kg m].
-    ibar : numpy.ndarray, shape (nb, 3, 3)
-        Rotational inertias about each body's origin [kg m^2].
+    parent, jtype, jaxis, tree_e, tree_r : numpy.ndarray
+        The tree (:meth:`~trikedyn.model.topology.Tree.arrays`): parent indices (nb,), joint types (nb,), unit joint
+        axes (nb, 3) and, at zero joint coordinate, rotations parent -> body (nb, 3, 3), all dimensionless, and
+        joint origins in parent coordinates (nb, 3) [m].
+    mass, h, ibar : numpy.ndarray
+        Body masses (nb,) [kg], first moments (nb, 3) [kg m] and rotational inertias (nb, 3, 3) [kg m^2] about
+        each body's origin.
 
     Returns
     -------
