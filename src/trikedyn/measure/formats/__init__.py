@@ -24,7 +24,7 @@ from ...registry import Registry, import_submodules
 if TYPE_CHECKING:
     import pandas as pd
 
-    from ..logs import ImuLog
+    from ..imu_log import ImuLog
 
 __all__ = ["FORMATS", "Head", "LogFormat", "ReadOptions", "TableFormat", "available", "detect", "get", "register",
            "registered", "unregister"]
@@ -33,7 +33,7 @@ HEAD_BYTES = 4096  # how much of a file detection looks at
 
 
 def _norm(header: str) -> str:
-    from ..logs import _norm as norm
+    from .._log_tables import _norm as norm
 
     return norm(header)
 
@@ -228,10 +228,10 @@ class TableFormat(LogFormat):
         ImuLog
             The log, SI columns (time [s], accelerations [m/s^2], rates [rad/s], angles [rad]).
         """
-        from .. import logs
+        from .. import _log_tables as tables
 
-        logs._one_sensor(options.sensor, self.name, path)
-        header, cells, lines, at_header = logs._split_table(logs._decode(raw, path, self.encodings), self.sep,
+        tables._one_sensor(options.sensor, self.name, path)
+        header, cells, lines, at_header = tables._split_table(tables._decode(raw, path, self.encodings), self.sep,
                                                             path)
         missing = [h for h in self.columns if h not in header]
         if missing:
@@ -239,11 +239,11 @@ class TableFormat(LogFormat):
                                  where=at_header)
         spec = {si: (header.index(h), f) for h, (si, f) in self.columns.items()}
         notes: list[str] = []
-        j, factor = spec.get(logs.TIME, (None, 1.0))
+        j, factor = spec.get(tables.TIME, (None, 1.0))
         if j is None:
             raise LogFormatError(f"format {self.name!r} declares no time column", where=str(path))
-        t = logs._times(cells[j], header[j], lines, path, notes, factor=factor)
-        return logs._table_log(path, self.name, t, header, cells, lines, spec, set(), notes)
+        t = tables._times(cells[j], header[j], lines, path, notes, factor=factor)
+        return tables._table_log(path, self.name, t, header, cells, lines, spec, set(), notes)
 
 
 def _adopt(registry: Registry, name: str, obj) -> None:

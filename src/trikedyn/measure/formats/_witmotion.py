@@ -8,9 +8,9 @@ from typing import ClassVar
 import pandas as pd
 
 from ...errors import LogFormatError
-from .. import logs
+from .. import _log_tables as tables
 from ..clocktime import clock_fields, clock_text
-from ..logs import CHANNELS, TEMP, TIME, ImuLog
+from ..imu_log import CHANNELS, TEMP, TIME, ImuLog
 from . import LogFormat, ReadOptions
 
 # Headers of each WitMotion text layout: time, the 9 channels, temperature.
@@ -23,7 +23,7 @@ HEADERS = {
                        *(f"Angular velocity {c}(°/s)" for c in "XYZ"), *(f"Angle {c}(°)" for c in "XYZ"),
                        "Temperature(℃)"],
 }
-LOOKUP = {logs._norm(h): si for hs in HEADERS.values()
+LOOKUP = {tables._norm(h): si for hs in HEADERS.values()
           for h, si in zip(hs, (TIME, *CHANNELS, TEMP), strict=False)}
 
 
@@ -43,13 +43,13 @@ class WitMotionText(LogFormat):
 
     def read(self, raw: bytes, path: Path, options: ReadOptions) -> ImuLog:
         fmt, sensor, notes = self.name, options.sensor, []
-        text = logs._decode(raw, path, ("utf-8-sig", "gb18030"))
-        header, cells, lines, at_header = logs._split_table(text, self.sep, path)
-        norm = [logs._norm(h) for h in header]
+        text = tables._decode(raw, path, ("utf-8-sig", "gb18030"))
+        header, cells, lines, at_header = tables._split_table(text, self.sep, path)
+        norm = [tables._norm(h) for h in header]
         spec: dict[str, tuple[int, float]] = {}
         for j, key in enumerate(norm):
             if key in LOOKUP:
-                spec.setdefault(LOOKUP[key], (j, logs._FACTOR.get(LOOKUP[key], 1.0)))
+                spec.setdefault(LOOKUP[key], (j, tables._FACTOR.get(LOOKUP[key], 1.0)))
         pc = {k: norm.index(k) for k in ("time", "devicename") if k in norm}
         if TIME not in spec or (cells[spec[TIME][0]] == "").all():
             if "time" not in pc:
@@ -70,10 +70,10 @@ class WitMotionText(LogFormat):
                 rows = (dev.astype(str) == names[sensor - 1]).to_numpy()
                 cells, lines = cells[rows].reset_index(drop=True), lines[rows]
         else:
-            logs._one_sensor(sensor, fmt, path)
+            tables._one_sensor(sensor, fmt, path)
         j = spec[TIME][0]
-        t = logs._times(cells[j], header[j], lines, path, notes, ms_field=True)
-        return logs._table_log(path, fmt, t, header, cells, lines, spec, set(pc.values()), notes)
+        t = tables._times(cells[j], header[j], lines, path, notes, ms_field=True)
+        return tables._table_log(path, fmt, t, header, cells, lines, spec, set(pc.values()), notes)
 
     def write(self, data: pd.DataFrame, path: Path) -> None:
         f = clock_fields(data[TIME].to_numpy(float), path, self.name)
@@ -85,8 +85,8 @@ class WitMotionText(LogFormat):
         out[self.headers[0]] = clock_text(f, self.chip_style)
         for si, h in zip((*CHANNELS, TEMP), self.headers[1:], strict=False):
             if si in data:
-                out[h] = data[si].to_numpy(float) / logs._FACTOR.get(si, 1.0)
-        pd.DataFrame(out | logs._extras(data, (*CHANNELS, TEMP))).to_csv(
+                out[h] = data[si].to_numpy(float) / tables._FACTOR.get(si, 1.0)
+        pd.DataFrame(out | tables._extras(data, (*CHANNELS, TEMP))).to_csv(
             path, sep=self.sep, index=False, encoding=self.encoding, lineterminator=self.line_end)
 
 

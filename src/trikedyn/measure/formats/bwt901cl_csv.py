@@ -9,9 +9,10 @@ import numpy as np
 import pandas as pd
 
 from ...errors import LogFormatError
-from .. import logs
+from .. import _log_tables as tables
+from .._log_tables import _DEG
 from ..clocktime import clock_fields, clock_text
-from ..logs import _DEG, CHANNELS, TIME, ImuLog
+from ..imu_log import CHANNELS, TIME, ImuLog
 from . import LogFormat, ReadOptions, register
 
 _BWT = {"Acc": CHANNELS[0:3], "AngVel": CHANNELS[3:6], "Ang": CHANNELS[6:9]}
@@ -27,7 +28,7 @@ class Bwt901clCsv(LogFormat):
 
     def read(self, raw: bytes, path: Path, options: ReadOptions) -> ImuLog:
         sensor, notes = options.sensor, []
-        header, cells, lines, at_header = logs._split_table(logs._decode(raw, path, ("utf-8-sig",)), ",", path)
+        header, cells, lines, at_header = tables._split_table(tables._decode(raw, path, ("utf-8-sig",)), ",", path)
         sensors = sorted({int(m[1]) for h in header if (m := re.fullmatch(r"AccX(\d+)", h))})
         if sensor not in sensors:
             raise LogFormatError(f"sensor={sensor} but the file has columns for sensor(s) "
@@ -46,14 +47,14 @@ class Bwt901clCsv(LogFormat):
         if n == len(lines):
             raise LogFormatError(f"sensor {sensor} never reported: its acceleration or angle fields are 0 in "
                                  "every row", where=str(path))
-        t = logs._times(cells[spec[TIME][0]], "Time", lines, path, notes)
+        t = tables._times(cells[spec[TIME][0]], "Time", lines, path, notes)
         if n:
             notes.append(f"dropped the first {n} row(s): sensor {sensor} had not reported yet (the logger writes "
                          f"0 until then); time_s starts {t[n]:.3f} s after the file's first row")
         notes.append("accelerations kept in m/s2 as the logger wrote them: g x 9.8, 0.07 % below g x 9.80665")
         others = {j for j, h in enumerate(header) if re.fullmatch(r"(Acc|AngVel|Ang)[XYZ]\d+", h)}
         cells = cells.iloc[n:].reset_index(drop=True)
-        return logs._table_log(path, self.name, t[n:], header, cells, lines[n:], spec, others, notes)
+        return tables._table_log(path, self.name, t[n:], header, cells, lines[n:], spec, others, notes)
 
     def write(self, data: pd.DataFrame, path: Path) -> None:
         out = {"Time": clock_text(clock_fields(data[TIME].to_numpy(float), path, self.name), "clock")}
@@ -61,7 +62,7 @@ class Bwt901clCsv(LogFormat):
             for c, si in zip("XYZ", sis, strict=False):
                 if si in data:
                     out[f"{prefix}{c}1"] = data[si].to_numpy(float) / (1.0 if prefix == "Acc" else _DEG)
-        pd.DataFrame(out | logs._extras(data, CHANNELS)).to_csv(path, index=False)
+        pd.DataFrame(out | tables._extras(data, CHANNELS)).to_csv(path, index=False)
 
 
 register(Bwt901clCsv())

@@ -10,8 +10,8 @@ import numpy as np
 import pandas as pd
 
 from ...errors import LogFormatError, did_you_mean
-from .. import logs
-from ..logs import CHANNELS, TEMP, TIME, ImuLog
+from .. import _log_tables as tables
+from ..imu_log import CHANNELS, TEMP, TIME, ImuLog
 from . import LogFormat, ReadOptions, register
 
 _COMMA_NUMBER = re.compile(r"^([^,]*\d),(\d+(?:[eE][+-]?\d+)?)$")
@@ -111,16 +111,16 @@ class GenericCsv(LogFormat):
         ImuLog
             The log, SI columns (time [s], accelerations [m/s^2], rates [rad/s], angles [rad]).
         """
-        logs._one_sensor(options.sensor, self.name, path)
+        tables._one_sensor(options.sensor, self.name, path)
         columns, units, rate, notes = options.columns, options.units, options.sample_rate_hz, []
-        text = logs._decode(raw, path, ("utf-8-sig",))
+        text = tables._decode(raw, path, ("utf-8-sig",))
         lines = [line for line in text.split("\n") if line.strip()]
         head, first_row = (lines + ["", ""])[:2]
         sep = options.delimiter or separator(head, first_row)
-        header, cells, lines, at_header = logs._split_table(text, sep, path)
+        header, cells, lines, at_header = tables._split_table(text, sep, path)
         decimal = options.decimal
         if decimal is None:
-            comma = sep != "," and any(logs._DECIMAL_COMMA.match(str(v).strip()) for v in cells.iloc[0])
+            comma = sep != "," and any(tables._DECIMAL_COMMA.match(str(v).strip()) for v in cells.iloc[0])
             decimal = "," if comma else "."
             if comma:
                 notes.append("read ',' as the decimal mark (numbers like 1,5 in a "
@@ -146,14 +146,14 @@ class GenericCsv(LogFormat):
             notes.append(f"time in {named_time!r} read in {given_units[TIME]} (its name says so)")
         for si, unit in given_units.items():
             u = unit.strip().lower().replace("^2", "2").replace("²", "2").replace("°", "deg")
-            allowed = logs._KIND_UNITS.get(si.rsplit("_", 1)[-1], ())
+            allowed = tables._KIND_UNITS.get(si.rsplit("_", 1)[-1], ())
             if si not in spec or u not in allowed:
                 raise LogFormatError(f"units= (--unit) gives {unit!r} for {si!r}; expected a column mapped to "
                                      f"{si!r} (mapped: {', '.join(spec)}) and one of {', '.join(allowed) or 'no unit'}",
                                      where=str(path))
-            spec[si] = (spec[si][0], logs._UNITS[u])
+            spec[si] = (spec[si][0], tables._UNITS[u])
         if TIME in spec:
-            t = logs._times(cells[spec[TIME][0]], mapping[TIME], lines, path, notes, factor=spec[TIME][1])
+            t = tables._times(cells[spec[TIME][0]], mapping[TIME], lines, path, notes, factor=spec[TIME][1])
         elif rate is not None:
             t = np.arange(len(lines)) / rate
             notes.append(f"the file has no time column: time built from sample_rate_hz={rate:g}")
@@ -162,7 +162,7 @@ class GenericCsv(LogFormat):
                                  "'time_s' or 'time_ms', or the time column named (--time-column HEADER "
                                  "[--time-unit ms]; time_column= in Python), or the rate (--sample-rate HZ; "
                                  "sample_rate_hz=)", where=at_header)
-        return logs._table_log(path, self.name, t, header, cells, lines, spec, set(), notes)
+        return tables._table_log(path, self.name, t, header, cells, lines, spec, set(), notes)
 
     def write(self, data: pd.DataFrame, path: Path) -> None:
         """The SI columns as they are, comma-separated.

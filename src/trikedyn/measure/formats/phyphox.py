@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import csv
 
-from ..logs import TIME, _norm
+from .._log_tables import _norm
+from ..imu_log import TIME
 from . import register
 from .generic_csv import GenericCsv
 

@@ -8,8 +8,9 @@ import numpy as np
 import pandas as pd
 
 from ...errors import LogFormatError
+from .._log_tables import _DEG, _G, _assemble, _one_sensor
 from ..clocktime import clock_fields, seconds
-from ..logs import _DEG, _G, CHANNELS, TEMP, TIME, ImuLog, _assemble, _one_sensor
+from ..imu_log import CHANNELS, TEMP, TIME, ImuLog
 from . import LogFormat, ReadOptions, register
 
 _BIN_SCALE = {0x51: 16.0 / 32768 * _G, 0x52: 2000.0 / 32768 * _DEG, 0x53: 180.0 / 32768 * _DEG}
