@@ -12,6 +12,9 @@ to the last digit):
 - ``dask_local=N``: a ``dask.distributed.LocalCluster`` of N single-threaded worker processes, through
   ``Client.get_executor()``;
 - ``scheduler="tcp://host:port"``: an existing Dask cluster (its workers need the same trikedyn), likewise.
+  A scheduler lost mid-study (:class:`~trikedyn.study.executors.SchedulerLost`) loses the scenarios in
+  flight and stops the submissions: the run ends at once as :class:`StudyIncomplete`, and a re-run (on a
+  new scheduler, or another executor) resumes.
 
 Bounded: before anything is expanded or written, the spec's scenarios are counted from its axis lengths
 (:func:`~trikedyn.study.scenarios.count_scenarios`); more than ``max_scenarios`` (10,000 by default; the
@@ -216,8 +219,8 @@ class StudyRun:
         if s["outcome"] == "incomplete":
             first = self.lost[0][1] if self.lost else "unknown"
             raise StudyIncomplete(
-                f"{n['lost']} scenario(s) not finished (worker lost: {first}); {n['done']} of {n['total']} stored "
-                f"in {s['database']}; run again to retry them", s)
+                f"{n['lost']} scenario(s) not finished ({first}); {n['done']} of {n['total']} stored in "
+                f"{s['database']}; run the same command again to resume (stored scenarios are not recomputed)", s)
 
 
 def _check_limit(max_scenarios) -> None:
@@ -401,6 +404,9 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
                         finished, _ = wait(list(running), timeout=0.25, return_when=FIRST_COMPLETED)
                         for fut in finished:
                             collect(fut)
+                    if running and getattr(executor, "lost", None):  # a lost scheduler: nothing in flight ends
+                        lost.extend((s["scenario_id"], executor.lost) for s in running.values())
+                        running.clear()
         except KeyboardInterrupt:  # a second signal: abandon the scenarios in flight
             executor.shutdown(wait=False, cancel_futures=True)
             abandoned = True
