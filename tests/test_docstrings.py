@@ -9,12 +9,14 @@ Modelled on python-control's ``control/tests/docstrings_test.py``. What is check
    own body) it has a ``Returns`` section, or ``Yields`` for a generator. Properties need only a docstring;
 3. a parameter whose name ends in a unit suffix (``_m``, ``_s``, ``_kg``, ``_N``, ``_mps``, ``_kmh``, ``_deg``,
    ``_rad``, ...) or that is listed as physical (``PHYSICAL``) has a unit in brackets (``[m]``, ``[km/h]``) or
-   the word "dimensionless" (or ``[-]``) in its description.
+   the word "dimensionless" (or ``[-]``) in its description; a parameter annotated ``bool`` is a switch and
+   needs none.
 
 Public: a name without a leading underscore, in a module whose dotted path has no ``_``-prefixed part; where
 the module has ``__all__``, the names it lists. Names imported from another module are checked at home
 (``obj.__module__``); numba dispatchers through their ``py_func``; a class's methods are those defined in its
-own body.
+own body. A method without a docstring of its own that overrides a documented one (a log layout's ``read``)
+is checked with the docstring it shows, as :func:`inspect.getdoc` and the API pages show it.
 
 The command functions of the CLI (the callbacks registered on the Typer apps of :mod:`trikedyn.cli`, all in
 :mod:`trikedyn.commands`) are exempt from rule 2: their docstring is their ``--help`` text and their
