@@ -48,11 +48,10 @@ import math
 import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
-from difflib import get_close_matches
 
 import numpy as np
 
-from ..errors import ParameterError, did_you_mean
+from ..errors import ParameterError, close_match, did_you_mean
 from ..mechanics import Box, MassProperties
 from .parameter_set import ParameterSet, revalidated
 from .schema import VehicleParameters
@@ -252,15 +251,15 @@ def _resolve(params: VehicleParameters, name: str) -> tuple[str, str | None] | s
         component, field = match.groups()
         names = [c.name for c in params.components]
         if field not in _COMPONENT_FIELDS:
-            hint = get_close_matches(field, _COMPONENT_FIELDS, n=1)
-            tip = f"; did you mean 'component.{component}.{hint[0]}'?" if hint else ""
+            hint = close_match(field, _COMPONENT_FIELDS)
+            tip = f"; did you mean 'component.{component}.{hint}'?" if hint is not None else ""
             return f"no design knob '{name}'{tip} (a component has {', '.join(_COMPONENT_FIELDS)})"
         if component not in names:
             if not names:
                 return (f"no design knob '{name}': this vehicle lists no components "
                         "(add [[components]] to its file)")
-            hint = get_close_matches(component, names, n=1)
-            tip = f"; did you mean 'component.{hint[0]}.{field}'?" if hint else ""
+            hint = close_match(component, names)
+            tip = f"; did you mean 'component.{hint}.{field}'?" if hint is not None else ""
             return f"no component '{component}'{tip} (components: {', '.join(names)})"
         return f"component.{_PLACEHOLDER}.{field}", component
     return _unknown(params, name)
