@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -110,3 +111,43 @@ def test_resume_refuses_another_grid_and_needs_out(capsys, tmp_path):
     assert data["cells_resumed"] == 1 and data["cells_computed"] == 0
     assert main(args[:-2] + ["--resume"]) == 2
     assert "--resume" in capsys.readouterr().err
+
+
+@pytest.fixture(scope="module")
+def one_cell_chart(tmp_path_factory) -> Path:
+    """A finished one-cell chart's --out folder (copied by each test that plants a file in it)."""
+    folder = tmp_path_factory.mktemp("one-cell")
+    done = _one_cell(folder)
+    assert done.returncode == 0, done.stderr
+    return folder / "chart"
+
+
+def _one_cell(tmp_path: Path, *more: str) -> subprocess.CompletedProcess:
+    return _trikedyn(tmp_path, "loading-chart", "reference-etrike", "--manoeuvre", "slc", "--resolution", "1",
+                     "--high", "120", "--masses", "0", "--x", "0.3", "--z", "0.5", "--workers", "0", "--out", "chart",
+                     *more)
+
+
+@pytest.mark.parametrize("planted", ["plan-fifo", "plan-list", "log-fifo", "log-huge"])
+def test_resume_reads_its_plan_and_log_bounded(tmp_path, one_cell_chart, planted):
+    """A resumed run reads its plan and its log by the bounded reader: a FIFO, a huge file or a plan that is not a
+    JSON object in their place is one line and exit 2, never waited on, never a traceback."""
+    shutil.copytree(one_cell_chart, tmp_path / "chart")
+    name = "loading-chart-plan.json" if planted.startswith("plan") else "loading-chart-cells.csv"
+    target = tmp_path / "chart" / name
+    target.unlink()
+    if planted.endswith("fifo"):
+        os.mkfifo(target)
+    elif planted == "plan-list":
+        target.write_text("[1, 2]")
+    else:
+        with target.open("wb") as fh:
+            fh.truncate(600 << 20)  # sparse: no disk used
+    started = time.monotonic()
+    done = _one_cell(tmp_path, "--resume", "--json")
+    assert time.monotonic() - started < 60
+    assert done.returncode == 2, done.stderr
+    said = [line for line in done.stderr.splitlines() if line.startswith("trikedyn:")]
+    assert len(said) == 1 and said[0].startswith("trikedyn: error:") and name in said[0], done.stderr
+    assert "Traceback" not in done.stderr and "error" in strict_json(done.stdout)
+    assert ("not resuming" in said[0]) if name.endswith(".json") else ("larger than" in said[0] or "FIFO" in said[0])

@@ -10,6 +10,9 @@ from pathlib import Path
 from ..errors import InputError
 from ..study.progress import ProgressLine  # noqa: F401  (the sampled commands' progress line)
 
+MAX_PLAN_BYTES = 1 << 20
+"""Largest plan file a resumed run reads [bytes] (a plan is a few KiB)."""
+
 
 def check_resume(out: Path | None, resume: bool, force: bool) -> None:
     """``--resume`` needs ``--out`` and excludes ``--force`` (checked before any work)."""
@@ -33,10 +36,16 @@ def start_output(out: Path, plan: dict, plan_file: str, *, kind: str, resume: bo
     check_not_inputs(out, [plan_file, *writes], reads)
     plan_path = out / plan_file
     if resume and refuse_symlink(plan_path).exists():
+        from .._reading import read_text
+
         try:
-            earlier = json.loads(plan_path.read_text(encoding="utf-8"))
-        except (ValueError, UnicodeDecodeError):
-            raise InputError("cannot be read; not resuming (pass --force to start again)", where=str(plan_path)) from None
+            earlier = json.loads(read_text(plan_path, max_bytes=MAX_PLAN_BYTES, expected="a run's plan (JSON)"))
+        except InputError as exc:  # a FIFO, a device, a huge file, not UTF-8
+            raise InputError(f"{exc.reason}; not resuming (pass --force to start again)", where=str(plan_path)) from None
+        except ValueError:
+            earlier = None
+        if not isinstance(earlier, dict):
+            raise InputError("cannot be read; not resuming (pass --force to start again)", where=str(plan_path))
         if earlier != plan:
             changed = sorted(k for k in plan if earlier.get(k) != plan[k])
             raise InputError(f"was another run (its {', '.join(changed)} differ); not resuming (pass --force "

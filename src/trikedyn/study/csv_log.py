@@ -3,7 +3,9 @@
 Used by the sampled studies (:class:`~trikedyn.study.sample_runs.SampleLog`) and the layout optimiser
 (:class:`~trikedyn.study.optimise_log.EvaluationLog`): each row is flushed at once; a row cut short by a kill
 (the last, without its line end) is dropped on reading and stays a line of its own when appending goes on.
-Every row's third column is its status, ``ok`` or ``failed``.
+Every row's third column is its status, ``ok`` or ``failed``. A log is read by the bounded reader
+(:mod:`trikedyn._reading`), at most :data:`MAX_LOG_BYTES`: a FIFO or a device put in its place is refused,
+never waited on.
 """
 
 from __future__ import annotations
@@ -15,7 +17,10 @@ from pathlib import Path
 
 from ..errors import InputError
 
-__all__ = ["AppendedCsv"]
+__all__ = ["MAX_LOG_BYTES", "AppendedCsv"]
+
+MAX_LOG_BYTES = 512 << 20
+"""Largest log a resumed run reads [bytes] (100,000 samples of 40 factors are about 100 MiB)."""
 
 
 class AppendedCsv:
@@ -48,7 +53,10 @@ class AppendedCsv:
 
         if not refuse_symlink(self.path).exists():
             return []
-        text = self.path.read_text(encoding="utf-8", errors="replace")
+        from .._reading import read_bytes
+
+        text = read_bytes(self.path, max_bytes=MAX_LOG_BYTES, expected="a run's log (CSV)").decode(
+            "utf-8", errors="replace")
         if text and not text.endswith("\n"):
             text = text[: text.rfind("\n") + 1]  # the last row, cut short by a kill: done again
         rows = list(csv.reader(io.StringIO(text)))

@@ -9,8 +9,8 @@ to the last digit):
 - a local process pool (default; ``workers`` processes, from a preloaded fork server where the platform
   has one, else spawned: neither forks a process with threads, which is what makes it safe with numba);
 - ``workers=0``: one scenario after the other in this process (debugging);
-- ``dask_local=N``: a ``dask.distributed.LocalCluster`` of N single-threaded worker processes, through
-  ``Client.get_executor()``;
+- ``dask_local=N``: a ``dask.distributed.LocalCluster`` of N single-threaded worker processes, through a
+  client (:class:`~trikedyn.study.executors.DaskExecutor`);
 - ``scheduler="tcp://host:port"``: an existing Dask cluster (its workers need the same trikedyn), likewise.
   A scheduler lost mid-study (:class:`~trikedyn.study.executors.SchedulerLost`) loses the scenarios in
   flight and stops the submissions: the run ends at once as :class:`StudyIncomplete`, and a re-run (on a
