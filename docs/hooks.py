@@ -518,10 +518,10 @@ def api_flat() -> str:
 
 
 API_MODULES = (
-    ("Parameter sets", ("trikedyn.params.io", "trikedyn.params.ops", "trikedyn.params.audit",
-                        "trikedyn.params.springs", "trikedyn.params.plausibility", "trikedyn.params.schema")),
-    ("Measurements", ("trikedyn.measure.logs", "trikedyn.measure.suspension", "trikedyn.measure.signals",
-                      "trikedyn.measure.decay", "trikedyn.measure.weighing", "trikedyn.measure.cg",
+    ("Parameter sets", ("trikedyn.params.parameter_set", "trikedyn.params.io", "trikedyn.params.ops",
+                        "trikedyn.params.audit", "trikedyn.params.springs", "trikedyn.params.plausibility", "trikedyn.params.schema")),
+    ("Measurements", ("trikedyn.measure.imu_log", "trikedyn.measure.logs", "trikedyn.measure.suspension",
+                      "trikedyn.measure.signals", "trikedyn.measure.decay", "trikedyn.measure.weighing", "trikedyn.measure.cg",
                       "trikedyn.mechanics.mass")),
     ("The model", ("trikedyn.model.vehicle", "trikedyn.model.statics", "trikedyn.model.linear")),
     ("Manoeuvres", ("trikedyn.manoeuvres.registry", "trikedyn.manoeuvres.base", "trikedyn.manoeuvres.csv_path")),

@@ -12,7 +12,7 @@ def test_tour_of_the_readme_runs(tmp_path):
     trike = td.load_vehicle("reference-etrike")
     assert any(f.level == "inconsistent" for f in td.audit(trike))
     laden = td.with_freight(trike, 100.0)
-    run = td.simulate(laden, duration_s=2.0, speed_kmh=25.0, steer_rad=0.02, drive_torque_Nm=50.0)
+    run = td.run_open_loop(laden, duration_s=2.0, speed_kmh=25.0, steer_rad=0.02, drive_torque_Nm=50.0)
     assert run.to_pandas().shape[0] == 201
     assert abs(run["ri"]).max() < 1.0
     found = td.modes(td.build_model(trike), td.static_equilibrium(td.build_model(trike)))

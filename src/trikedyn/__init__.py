@@ -4,9 +4,20 @@ The flat public API::
 
     import trikedyn as td
     trike = td.load_vehicle("reference-etrike")
+    result = td.run(trike, "dlc", speed_kmh=40)           # a manoeuvre, closed loop (the driver model)
+    ride = td.run_open_loop(trike, duration_s=5.0, speed_kmh=25.0, steer_rad=0.02)   # open-loop inputs
+
+Every name of :data:`__all__` is imported from its module on first use (the table ``_LAZY``); none is the
+name of a subpackage (``trikedyn.simulate`` is the package, the open-loop run is ``td.run_open_loop``).
+
+A run that stops early (a wheel lifted into a rollover, a tyre runaway, NaN) is a result, not an exception,
+in :func:`run`, :func:`drive` and :func:`run_open_loop` alike: ``result.success`` is False and
+``result.message`` says why. Pass ``raise_on_failure=True`` to get a
+:class:`~trikedyn.errors.SimulationError` carrying the partial ``.result`` instead. Bad input (an unknown
+manoeuvre, a negative speed, a time step too large for the model) raises in every case.
 """
 
-__version__ = "0.1.0"
+from ._version import __version__
 
 
 def _numba_cache_dir() -> None:
@@ -41,16 +52,19 @@ def _numba_cache_dir() -> None:
 
 _numba_cache_dir()
 
-from .errors import InputError, LogFormatError, ParameterError, SimulationError, TrikedynError
-
 # The flat API, each name imported from its module when first used (``import trikedyn`` and
 # ``trikedyn --version`` load neither scipy, pandas nor the compiled model).
 _LAZY = {
+    "TrikedynError": ("errors", "TrikedynError"),
+    "InputError": ("errors", "InputError"),
+    "LogFormatError": ("errors", "LogFormatError"),
+    "ParameterError": ("errors", "ParameterError"),
+    "SimulationError": ("errors", "SimulationError"),
     "Box": ("mechanics", "Box"),
     "MassProperties": ("mechanics", "MassProperties"),
     "Payload": ("mechanics", "Payload"),
     "PointMass": ("mechanics", "PointMass"),
-    "ImuLog": ("measure.logs", "ImuLog"),
+    "ImuLog": ("measure.imu_log", "ImuLog"),
     "read_log": ("measure.logs", "read_log"),
     "write_log": ("measure.logs", "write_log"),
     "identify_suspension": ("measure.suspension", "identify_suspension"),
@@ -76,6 +90,7 @@ _LAZY = {
     "Result": ("simulate.result", "Result"),
     "rollover_index": ("simulate.result", "rollover_index"),
     "run": ("simulate.closed_loop", "run"),
+    "run_open_loop": ("simulate.run", "simulate"),
     "threshold_velocity": ("analysis.threshold", "threshold_velocity"),
     "tilt_table": ("analysis.tilt", "tilt_table"),
     "summary": ("analysis.metrics", "summary"),
@@ -87,27 +102,6 @@ _LAZY = {
     "override": ("params", "override"),
     "run_study": ("study.runner", "run_study"),
 }
-
-
-from . import simulate as _simulate_package  # noqa: E402,F401  (light; bound first so the name below wins)
-
-
-def simulate(*args, **kwargs):
-    """Open-loop simulation: :func:`trikedyn.simulate.run.simulate` (imported on first call).
-
-    Parameters
-    ----------
-    *args, **kwargs
-        As :func:`trikedyn.simulate.run.simulate`.
-
-    Returns
-    -------
-    Result
-        The recorded run.
-    """
-    from .simulate.run import simulate as _simulate
-
-    return _simulate(*args, **kwargs)
 
 
 def __getattr__(name):
@@ -126,52 +120,5 @@ def __dir__():
     return sorted(set(globals()) | set(_LAZY))
 
 
-__all__ = [
-    "Box",
-    "ImuLog",
-    "InputError",
-    "LogFormatError",
-    "MassProperties",
-    "ParameterError",
-    "ParameterSet",
-    "Result",
-    "Road",
-    "Payload",
-    "PointMass",
-    "SimulationError",
-    "TrikedynError",
-    "VehicleParameters",
-    "__version__",
-    "audit",
-    "build_manoeuvre",
-    "build_model",
-    "compare",
-    "compare_layouts",
-    "drive",
-    "mirror_layout",
-    "override",
-    "read_tir",
-    "rhs",
-    "flat_road",
-    "modes",
-    "rollover_index",
-    "run",
-    "run_study",
-    "simulate",
-    "summary",
-    "threshold_velocity",
-    "tilt_table",
-    "list_manoeuvres",
-    "speed_bump",
-    "static_equilibrium",
-    "identify_suspension",
-    "list_presets",
-    "load_vehicle",
-    "read_log",
-    "reduce_weighing",
-    "save_vehicle",
-    "scale_suspension",
-    "with_freight",
-    "with_payload",
-    "write_log",
-]
+__all__ = ["__version__", *_LAZY]
+"""The flat API: the names of the lazy table (no second list to keep in step)."""

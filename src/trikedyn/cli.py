@@ -19,7 +19,7 @@ from typing import Annotated
 
 import typer
 
-from . import __version__
+from ._version import __version__
 from .errors import InputError
 
 app = typer.Typer(

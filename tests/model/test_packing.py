@@ -47,8 +47,8 @@ def test_lane_changes_unchanged(reference, name, speed):
 
 
 def test_open_loop_sine_unchanged(reference):
-    result = td.simulate(reference, duration_s=3.0, speed_kmh=30,
-                         steer_rad=lambda t: 0.05 * np.sin(2 * np.pi * 0.5 * t), **CLASSICAL)
+    result = td.run_open_loop(reference, duration_s=3.0, speed_kmh=30,
+                              steer_rad=lambda t: 0.05 * np.sin(2 * np.pi * 0.5 * t), **CLASSICAL)
     assert _rel(result.states[::5], GOLDEN["sine_states"]) < 1e-9
 
 

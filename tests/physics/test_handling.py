@@ -132,7 +132,7 @@ def test_quasi_static_tip_over_matches_closed_form():
     model = build_model(pset)
     with pytest.raises(SimulationError, match="rolled over") as info:  # once lifted, it tips over
         simulate(model, duration_s=80.0, speed_kmh=7.0 * 3.6, steer_rad=lambda t: np.minimum(0.25, 0.125 * t),
-                 drive_torque_Nm=lambda t: 90.0 + 1.0 * t, dt=5e-4, output_rate_hz=200.0)
+                 drive_torque_Nm=lambda t: 90.0 + 1.0 * t, dt=5e-4, output_rate_hz=200.0, raise_on_failure=True)
     frame = info.value.result.to_pandas()
     inner = frame.rear_left_fz_N  # turning left
     lifted = frame.index[inner.to_numpy() <= 0.0]
@@ -150,7 +150,8 @@ def test_rollover_ends_with_a_clear_simulation_error(reference):
     """A top-heavy trike thrown into a sharp turn rolls over: SimulationError with time and reason."""
     top_heavy = override(reference, {"mass.cg_z_m": 1.1})
     with pytest.raises(SimulationError) as info:
-        simulate(top_heavy, duration_s=10.0, speed_kmh=40.0, steer_rad=lambda t: np.minimum(0.3, 0.6 * t))
+        simulate(top_heavy, duration_s=10.0, speed_kmh=40.0, steer_rad=lambda t: np.minimum(0.3, 0.6 * t),
+                 raise_on_failure=True)
     err = info.value
     assert "rolled over" in str(err) and 0.0 < err.time_s < 10.0
     assert str(err).startswith(f"at t = {err.time_s:.4f} s")

@@ -57,7 +57,7 @@ def test_quasi_static_tip_over_matches_closed_form():
     with pytest.raises(SimulationError, match="rolled over") as info:  # once lifted, it tips over
         simulate(build_model(pset), duration_s=60.0, speed_kmh=4.0 * 3.6,
                  steer_rad=lambda t: np.minimum(0.25, 0.125 * t), drive_torque_Nm=lambda t: 60.0 + 2.0 * t,
-                 dt=5e-4, output_rate_hz=50.0)
+                 dt=5e-4, output_rate_hz=50.0, raise_on_failure=True)
     frame = info.value.result.to_pandas()
     lateral = (frame.speed_mps * frame.yaw_rate_radps).to_numpy()  # centripetal, steady turning
     inner = frame.front_left_fz_N.to_numpy()  # turning left: the inner front wheel
@@ -72,7 +72,7 @@ def test_quasi_static_tip_over_matches_closed_form():
 
 def _slow_turn(pset, fraction):
     vehicle = override(pset, {"steering.ackermann_fraction": fraction})
-    run = td.simulate(vehicle, duration_s=6.0, speed_kmh=5.0, steer_rad=0.3, drive_torque_Nm=20.0)
+    run = td.run_open_loop(vehicle, duration_s=6.0, speed_kmh=5.0, steer_rad=0.3, drive_torque_Nm=20.0)
     tail = run.to_pandas().loc[5.0:6.0]
     return np.degrees(tail.front_left_alpha_rad.mean()), np.degrees(tail.front_right_alpha_rad.mean())
 

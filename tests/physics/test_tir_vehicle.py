@@ -98,7 +98,7 @@ def test_steady_cornering_matches_single_track_with_the_files_cornering_stiffnes
     cos_rake = float(model.vehicle["cos_rake"])
     turns = []
     for steer in (steer_rad, -steer_rad):
-        run = td.simulate(model, duration_s=8.0, speed_kmh=speed_mps * 3.6, steer_rad=steer, drive_torque_Nm=51.0)
+        run = td.run_open_loop(model, duration_s=8.0, speed_kmh=speed_mps * 3.6, steer_rad=steer, drive_torque_Nm=51.0)
         tail = run.to_pandas().loc[7.0:8.0]
         turns.append((tail.speed_mps.mean(), tail.yaw_rate_radps.mean(), tail.steer_rad.mean() * cos_rake))
     speed = 0.5 * (turns[0][0] + turns[1][0])
@@ -114,7 +114,7 @@ def test_aligning_moment_turns_the_steering_back(model, reference):
     the mechanical trail's) times the servo stiffness is the moment about the steering axis, Mz cos(rake)."""
     shortfall, mz = {}, 0.0
     for name, vehicle in (("tir", model), ("similarity", build_model(reference))):
-        run = td.simulate(vehicle, duration_s=5.0, speed_kmh=25.0, steer_rad=0.02, drive_torque_Nm=51.0)
+        run = td.run_open_loop(vehicle, duration_s=5.0, speed_kmh=25.0, steer_rad=0.02, drive_torque_Nm=51.0)
         tail = run.to_pandas().loc[4.0:5.0]
         shortfall[name] = 0.02 - tail.steer_rad.mean()
         if name == "tir":

@@ -65,8 +65,8 @@ def test_walking_pace_is_stable_at_the_default_step(reference):
     classical RK4 at 1.25 ms to 0.1 mm/s (Lawson's integrating-factor RK4 with the same blocks drifted by
     76 mm/s in 8 s: its quadrature of the coupling left outside the blocks grows by 5 % a step)."""
     kw = {"duration_s": 8.0, "speed_kmh": 5.0, "drive_torque_Nm": 25.0, "steer_rad": 0.05}
-    fine = td.simulate(reference, dt=1.25e-3, integrator="rk4", **kw)
-    ours = td.simulate(reference, **kw)
+    fine = td.run_open_loop(reference, dt=1.25e-3, integrator="rk4", **kw)
+    ours = td.run_open_loop(reference, **kw)
     assert ours.meta["dt_s"] == 0.01
     assert np.abs(ours["vx_mps"] - fine["vx_mps"]).max() < 1e-3
     static = fine["rear_left_fz_N"][0]
@@ -75,11 +75,11 @@ def test_walking_pace_is_stable_at_the_default_step(reference):
 
 def test_a_bumpy_road_halves_the_automatic_step(reference):
     bump = td.speed_bump(3.0, length_m=0.5, height_m=0.05, lateral_m=(0.0, 0.3))
-    flat = td.simulate(reference, duration_s=0.5, speed_kmh=5.0)
-    bumpy = td.simulate(reference, duration_s=0.5, speed_kmh=5.0, road=bump)
+    flat = td.run_open_loop(reference, duration_s=0.5, speed_kmh=5.0)
+    bumpy = td.run_open_loop(reference, duration_s=0.5, speed_kmh=5.0, road=bump)
     assert flat.meta["dt_s"] == 0.01 and bumpy.meta["dt_s"] == 0.005
 
 
 def test_unknown_integrator_is_an_input_error(reference):
     with pytest.raises(td.InputError, match="unknown integrator 'euler'"):
-        td.simulate(reference, duration_s=0.5, speed_kmh=5.0, integrator="euler")
+        td.run_open_loop(reference, duration_s=0.5, speed_kmh=5.0, integrator="euler")

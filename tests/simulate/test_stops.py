@@ -34,7 +34,7 @@ def test_stiff_stops_no_longer_set_the_step(stiff_stops):
     free, _ = max_stable_step(stiff_stops)
     on_stop, why = stop_step(stiff_stops)
     assert on_stop < 0.004 < 0.01 < free and "bump stop" in why
-    run = td.simulate(stiff_stops, duration_s=0.5, speed_kmh=30.0)
+    run = td.run_open_loop(stiff_stops, duration_s=0.5, speed_kmh=30.0)
     assert run.meta["dt_s"] == 0.01  # before: 2.5 ms, the largest power-of-two step within the stops' limit
 
 

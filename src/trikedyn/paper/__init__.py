@@ -17,8 +17,7 @@ from __future__ import annotations
 
 __all__ = ["STUDY_SPEC", "reproduce"]
 
-STUDY_SPEC = "paper"
-"""The built-in study spec of the paper's Fig. 10 (``trikedyn/study/specs/paper.toml``)."""
+from .data import STUDY_SPEC
 
 
 def __getattr__(name):

@@ -9,6 +9,7 @@ reading that the preset ``reference-etrike`` takes (see its ``mass.cg_x_m`` note
 from __future__ import annotations
 
 __all__ = [
+    "STUDY_SPEC",
     "BODY_MASS_KG",
     "CG_MM",
     "REFERENCE_X_DATUM_M",
@@ -19,6 +20,10 @@ __all__ = [
     "TYRE_VERTICAL_DAMPING_NS_PER_M",
     "TYRE_VERTICAL_STIFFNESS_N_PER_M",
 ]
+
+STUDY_SPEC = "paper"
+"""The built-in study spec of the paper's Fig. 10 (``trikedyn/study/specs/paper.toml``; run by
+``trikedyn study paper``)."""
 
 TOTAL_MASS_KG = 508.0
 """Prototype total mass M (section 2.1) [kg]."""

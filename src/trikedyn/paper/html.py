@@ -386,7 +386,7 @@ def _image_source(path: Path, image_dir: Path | None, taken: dict, where: str) -
 
 
 def _context(title: str, sections: Sequence[Mapping], *, summary, vehicle, date, image_dir) -> dict:
-    from .. import __version__
+    from .._version import __version__
 
     if not isinstance(title, str):
         raise InputError(f"the title must be a string, not {type(title).__name__}", "report")

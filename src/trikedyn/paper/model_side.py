@@ -22,7 +22,7 @@ from ..simulate.closed_loop import run
 from ..simulate.result import rollover_index
 from ..simulate.run import simulate
 from ..units import STANDARD_GRAVITY
-from . import STUDY_SPEC
+from .data import STUDY_SPEC
 
 __all__ = ["model_bump_test", "manoeuvres", "parametric_study", "speed_controls", "STUDY_FINDINGS"]
 
@@ -59,7 +59,7 @@ def model_bump_test(out: Path, figures_on: bool = True) -> list[dict]:
         for station, (lateral, wheel) in lanes.items():
             road = speed_bump(MODEL_BUMP["start_m"], MODEL_BUMP["length_m"], MODEL_BUMP["height_m"], lateral)
             run = simulate(pset, duration_s=MODEL_BUMP["duration_s"], speed_kmh=MODEL_BUMP["speed_kmh"],
-                           drive_torque_Nm=25.0, road=road)
+                           drive_torque_Nm=25.0, road=road, raise_on_failure=True)
             log = run.imu_log(10.0, noise_std=0.05, bias=(0.0, 0.0, 0.2), seed=7)
             sprung = static_wheel_loads(p)[wheel] / STANDARD_GRAVITY - unsprung_mass(p, wheel)
             result = identify_suspension(

@@ -172,7 +172,7 @@ def _steer_inputs(steer: np.ndarray, duration_s: float, dt: float) -> np.ndarray
 
 def drive(vehicle: ParameterSet | VehicleModel, path, speed, *, driver: DriverSettings | None = None,
           duration_s: float | None = None, dt: float | None = None, output_rate_hz: float = 100.0,
-          raise_on_failure: bool = True) -> Result:
+          raise_on_failure: bool = False) -> Result:
     """Drive a bare ``path`` at ``speed`` (km/h, or a :class:`~trikedyn.manoeuvres.speed.SpeedProfile`).
 
     The path is judged over its whole length and continued beyond its end (run-out); prefer
@@ -195,7 +195,8 @@ def drive(vehicle: ParameterSet | VehicleModel, path, speed, *, driver: DriverSe
     output_rate_hz : float
         Output rate [Hz].
     raise_on_failure : bool
-        Raise :class:`~trikedyn.errors.SimulationError` when the run stops early.
+        Raise :class:`~trikedyn.errors.SimulationError` (with the partial ``.result``) when the run stops
+        early; by default the result says so (``success``, ``message``), as with :func:`run`.
 
     Returns
     -------

@@ -17,7 +17,7 @@ from .._jit import jit
 from ..driver.preview import DRIVER_STATE, driver_step, open_loop_driver
 from ..model.packing import WHEEL_OUT
 from ..model.rhs import evaluate_into, interpolate_inputs, workspace
-from . import DEFAULT_DT_S
+from .defaults import DEFAULT_DT_S
 from .exponential import (
     BLOCK_WIDTH,
     block_functions,

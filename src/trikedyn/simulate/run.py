@@ -347,8 +347,8 @@ class TyreRangeWarning(UserWarning):
 def simulate(vehicle: ParameterSet | VehicleModel, *, duration_s: float, speed_kmh: float = 0.0,
              steer_rad: InputSpec = 0.0, drive_torque_Nm: InputSpec = 0.0, brake_torque_Nm: InputSpec = 0.0,
              road=None, dt: float | None = None, output_rate_hz: float = 100.0,
-             integrator: str = "etdrk4") -> Result:
-    """Simulate open-loop inputs from a straight rolling start at ``speed_kmh``.
+             integrator: str = "etdrk4", raise_on_failure: bool = False) -> Result:
+    """Simulate open-loop inputs from a straight rolling start at ``speed_kmh`` (``td.run_open_loop``).
 
     Parameters
     ----------
@@ -370,6 +370,10 @@ def simulate(vehicle: ParameterSet | VehicleModel, *, duration_s: float, speed_k
         Rate of the recorded channels [Hz].
     integrator : str
         ``"etdrk4"`` (default) or ``"rk4"`` (:data:`INTEGRATORS`).
+    raise_on_failure : bool
+        Raise :class:`SimulationError` when the run stops early (NaN, runaway penetration, rollover); by
+        default the result says so (``success`` False, ``message``), as with :func:`~trikedyn.run` and
+        :func:`~trikedyn.drive`.
 
     Returns
     -------
@@ -379,8 +383,8 @@ def simulate(vehicle: ParameterSet | VehicleModel, *, duration_s: float, speed_k
     Raises
     ------
     SimulationError
-        On NaN, runaway penetration or rollover (with ``.time_s`` and the partial ``.result``), or a time
-        step too large for the model's stiffest modes.
+        A time step too large for the model's stiffest modes; with ``raise_on_failure``, a run that stops
+        early (with ``.time_s`` and the partial ``.result``).
     """
     model = vehicle if isinstance(vehicle, VehicleModel) else build_model(vehicle, road=road)
     if road is not None and isinstance(vehicle, VehicleModel):
@@ -392,4 +396,4 @@ def simulate(vehicle: ParameterSet | VehicleModel, *, duration_s: float, speed_k
     dt = time_step(model, x0, dt, integrator)
     inputs = input_table(duration_s, dt, steer_rad, drive_torque_Nm, brake_torque_Nm)
     return run_model(model, x0, inputs, duration_s=duration_s, dt=dt, output_rate_hz=output_rate_hz,
-                     integrator=integrator)
+                     integrator=integrator, raise_on_failure=raise_on_failure)

@@ -11,7 +11,7 @@ from ...errors import LogFormatError
 from .. import _log_tables as tables
 from ..clocktime import clock_fields, clock_text
 from ..imu_log import CHANNELS, TEMP, TIME, ImuLog
-from . import LogFormat, ReadOptions
+from .base import LogFormat, ReadOptions
 
 # Headers of each WitMotion text layout: time, the 9 channels, temperature.
 HEADERS = {

@@ -13,7 +13,7 @@ from .. import _log_tables as tables
 from .._log_tables import _DEG
 from ..clocktime import clock_fields, clock_text
 from ..imu_log import CHANNELS, TIME, ImuLog
-from . import LogFormat, ReadOptions, register
+from .base import LogFormat, ReadOptions, register
 
 _BWT = {"Acc": CHANNELS[0:3], "AngVel": CHANNELS[3:6], "Ang": CHANNELS[6:9]}
 

@@ -12,7 +12,7 @@ import pandas as pd
 from ...errors import LogFormatError, did_you_mean
 from .. import _log_tables as tables
 from ..imu_log import CHANNELS, TEMP, TIME, ImuLog
-from . import LogFormat, ReadOptions, register
+from .base import LogFormat, ReadOptions, register
 
 _COMMA_NUMBER = re.compile(r"^([^,]*\d),(\d+(?:[eE][+-]?\d+)?)$")
 """A cell whose one comma is a decimal mark: ``-0,25``, ``9,81E0``, ``12:00:01,5``."""

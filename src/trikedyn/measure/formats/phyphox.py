@@ -16,7 +16,7 @@ import csv
 
 from .._log_tables import _norm
 from ..imu_log import TIME
-from . import register
+from .base import register
 from .generic_csv import GenericCsv
 
 HEADERS = {

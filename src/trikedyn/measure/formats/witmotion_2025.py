@@ -1,7 +1,7 @@
 """``witmotion-2025``: the 2025 WitMotion PC software's CSV (``Time, Device name, Chip Time(), ...``)."""
 
-from . import register
 from ._witmotion import WitMotionText
+from .base import register
 
 
 class WitMotion2025(WitMotionText):

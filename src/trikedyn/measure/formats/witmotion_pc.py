@@ -1,7 +1,7 @@
 """``witmotion-pc``: older WitMotion PC software export (tab-separated, ``time DeviceName ChipTime ...``)."""
 
-from . import register
 from ._witmotion import WitMotionText
+from .base import register
 
 
 class WitMotionPc(WitMotionText):

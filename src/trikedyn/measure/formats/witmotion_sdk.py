@@ -1,7 +1,7 @@
 """``witmotion-sdk``: text export of WitMotion's Python SDK (tab-separated, GBK ``°``, ``\\r\\r\\n``)."""
 
-from . import register
 from ._witmotion import WitMotionText
+from .base import register
 
 
 class WitMotionSdk(WitMotionText):

@@ -11,7 +11,7 @@ from ...errors import LogFormatError
 from .._log_tables import _DEG, _G, _assemble, _one_sensor
 from ..clocktime import clock_fields, seconds
 from ..imu_log import CHANNELS, TEMP, TIME, ImuLog
-from . import LogFormat, ReadOptions, register
+from .base import LogFormat, ReadOptions, register
 
 _BIN_SCALE = {0x51: 16.0 / 32768 * _G, 0x52: 2000.0 / 32768 * _DEG, 0x53: 180.0 / 32768 * _DEG}
 _BIN_CHANNELS = {0x51: CHANNELS[0:3], 0x52: CHANNELS[3:6], 0x53: CHANNELS[6:9],
