@@ -2,8 +2,8 @@
 
 A parameter path (``wheels.rear_left.y_m``) sets one value of the file; a *knob* changes the vehicle as a
 designer would, moving whatever has to move with it. :func:`apply_knobs` applies knobs to a
-:class:`~trikedyn.params.io.ParameterSet` and returns a new, validated one; :func:`~trikedyn.params.ops.override`
-and a study's ``overrides`` accept knob names next to parameter paths.
+:class:`~trikedyn.params.parameter_set.ParameterSet` and returns a new, validated one;
+:func:`~trikedyn.params.ops.override` and a study's ``overrides`` accept knob names next to parameter paths.
 
 ========================  ======  ===================================================================
 knob                      unit    what moves

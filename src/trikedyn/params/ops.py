@@ -1,6 +1,6 @@
 """Variants of a parameter set: payload aboard, suspension scaled, single values overridden.
 
-Each function returns a new, validated :class:`~trikedyn.params.io.ParameterSet`; nothing is changed in
+Each function returns a new, validated :class:`~trikedyn.params.parameter_set.ParameterSet`; nothing is changed in
 place. These are the operations a parametric study applies (Tables 2-3 of the paper).
 """
 

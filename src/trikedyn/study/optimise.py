@@ -25,7 +25,7 @@ arrangement:
 every evaluation as it finishes (:class:`EvaluationLog`, a CSV; with ``resume`` the logged layouts are
 not searched again and, the optimiser being deterministic for its seed, an interrupted run replays to where
 it stopped and goes on; :mod:`trikedyn.study.optimise_log`), and returns an :class:`OptimiseResult` (``to_dict``, ``table``, ``plot``,
-``vehicle``: the optimised :class:`~trikedyn.params.io.ParameterSet`, to write with
+``vehicle``: the optimised :class:`~trikedyn.params.parameter_set.ParameterSet`, to write with
 :func:`~trikedyn.params.io.save_vehicle`).
 """
 

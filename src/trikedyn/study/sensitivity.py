@@ -1,7 +1,7 @@
 """Global sensitivity of the threshold velocity to the vehicle's assumed values (Morris screening, Sobol indices).
 
 The reference vehicle carries some sixty values that were not measured (their ``assumed`` notes in the
-vehicle file, :attr:`~trikedyn.params.io.ParameterSet.notes`). This module asks which of them the threshold
+vehicle file, :attr:`~trikedyn.params.parameter_set.ParameterSet.notes`). This module asks which of them the threshold
 velocity on a manoeuvre depends on:
 
 1. :func:`candidate_factors` lists the **factors**: every assumed number, each varied over

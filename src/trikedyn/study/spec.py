@@ -247,7 +247,7 @@ class StudySpec:
     course_width_m: float | None = None
 
     def load_vehicle(self):
-        """The study's base vehicle (:class:`~trikedyn.params.io.ParameterSet`), before any variation.
+        """The study's base vehicle (:class:`~trikedyn.params.parameter_set.ParameterSet`), before any variation.
 
         Returns
         -------
