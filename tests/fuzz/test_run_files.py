@@ -12,6 +12,7 @@ texts with ``$``, names of pipes, devices and files outside the run's folder for
 
 from __future__ import annotations
 
+import copy
 import json
 import math
 import os
@@ -35,7 +36,8 @@ VALUES = [None, True, False, 0, -1, 1.5, 1e308, -1e308, 10**30, "", "x", "$a", "
           "reference-etrike", "reference-tadpole", [], [1, 2], [1.0, 2.0, 3.0], [0.0, -1.0, 1.0],
           ["front", "rear_left", "rear_right"], ["front", "front"], ["x"] * 20, {}, {"a": 1},
           {"name": "path", "parameters": {"file": "fifo.csv"}}, [[[[[[[[]]]]]]]]]
-"""Values a sidecar field (or a Parquet file's own metadata) is replaced by."""
+"""Values a sidecar field (or a Parquet file's own metadata) is replaced by (drawn as copies: an edit inside a
+drawn list or object must not change this list, or the data generation would depend on the cases before)."""
 CELLS = ["nan", "inf", "-inf", "1e308", "-1e308", "", "abc", "$", "1e13", "-0", "99999999999999999999999999",
          "0x1F", "1_000", "true", "\x00", "é"]
 
@@ -122,8 +124,8 @@ def mutated_meta(draw, meta: dict) -> dict:
                 ["fifo.csv", "line.csv", "../line.csv", "/dev/zero", "huge.csv", "folder.csv", "/etc/passwd"]))}}
             continue
         if op == "add":
-            meta[draw(st.sampled_from(["read_from", "wheels", "extra", "footprint_m", "window"]))] = draw(
-                st.sampled_from(VALUES))
+            meta[draw(st.sampled_from(["read_from", "wheels", "extra", "footprint_m", "window"]))] = copy.deepcopy(
+                draw(st.sampled_from(VALUES)))
             continue
         paths = [p for p in _json_paths(meta) if p]
         path = draw(st.sampled_from(paths))
@@ -133,7 +135,7 @@ def mutated_meta(draw, meta: dict) -> dict:
         if op == "delete":
             del parent[path[-1]]
         else:
-            parent[path[-1]] = draw(st.sampled_from(VALUES))
+            parent[path[-1]] = copy.deepcopy(draw(st.sampled_from(VALUES)))
     return meta
 
 
