@@ -186,21 +186,22 @@ def _resolve_tyre_files(raw: dict, origin: str, folder: Path | None, named_in: d
 
 
 def _check_tyre_files(params: VehicleParameters, named_in: dict, origin: str) -> dict:
-    """Read every wheel's ``.tir`` file once; a missing or invalid one is a ParameterError naming the wheel
+    """Read every wheel's ``.tir`` file once (:func:`~trikedyn.tyre.tir_once.read_tir_once`: the audit and the
+    tyre setup share what is read here); a missing or invalid one is a ParameterError naming the wheel
     and the vehicle file that names it. Returns ``tyre_file -> TyreProperties``."""
     files = {w.tyre_file for w in params.wheels if w.tyre_file is not None}
     read: dict = {}
     if not files:
         return read
     from ..errors import InputError
-    from ..tyre.tir import read_tir
+    from ..tyre.tir_once import read_tir_once
 
     for wheel in params.wheels:
         if wheel.tyre_file not in files:
             continue
         files.discard(wheel.tyre_file)
         try:
-            read[wheel.tyre_file] = read_tir(Path(wheel.tyre_file))
+            read[wheel.tyre_file] = read_tir_once(Path(wheel.tyre_file))
         except InputError as exc:
             naming = named_in.get(wheel.tyre_file, _shown(origin, 120))
             raise ParameterError(f"{exc} (tyre file named in {naming})",

@@ -3,7 +3,6 @@ MF 5.2 / MF 6.1), with its validity ranges (inputs clamped, named by :func:`clam
 
 from __future__ import annotations
 
-from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -18,13 +17,7 @@ from ..pac2002 import (
     mf_stiffness,
     pack,
 )
-
-
-@lru_cache(maxsize=32)
-def _read(path: str, mtime_ns: int):
-    from ..tir import read_tir
-
-    return read_tir(path)
+from ..tir_once import read_tir_once
 
 
 def claims(params, wheel) -> bool:
@@ -66,7 +59,7 @@ def setup(params, wheel, static_load_N: float) -> TyreSetup:
         Kernel id, coefficient row, vertical stiffness [N/m] and damping [N s/m], relaxation lengths [m], source and name.
     """
     path = Path(wheel.tyre_file)
-    tir = _read(str(path), path.stat().st_mtime_ns)
+    tir = read_tir_once(path)
     side = "left" if wheel.y_m > 1e-9 else "right" if wheel.y_m < -1e-9 else None
     row = np.zeros(COEFFS_WIDTH)
     row[:N_PACKED] = pack(tir, side)
@@ -125,9 +118,7 @@ def vertical(params, wheel) -> tuple[float, float, float, str]:
     label : str
         Where they come from, for the audit.
     """
-    from ..tir import read_tir
-
-    tir = read_tir(wheel.tyre_file)
+    tir = read_tir_once(wheel.tyre_file)
     kz = tir.coefficients.get("VERTICAL_STIFFNESS", 0.0) or params.tyre.vertical_stiffness_N_per_m
     cz = tir.coefficients.get("VERTICAL_DAMPING", 0.0) or 0.0
     return float(kz), float(cz), float(tir.coefficients["FNOMIN"]), f"{Path(wheel.tyre_file).name} ({tir.family})"
