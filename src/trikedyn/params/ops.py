@@ -7,12 +7,13 @@ place. These are the operations a parametric study applies (Tables 2-3 of the pa
 from __future__ import annotations
 
 import numpy as np
+from pydantic import ValidationError
 
 from ..errors import ParameterError, did_you_mean
 from ..mechanics import Payload, PointMass, wheel_loads_from_cg
 from ..units import STANDARD_GRAVITY
 from .parameter_set import ParameterSet, mass_properties, revalidated
-from .schema import VehicleParameters
+from .schema import PayloadItemSpec, VehicleParameters
 
 __all__ = ["freight", "mass_properties", "override", "scale_suspension", "static_wheel_loads", "unsprung_mass",
            "with_freight", "with_payload"]
@@ -57,22 +58,38 @@ def with_payload(pset: ParameterSet, payload: Payload, *, remove: bool = False) 
     ParameterSet
         The new set.
     """
-    items = []
+    rows = []
     for item in payload.items:
         size = getattr(item, "size_m", (0.0, 0.0, 0.0))
         pos = getattr(item, "centre_m", getattr(item, "position_m", None))
         item.mass_properties()  # validates the mass
-        items.append(
+        rows.append(
             dict(
                 name=item.name, mass_kg=float(item.mass_kg), x_m=float(pos[0]), y_m=float(pos[1]), z_m=float(pos[2]),
                 length_m=float(size[0]), width_m=float(size[1]), height_m=float(size[2]), removed=remove,
             )
         )
-    data = pset.params.model_dump()
-    data["payload"] = list(data["payload"]) + items
-    new = revalidated(pset, data, f"payload '{payload.name}'")
-    mass_properties(new.params)  # removing more than there is fails here, with a clear message
-    return new
+    return _with_items(pset, rows, f"payload '{payload.name}'")
+
+
+def _with_items(pset: ParameterSet, rows: list[dict], what: str) -> ParameterSet:
+    """``pset`` with payload items appended, each built as a :class:`PayloadItemSpec` from its fields; the
+    set is validated again from its own (already validated) sections, not from a dump of them. Its mass
+    properties are composed here, once (:func:`mass_properties` keeps them): removing more than there is
+    fails here, with a clear message. A refusal is worded as for the whole set (``what`` names the
+    operation)."""
+    params = pset.params
+    try:
+        items = tuple(PayloadItemSpec(**row) for row in rows)
+        new = VehicleParameters.model_validate({**dict(params), "payload": params.payload + items})
+    except ValidationError:
+        data = params.model_dump()
+        data["payload"] = list(data["payload"]) + rows
+        revalidated(pset, data, what)  # raises, naming the dotted path and the value as given
+        raise
+    laden = pset.with_params(new)
+    mass_properties(new)
+    return laden
 
 
 def with_freight(pset: ParameterSet, mass_kg: float) -> ParameterSet:
@@ -97,7 +114,11 @@ def with_freight(pset: ParameterSet, mass_kg: float) -> ParameterSet:
     """
     if not np.isfinite(mass_kg) or mass_kg < 0:
         raise ParameterError(f"freight mass must be >= 0 kg, got {mass_kg!r}", where="payload")
-    return with_payload(pset, freight(pset.params, mass_kg)) if mass_kg > 0 else pset
+    if mass_kg == 0:
+        return pset
+    site = pset.params.freight  # the point mass of freight(), as the one schema item it becomes
+    row = dict(name="freight", mass_kg=float(mass_kg), x_m=site.x_m, y_m=site.y_m, z_m=site.z_m)
+    return _with_items(pset, [row], "payload 'paper-freight'")
 
 
 def scale_suspension(

@@ -8,6 +8,8 @@ module and it imports none of them (so no import circle runs through ``params/``
 
 from __future__ import annotations
 
+import threading
+import weakref
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -91,8 +93,33 @@ def _item(spec) -> Box:
     return Box(spec.mass_kg, (spec.x_m, spec.y_m, spec.z_m), (spec.length_m, spec.width_m, spec.height_m), spec.name)
 
 
+_COMPOSED: dict[int, tuple] = {}  # id(params) -> (weak reference, its mass section, its payload, MassProperties)
+_COMPOSED_MAX = 256
+_COMPOSED_LOCK = threading.Lock()
+
+
+def _composed(params: VehicleParameters) -> MassProperties:
+    """The composition itself (parallel-axis theorem), read-only arrays."""
+    added = Payload("added", tuple(_item(i) for i in params.payload if not i.removed))
+    removed = Payload("removed", tuple(_item(i) for i in params.payload if i.removed))
+    mp = removed.removed_from(added.added_to(_base_mass_properties(params)))
+    mp = MassProperties(mp.mass_kg, mp.cg_m.copy(), mp.inertia_kgm2.copy())
+    mp.cg_m.setflags(write=False)
+    mp.inertia_kgm2.setflags(write=False)
+    return mp
+
+
+def _forget(key: int, ref: weakref.ref) -> None:
+    with _COMPOSED_LOCK:
+        if key in _COMPOSED and _COMPOSED[key][0] is ref:
+            del _COMPOSED[key]
+
+
 def mass_properties(params: VehicleParameters) -> MassProperties:
     """The whole vehicle's mass [kg], CG [m] and inertia about the CG [kg m^2], payload included.
+
+    Composed once per parameter set (a :class:`VehicleParameters` is frozen): the same object is returned
+    for the same ``params``, with read-only arrays.
 
     Parameters
     ----------
@@ -103,10 +130,23 @@ def mass_properties(params: VehicleParameters) -> MassProperties:
     -------
     MassProperties
         Mass [kg], CG ``[x, y, z]`` [m] in vehicle axes, inertia tensor about the CG [kg m^2].
+
+    Raises
+    ------
+    InputError
+        ``where="payload"``: the payload taken off weighs as much as the vehicle or more.
     """
-    added = Payload("added", tuple(_item(i) for i in params.payload if not i.removed))
-    removed = Payload("removed", tuple(_item(i) for i in params.payload if i.removed))
-    return removed.removed_from(added.added_to(_base_mass_properties(params)))
+    key = id(params)
+    kept = _COMPOSED.get(key)
+    if kept is not None and kept[0]() is params and kept[1] is params.mass and kept[2] is params.payload:
+        return kept[3]
+    mp = _composed(params)
+    ref = weakref.ref(params, lambda r, k=key: _forget(k, r))
+    with _COMPOSED_LOCK:
+        _COMPOSED[key] = (ref, params.mass, params.payload, mp)
+        while len(_COMPOSED) > _COMPOSED_MAX:
+            del _COMPOSED[next(iter(_COMPOSED))]
+    return mp
 
 
 def describe_error(exc: ValidationError, plain: dict) -> str:
