@@ -52,6 +52,7 @@ def _root(
 # ------------------------------------------------------------------------------------------------
 from .commands import (  # noqa: E402
     animate,
+    assess,
     cg,
     drive,
     layouts,
@@ -90,6 +91,7 @@ app.command("reproduce")(studies.reproduce_cmd)
 app.command("loading-chart")(loading.loading_chart_cmd)
 app.command("optimise")(optimise.optimise_cmd)
 app.command("uncertainty")(uncertainty.uncertainty_cmd)
+app.command("assess")(assess.assess_cmd)
 
 _emit = emit  # the older name
 _flatten = vehicle._flatten
