@@ -156,6 +156,7 @@ def bench_study_and_reproduce(repeats: int = 3) -> dict:
     commands = {
         "study_paper_2_workers": (["study", "paper", "--workers", "2"], 5.0),
         "reproduce": (["reproduce"], 12.0),
+        "assess_quick": (["assess", "reference-etrike", "--quick"], 60.0),  # issue 24
     }
     out = {}
     for name, (args, target) in commands.items():
@@ -249,6 +250,9 @@ def main() -> int:
           f" target {st['target_s']:g} s)")
     print(f"trikedyn reproduce: median {rp['wall_s']:.1f} s of {rp['runs']} ({rp['min_s']:.1f}-{rp['max_s']:.1f} s;"
           f" target {rp['target_s']:g} s)")
+    aq = results["assess_quick"]
+    print(f"trikedyn assess reference-etrike --quick: median {aq['wall_s']:.1f} s of {aq['runs']} ({aq['min_s']:.1f}-"
+          f"{aq['max_s']:.1f} s; target {aq['target_s']:g} s)")
     print(f"wrote {out}")
     return 0
 
