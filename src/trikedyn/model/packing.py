@@ -19,10 +19,11 @@ side are :data:`WHEEL_OUT` records. Units: SI throughout (m, kg, N, N m, rad, s)
 from __future__ import annotations
 
 from collections import namedtuple
+from collections.abc import Mapping
 
 import numpy as np
 
-__all__ = ["INPUT_NAMES", "Plant", "ROAD", "VEHICLE", "WHEEL", "WHEEL_OUT", "road_record", "state_labels"]
+__all__ = ["INPUT_NAMES", "Plant", "ROAD", "VEHICLE", "WHEEL", "WHEEL_OUT", "record", "road_record", "state_labels"]
 
 WHEEL = np.dtype(
     [
@@ -112,6 +113,41 @@ Plant = namedtuple("Plant", "parent jtype jaxis tree_e tree_r mass h ibar wheels
 """Everything the compiled right-hand side ``f(t, x, u, p)`` reads about the vehicle and the road."""
 
 
+def record(dtype: np.dtype, values: Mapping[str, float]) -> np.ndarray:
+    """One record of ``dtype`` filled by field name: every field given, none unknown.
+
+    A record is never filled by position, so reordering the fields of :data:`WHEEL`, :data:`VEHICLE` or
+    :data:`ROAD` cannot mix them up silently.
+
+    Parameters
+    ----------
+    dtype : numpy.dtype
+        A structured record type (:data:`WHEEL`, :data:`VEHICLE`, :data:`ROAD`).
+    values : mapping of str to number
+        Field name -> value, in the field's unit (see the record's comments).
+
+    Returns
+    -------
+    numpy.ndarray, shape (1,)
+        The record.
+
+    Raises
+    ------
+    ValueError
+        A field of the record not given, or a name that is not a field of it (a bug in the packing).
+    """
+    names = dtype.names or ()
+    missing = [n for n in names if n not in values]
+    unknown = sorted(set(values) - set(names))
+    if missing or unknown:
+        raise ValueError(f"record of {len(names)} fields: " + "; ".join(
+            f"{what}: {', '.join(which)}" for what, which in (("not set", missing), ("not a field", unknown)) if which))
+    out = np.zeros(1, dtype)
+    for name in names:
+        out[0][name] = values[name]
+    return out
+
+
 def road_record(bump: bool, start_m: float, length_m: float, height_m: float, y_min_m: float,
                 y_max_m: float) -> np.ndarray:
     """One :data:`ROAD` record (a length-1 array).
@@ -134,9 +170,8 @@ def road_record(bump: bool, start_m: float, length_m: float, height_m: float, y_
     numpy.ndarray, shape (1,), dtype ROAD
         The record.
     """
-    out = np.zeros(1, ROAD)
-    out[0] = (int(bump), start_m, length_m, height_m, y_min_m, y_max_m)
-    return out
+    return record(ROAD, {"bump": int(bump), "start": start_m, "length": length_m, "height": height_m,
+                         "y_min": y_min_m, "y_max": y_max_m})
 
 
 def state_labels(body_names, wheel_names) -> tuple[str, ...]:

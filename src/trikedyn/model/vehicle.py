@@ -17,7 +17,7 @@ from ..params.ops import static_wheel_loads
 from ..params.schema import VehicleParameters
 from ..tyre.interface import COEFFS_WIDTH, TyreSetup, tyre_setup
 from ..units import STANDARD_GRAVITY
-from .packing import VEHICLE, WHEEL, Plant, road_record, state_labels
+from .packing import VEHICLE, WHEEL, Plant, record, road_record, state_labels
 from .topology import Tree, build_tree
 
 __all__ = ["IDEAL_LIMIT", "Road", "VehicleModel", "build_model", "flat_road", "speed_bump"]
@@ -301,33 +301,36 @@ def build_model(vehicle: ParameterSet | VehicleParameters, *, road: Road | None 
         inertia = _steer_axis_inertia(tree, w.steer_body) if w.steer_body >= 0 else 0.0
         if w.steer_body >= 0:
             inertias.append(inertia)
-        wheels[k] = (
-            w.radius, w.motion_ratio, w.stiffness, w.damping, w.preload, w.bump_travel, w.rebound_travel,
-            w.bump_stop_stiffness, w.wheel_body, w.spring_body, w.steer_body, int(w.driven), int(w.braked),
-            inertia * omega**2, 2.0 * zeta * inertia * omega, spec.y_m if w.steer_body >= 0 else 0.0,
-            setup.model, setup.vertical_stiffness_N_per_m, setup.vertical_damping_Ns_per_m, setup.relaxation_x_m,
-            setup.relaxation_y_m,
-        )
-    veh = np.zeros(1, VEHICLE)
-    v = veh[0]
-    v["g"] = STANDARD_GRAVITY
-    v["max_steer"] = np.radians(params.steering.max_angle_deg)
-    v["max_steer_rate"] = np.radians(params.steering.max_rate_deg_per_s)
-    v["max_torque"] = params.drive.max_drive_torque_Nm
-    v["max_power"] = params.drive.max_power_W
-    v["max_brake"] = params.drive.max_brake_torque_Nm
-    v["aero"] = 0.5 * params.aero.air_density_kg_per_m3 * params.aero.drag_coefficient * params.aero.frontal_area_m2
-    v["aero_x"] = tree.chassis_cg[0]
-    v["aero_z"] = tree.chassis_cg[2]
-    v["v_low"] = v_low_mps
-    v["w_low"] = w_low_radps
-    v["slip_forces"] = 1.0
-    v["n_driven"] = max(1, sum(w.driven for w in tree.wheels))
-    v["n_braked"] = sum(w.braked for w in tree.wheels)
-    v["roll_limit"] = np.radians(60.0)
-    v["penetration_limit"] = 0.5
-    v["wheelbase"] = params.wheelbase_m
-    v["cos_rake"] = np.cos(params.steering_axis_angle_rad)
-    v["ackermann"] = params.steering.ackermann_fraction
+        wheels[k] = record(WHEEL, {
+            "radius": w.radius, "motion_ratio": w.motion_ratio, "stiffness": w.stiffness, "damping": w.damping,
+            "preload": w.preload, "bump_travel": w.bump_travel, "rebound_travel": w.rebound_travel,
+            "bump_stop_stiffness": w.bump_stop_stiffness, "wheel_body": w.wheel_body, "spring_body": w.spring_body,
+            "steer_body": w.steer_body, "driven": int(w.driven), "braked": int(w.braked),
+            "steer_kp": inertia * omega**2, "steer_kd": 2.0 * zeta * inertia * omega,
+            "steer_y": spec.y_m if w.steer_body >= 0 else 0.0, "tyre_model": setup.model,
+            "vertical_stiffness": setup.vertical_stiffness_N_per_m, "vertical_damping": setup.vertical_damping_Ns_per_m,
+            "relaxation_x": setup.relaxation_x_m, "relaxation_y": setup.relaxation_y_m,
+        })[0]
+    veh = record(VEHICLE, {
+        "g": STANDARD_GRAVITY,
+        "max_steer": np.radians(params.steering.max_angle_deg),
+        "max_steer_rate": np.radians(params.steering.max_rate_deg_per_s),
+        "max_torque": params.drive.max_drive_torque_Nm,
+        "max_power": params.drive.max_power_W,
+        "max_brake": params.drive.max_brake_torque_Nm,
+        "aero": 0.5 * params.aero.air_density_kg_per_m3 * params.aero.drag_coefficient * params.aero.frontal_area_m2,
+        "aero_x": tree.chassis_cg[0],
+        "aero_z": tree.chassis_cg[2],
+        "v_low": v_low_mps,
+        "w_low": w_low_radps,
+        "slip_forces": 1.0,
+        "n_driven": max(1, sum(w.driven for w in tree.wheels)),
+        "n_braked": sum(w.braked for w in tree.wheels),
+        "roll_limit": np.radians(60.0),
+        "penetration_limit": 0.5,
+        "wheelbase": params.wheelbase_m,
+        "cos_rake": np.cos(params.steering_axis_angle_rad),
+        "ackermann": params.steering.ackermann_fraction,
+    })
     plant = Plant(*tree.arrays(), wheels, tyres, veh, (road or flat_road()).record())
     return VehicleModel(params, tree, plant, tuple(setups), inertias[0] if inertias else 1.0)
