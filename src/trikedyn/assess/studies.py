@@ -241,7 +241,8 @@ def sensitivity(pset, out: Path, *, resume: bool = False, workers: int = 2):
     s = SENSITIVITY_SETTINGS
     factors, excluded = sa.candidate_factors(pset, s["fraction"])
     log = sa.SampleLog(Path(out) / "sensitivity-samples.csv", factors, sa.group_size(s["method"], len(factors)))
-    result = sa.run_sensitivity(pset, _search(pset, s["manoeuvre"]), factors, method=s["method"],
+    search = sa.Search(s["manoeuvre"], {}, 0.1, high_kmh=90.0, criterion="course", speed_control="driver")
+    result = sa.run_sensitivity(pset, search, factors, method=s["method"],
                                 samples=s["samples"], seed=s["seed"], fraction=s["fraction"], excluded=excluded,
                                 workers=workers, log=log, resume=resume,
                                 progress=ProgressLine("assess: sensitivity", every_s=5.0))

@@ -18,7 +18,7 @@ def _metrics_help() -> str:
     from ..assess.requirements import METRICS, preset_names
 
     return (f"Requirements to judge: a TOML file ([[requirement]] id, metric, at_least / at_most: a number or a "
-            f"metric, laden, tolerance, note; see docs/assess.md) or a preset ({', '.join(preset_names())}). "
+            f"metric, laden, tolerance, note; see the documentation page assess.md) or a preset ({', '.join(preset_names())}). "
             f"Metrics: {', '.join(METRICS.names())}. Exit code 1 when an item fails.")
 
 
@@ -87,8 +87,9 @@ def _text(data: dict) -> str:
         failed = r["failed"]
         lines.append(f"requirements {r['name']}: " + ("PASS" if not failed else f"FAIL ({', '.join(failed)})"))
         for j in r["judgements"]:
-            value = "not found" if j["value"] is None else f"{readable(j['value'])} {j['unit']}"
-            margin = "" if j["margin"] is None else f", margin {j['margin']:+.3g} {j['unit']}"
+            unit = "" if j["unit"] == "1" else f" {j['unit']}"  # a dimensionless metric
+            value = "not found" if j["value"] is None else f"{readable(j['value'])}{unit}"
+            margin = "" if j["margin"] is None else f", margin {j['margin']:+.3g}{unit}"
             lines.append(f"  {j['verdict']}  {j['id']}: {j['metric']} {value} {j['bound']}{margin} ({j['detail']})")
     for key, s in data["states"].items():
         if key == "laden" and data["payload_kg"] <= 0:
