@@ -69,8 +69,8 @@ def interrupt(cwd: Path, label: str, *args, sig: int = signal.SIGINT) -> tuple[i
                 break
         os.kill(proc.pid, sig)
         started = time.monotonic()
+        proc.wait(timeout=60)  # its stdout (a summary, a JSON object) fits the pipe: read once it has ended
         out = proc.stdout.read()
-        proc.wait(timeout=60)
         assert time.monotonic() - started < 60
         reader.join(timeout=10)
         while (line := lines.get(timeout=1)) is not None:
@@ -161,3 +161,22 @@ def test_sigterm_ends_each_sampled_command(tmp_path, label, args):
     code, out, err = interrupt(tmp_path, label, label, *args, sig=SIGTERM)
     line = said_interrupted(code, out, err, as_json=True, sig=SIGTERM)
     assert "--resume" in line and strict_json(out)["where"] == "SIGTERM"
+
+
+def test_a_study_stopped_by_sigterm_inside_reproduce_exits_143(monkeypatch, capsys, tmp_path):
+    """The study's own handler takes the signal (``reproduce`` runs one): its StudyInterrupted says which it was,
+    and the command says it in one line and exits with that signal's code (the CLI library turned it into a bare
+    130)."""
+    from trikedyn.cli import main
+    from trikedyn.paper import reproduce
+    from trikedyn.study.runner import StudyInterrupted
+
+    def stopped(*args, **kwargs):
+        raise StudyInterrupted("interrupted: 3 of 50 scenarios stored in study.sqlite", {}, "SIGTERM")
+
+    monkeypatch.setattr(reproduce, "reproduce", stopped)
+    assert main(["reproduce", "--out", str(tmp_path / "out"), "--json"]) == 143
+    captured = capsys.readouterr()
+    assert captured.err.startswith("trikedyn: interrupted by SIGTERM: 3 of 50") and captured.err.count("\n") == 1
+    assert strict_json(captured.out) == {"error": captured.err[len("trikedyn: "):].strip(), "where": "SIGTERM",
+                                         "interrupted": True}

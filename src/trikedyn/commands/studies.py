@@ -76,6 +76,22 @@ def study_summary_text(s: dict) -> str:
     return "\n".join(lines)
 
 
+def _said_interrupted(exc, as_json: bool = False) -> None:
+    """Say a :class:`~trikedyn.study.runner.StudyInterrupted` in one line on stderr (``interrupted by SIGTERM``
+    after a SIGTERM), with ``as_json`` also as a JSON object on stdout, and exit with 128 + the signal's number
+    (130, 143).
+
+    The study's own signal handler took the signal, not the command line's, so the study says it here."""
+    import signal
+
+    name = getattr(exc, "signal", None) or "SIGINT"
+    said = str(exc) if name == "SIGINT" else str(exc).replace("interrupted", f"interrupted by {name}", 1)
+    typer.echo(f"trikedyn: {said}", err=True)
+    if as_json:
+        typer.echo(json.dumps({"error": said, "where": name, "interrupted": True}))
+    raise SystemExit(128 + int(signal.Signals[name])) from None
+
+
 def run_study_cmd(spec, out, *, workers=None, dask_local=None, scheduler=None, max_scenarios=10_000,
                   as_json=False, force=False) -> dict:
     """Run or resume a study, print its summary (text or JSON) and progress (a bar on a terminal, a line every
@@ -119,12 +135,7 @@ def run_study_cmd(spec, out, *, workers=None, dask_local=None, scheduler=None, m
     try:
         run.raise_unfinished()
     except StudyInterrupted as exc:
-        import signal
-
-        name = run.signal or "SIGINT"
-        said = str(exc) if name == "SIGINT" else str(exc).replace("interrupted", f"interrupted by {name}", 1)
-        typer.echo(f"trikedyn: {said}", err=True)
-        raise SystemExit(128 + int(signal.Signals[name])) from None
+        _said_interrupted(exc)
     except StudyIncomplete as exc:
         typer.echo(f"trikedyn: {exc}", err=True)
         raise SystemExit(1) from None
@@ -144,11 +155,15 @@ def reproduce_cmd(
     """The reference paper's workflow on the built-in reference vehicle: tables, figures, verdicts, report.html."""
     from .._files import check_output_folder
     from ..paper.reproduce import reproduce
+    from ..study.runner import StudyInterrupted
 
     if workers is not None and not 1 <= workers <= 256:
         raise InputError(f"expected 1 to 256 processes, got {workers}", where="--workers")
     check_output_folder(out, force=force)
-    summary = reproduce(out, figures=not no_figures, study=not no_study, workers=workers)
+    try:
+        summary = reproduce(out, figures=not no_figures, study=not no_study, workers=workers)
+    except StudyInterrupted as exc:  # its study's handler took the signal: said here, not lost to a bare 130
+        _said_interrupted(exc, as_json)
     text = "\n".join(
         [f"wrote {len(summary['files'])} files to {out}"]
         + [f"- {s['verdict'].upper()}: {s['paper']}" for s in summary["statements"]]

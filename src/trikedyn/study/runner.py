@@ -61,7 +61,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError, TrikedynError
-from .executors import check_executor, make_executor, start_pool_server
+from .executors import InlineExecutor, check_executor, make_executor, start_pool_server
 from .executors import one_line as _one_line
 from .scenarios import SCENARIO_KEYS, count_scenarios, expand
 from .spec import StudySpec, load_spec
@@ -81,11 +81,14 @@ class StudyInterrupted(KeyboardInterrupt):
     ----------
     summary : dict
         As :attr:`StudyRun.summary` (``out``, ``scenarios`` counts, ``wall_time_s``, ...).
+    signal : str or None
+        The signal that stopped it (``"SIGINT"``, ``"SIGTERM"``).
     """
 
-    def __init__(self, message: str, summary: dict):
+    def __init__(self, message: str, summary: dict, signal: str | None = None):
         super().__init__(message)
         self.summary = summary
+        self.signal = signal
 
 
 class StudyIncomplete(TrikedynError):
@@ -157,19 +160,30 @@ def run_scenario(scenario: dict, vehicle=None, run_token: str | None = None) -> 
 # the loop
 # ------------------------------------------------------------------------------------------------
 class _StopSignal:
-    """First SIGINT: ask to stop after the scenarios in flight; a second one, or SIGTERM: KeyboardInterrupt now.
+    """First SIGINT: ask to stop after the scenarios in flight; a second one, or SIGTERM: abandon them.
 
-    :attr:`requested` is the name of the last signal seen (None: none)."""
+    :attr:`requested` is the name of the last signal seen (None: none); :attr:`abandon` is set by an abandoning
+    signal, and the loop, which polls every 0.25 s, raises KeyboardInterrupt at its next turn. Only with
+    ``inline`` (the scenarios run in this thread, the loop not polling while one runs) does the handler raise
+    KeyboardInterrupt itself: raised from a handler at any point of the main thread, it can land in the middle
+    of an import while another thread imports (the table's libraries load in a thread while the workers
+    compute) and leave both waiting on each other's import lock for ever.
+    """
 
-    def __init__(self, note=None):
+    def __init__(self, note=None, inline: bool = False):
         self.requested: str | None = None
+        self.abandon = False
         self._previous: dict = {}
         self._note = note
+        self._inline = inline
 
     def _handler(self, signum, frame):
         again, self.requested = self.requested is not None, signal.Signals(signum).name
         if again or signum != signal.SIGINT:
-            raise KeyboardInterrupt
+            self.abandon = True
+            if self._inline:
+                raise KeyboardInterrupt
+            return
         if self._note is not None:
             self._note(f"{self.requested}: stopping after the scenarios in flight (again to abandon them)")
 
@@ -215,7 +229,7 @@ class StudyRun:
         if s["outcome"] == "interrupted":
             raise StudyInterrupted(
                 f"interrupted: {n['done']} of {n['total']} scenarios stored in {s['database']}; run the same "
-                f"command again to resume (stored scenarios are not recomputed)", s)
+                f"command again to resume (stored scenarios are not recomputed)", s, self.signal)
         if s["outcome"] == "incomplete":
             first = self.lost[0][1] if self.lost else "unknown"
             raise StudyIncomplete(
@@ -360,7 +374,7 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
         if workers != 0 and todo:  # the export and figures' libraries load while the workers compute
             threading.Thread(target=_warm_imports, args=(figures,), daemon=True).start()
         store.begin_run(token, len(todo), executor.label)
-        stop = _StopSignal(getattr(report, "note", None))
+        stop = _StopSignal(getattr(report, "note", None), inline=isinstance(executor, InlineExecutor))
         running: dict = {}
         abandoned = False
 
@@ -385,6 +399,8 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
                 if report is not None:
                     report(n_done, len(order))
                 while todo or running:
+                    if stop.abandon:  # a second SIGINT, or SIGTERM: raised here, where the loop can take it
+                        raise KeyboardInterrupt
                     if stop.requested:
                         todo.clear()
                         for fut in list(running):
