@@ -37,7 +37,7 @@ def _options(command) -> dict[str, object]:
 
 
 FREIGHT_COMMANDS = {("simulate",), ("threshold",), ("handling",), ("tilt",), ("compare-layouts",), ("cg", "payload"),
-                    ("modes",), ("performance",)}
+                    ("modes",), ("performance",), ("assess",)}
 
 
 # ------------------------------------------------------------------------------------------------------------
