@@ -1,0 +1,178 @@
+"""Kernels generated for the tree (trikedyn.model.codegen) against the generic ones they specialise.
+
+The generic RNEA, CRBA and Cholesky solve of trikedyn.model.dynamics are the reference: on random states
+(coordinates, velocities, applied forces, external wrenches) of both reference trikes the generated kernels
+give the same accelerations, bias forces and mass matrices to 1e-12 (relative, max norm). The generated
+module is cached on disk and a fresh process loads it, and numba's compiled code, without regenerating.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+from trikedyn.model import dynamics
+from trikedyn.model.codegen import TreeStructure, generate_source, kernels_for_tree
+from trikedyn.model.topology import build_tree
+from trikedyn.params import load_vehicle, with_freight
+
+PRESETS = ["reference-etrike", "reference-tadpole"]
+GRAVITY = np.array([0.0, 0.0, -9.81])
+
+
+def random_state(tree, rng):
+    """A random (q, u, udot, tau, fext) of ``tree``: angles within +-0.6 rad, sliders within +-5 cm."""
+    n, nb = tree.n_dof, tree.n_bodies
+    q = np.empty(n)
+    q[:3] = rng.normal(0.0, 5.0, 3)
+    q[3:6] = rng.uniform(-0.6, 0.6, 3)
+    for b in range(1, nb):
+        q[5 + b] = rng.uniform(-0.05, 0.05) if tree.jtype[b] == dynamics.JOINT_PRISMATIC else rng.uniform(-3, 3)
+    u = rng.normal(0.0, 2.0, n)
+    u[3:6] *= 5.0
+    for w in tree.wheels:  # wheels spin fast
+        u[5 + w.wheel_body] = rng.normal(0.0, 30.0)
+    udot = rng.normal(0.0, 3.0, n)
+    tau = rng.normal(0.0, 200.0, n)
+    fext = rng.normal(0.0, 500.0, (nb, 6))
+    return q, u, udot, tau, fext
+
+
+def rel_err(a, b):
+    """Max-norm error of ``a`` relative to the max norm of ``b``."""
+    return float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
+
+
+def values(tree):
+    """The run-time arguments of the generated kernels."""
+    return tree.tree_e, tree.tree_r, tree.mass, tree.h, tree.ibar
+
+
+@pytest.fixture(scope="module", params=PRESETS)
+def tree_and_kernels(request):
+    tree = build_tree(load_vehicle(request.param).params)
+    return tree, kernels_for_tree(tree)
+
+
+def test_forward_dynamics_equals_generic(tree_and_kernels):
+    tree, k = tree_and_kernels
+    rng = np.random.default_rng(25)
+    worst = 0.0
+    for _ in range(60):
+        q, u, _, tau, fext = random_state(tree, rng)
+        ref = dynamics.forward_dynamics(q, u, tau, fext, GRAVITY, *tree.arrays())
+        got = k.forward_dynamics_generated(q, u, tau, fext, GRAVITY, *values(tree))
+        assert np.all(np.isfinite(ref))
+        worst = max(worst, rel_err(got, ref))
+    assert worst < 1e-12
+
+
+def test_forward_dynamics_into_writes_out(tree_and_kernels):
+    tree, k = tree_and_kernels
+    q, u, _, tau, fext = random_state(tree, np.random.default_rng(1))
+    out = np.full(tree.n_dof, 7.0)
+    k.forward_dynamics_into(q, u, tau, fext, (0.0, 0.0, -9.81), *values(tree), out)
+    ref = dynamics.forward_dynamics(q, u, tau, fext, GRAVITY, *tree.arrays())
+    assert rel_err(out, ref) < 1e-12
+
+
+def test_rnea_and_mass_matrix_equal_generic(tree_and_kernels):
+    tree, k = tree_and_kernels
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        q, u, udot, _, fext = random_state(tree, rng)
+        ref_tau = dynamics.rnea(q, u, udot, fext, GRAVITY, *tree.arrays())
+        assert rel_err(k.rnea(q, u, udot, fext, GRAVITY, *values(tree)), ref_tau) < 1e-12
+        ref_h = dynamics.crba(q, *tree.arrays())
+        got_h = k.mass_matrix(q, *values(tree))
+        assert rel_err(got_h, ref_h) < 1e-12
+        assert np.array_equal(got_h, got_h.T)
+
+
+def test_not_positive_definite_gives_nan(tree_and_kernels):
+    tree, k = tree_and_kernels
+    q, u, _, tau, fext = random_state(tree, np.random.default_rng(5))
+    mass = tree.mass.copy()
+    mass[tree.wheels[0].wheel_body] = -500.0  # a negative mass: H is not positive definite
+    args = (tree.tree_e, tree.tree_r, mass, tree.h, tree.ibar)
+    assert np.all(np.isnan(dynamics.forward_dynamics(q, u, tau, fext, GRAVITY, tree.parent, tree.jtype,
+                                                     tree.jaxis, *args)))
+    assert np.all(np.isnan(k.forward_dynamics_generated(q, u, tau, fext, GRAVITY, *args)))
+
+
+def test_one_kernel_serves_every_vehicle_of_the_structure():
+    base = build_tree(load_vehicle("reference-etrike").params)
+    laden = build_tree(with_freight(load_vehicle("reference-etrike"), 120.0).params)
+    tadpole = build_tree(load_vehicle("reference-tadpole").params)
+
+    def structure(t):
+        return TreeStructure.of(t.parent, t.jtype, t.jaxis, t.tree_e, t.tree_r, t.h, t.ibar)
+
+    assert structure(laden).key() == structure(base).key()
+    assert structure(tadpole).key() != structure(base).key()
+    assert not np.allclose(laden.mass, base.mass)
+    k = kernels_for_tree(base)
+    assert kernels_for_tree(laden) is k
+    q, u, _, tau, fext = random_state(laden, np.random.default_rng(7))
+    ref = dynamics.forward_dynamics(q, u, tau, fext, GRAVITY, *laden.arrays())
+    assert rel_err(k.forward_dynamics_generated(q, u, tau, fext, GRAVITY, *values(laden)), ref) < 1e-12
+    unladen = dynamics.forward_dynamics(q, u, tau, fext, GRAVITY, *base.arrays())
+    assert rel_err(unladen, ref) > 1e-6  # the values, not the kernel, carry the freight
+
+
+def test_structure_is_folded_into_straight_line_code():
+    tree = build_tree(load_vehicle("reference-etrike").params)
+    src = generate_source(TreeStructure.of(tree.parent, tree.jtype, tree.jaxis, tree.tree_e, tree.tree_r, tree.h,
+                                           tree.ibar))
+    body = src[src.index("def forward_dynamics_into"):src.index("def rnea(")]
+    assert "for " not in body and "while " not in body  # unrolled, no loop over bodies or a dense factor
+    wheel = tree.wheels[0].wheel_body
+    assert tree.jtype[wheel] == dynamics.JOINT_ROTOR
+    assert f"tree_e[{wheel}," not in body  # a rotor's identity frame folds out
+    assert f"h[{wheel}," not in body  # a wheel's centred mass has no first moment
+    assert f"tree_e[{tree.wheels[0].steer_body}," in body  # the raked steering head's rotation is a value
+    compile(src, "generated", "exec")
+
+
+_PROBE = textwrap.dedent("""
+    import json, os
+    import numpy as np
+    from trikedyn.model.codegen import kernels_for_tree
+    from trikedyn.model.topology import build_tree
+    from trikedyn.params import load_vehicle
+    tree = build_tree(load_vehicle("reference-etrike").params)
+    k = kernels_for_tree(tree)
+    n, nb = tree.n_dof, tree.n_bodies
+    out = k.forward_dynamics_generated(np.full(n, 0.1), np.full(n, 0.2), np.full(n, 3.0), np.ones((nb, 6)),
+                                       np.array([0.0, 0.0, -9.81]), tree.tree_e, tree.tree_r, tree.mass, tree.h,
+                                       tree.ibar)
+    stats = k.forward_dynamics_generated.stats
+    print(json.dumps({"generated": k.GENERATED_NOW, "file": k.__file__, "mtime": os.stat(k.__file__).st_mtime_ns,
+                      "hits": sum(stats.cache_hits.values()), "misses": sum(stats.cache_misses.values()),
+                      "out": out.tolist()}))
+""")
+
+
+def test_cache_is_reused_by_a_fresh_process(tmp_path):
+    env = {**os.environ, "TRIKEDYN_CACHE_DIR": str(tmp_path)}
+
+    def probe():
+        done = subprocess.run([sys.executable, "-c", _PROBE], env=env, capture_output=True, text=True, timeout=300)
+        assert done.returncode == 0, done.stderr
+        return json.loads(done.stdout.strip().splitlines()[-1])
+
+    first, second = probe(), probe()
+    assert first["generated"] and first["misses"] >= 1 and first["hits"] == 0
+    assert first["file"].startswith(str(tmp_path))
+    assert not second["generated"]
+    assert second["file"] == first["file"] and second["mtime"] == first["mtime"]
+    assert second["hits"] >= 1 and second["misses"] == 0  # numba loaded the compiled kernel
+    # the same kernel (to rounding: numba's fast-math code may order sums differently from one compile to another)
+    assert np.allclose(second["out"], first["out"], rtol=1e-12, atol=0.0) and np.all(np.isfinite(first["out"]))
+    assert [p.name for p in tmp_path.glob("generated/*.tmp")] == []
