@@ -16,6 +16,7 @@ from pathlib import Path
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
+from codegen import bench_generated_kernels  # noqa: E402  (benchmarks/codegen.py, issue 25)
 
 from trikedyn import __version__  # noqa: E402
 from trikedyn.model.statics import rolling_state, static_equilibrium  # noqa: E402
@@ -209,6 +210,7 @@ def main() -> int:
         "cpus": os.cpu_count(),
     }
     results.update(bench_sine_steer())
+    results.update(bench_generated_kernels())
     results.update(bench_double_lane_change())
     results.update(bench_peer(results))
     results.update(bench_startup())
@@ -221,6 +223,8 @@ def main() -> int:
     print(f"  end to end  {s['wall_s'] * 1e3:7.1f} ms   real-time factor {s['real_time_factor']:6.0f}")
     print(f"  loop only   {s['loop_wall_s'] * 1e3:7.1f} ms   real-time factor {s['loop_real_time_factor']:6.0f}")
     print(f"  per right-hand-side evaluation, the step's other work included (4 per step) {s['rhs_evaluation_us']:.2f} us")
+    k = results["forward_dynamics_generated_vs_generic"]
+    print(f"forward dynamics, generic {k['generic_us']:.2f} us, generated for the tree {k['generated_us']:.2f} us: {k['speedup']:.1f}x")
     d = results["double_lane_change_10s_30kmh"]
     print("closed-loop ISO 3888-1 double lane change, 10 s at 30 km/h:")
     print(f"  end to end  {d['wall_s'] * 1e3:7.1f} ms   real-time factor {d['real_time_factor']:6.0f} (target 3000)")

@@ -1,0 +1,150 @@
+"""Issue 25: forward dynamics of the generic kernels against the kernels generated for the tree, one process.
+
+Each timing loops, inside compiled code, over 64 distinct random states, evaluates ``du/dt`` into a buffer
+and adds every entry of it to an accumulator that is returned, so LLVM can neither drop nor hoist the work;
+the two accumulators are checked against each other. Both sides allocate nothing per evaluation (the generic
+side as the right-hand side runs it: transforms, RNEA, CRBA, Cholesky on a preallocated workspace). The
+figure is the median of ``REPEATS`` timings, in microseconds per evaluation.
+
+usage: python benchmarks/codegen.py [--json]
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import statistics
+import sys
+import time
+
+os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
+from numba import njit  # noqa: E402
+
+from trikedyn.model import dynamics  # noqa: E402
+from trikedyn.model.codegen import kernels_for_tree  # noqa: E402
+from trikedyn.model.topology import build_tree  # noqa: E402
+from trikedyn.params import load_vehicle  # noqa: E402
+
+REPEATS = 7
+STATES = 64
+GRAVITY = np.array([0.0, 0.0, -9.81])
+
+
+@njit(cache=True)
+def generic_loop(qs, us, taus, fexts, gravity, parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar, reps):
+    """Sum of every ``du/dt`` entry over ``reps`` passes of the states, by the generic kernels."""
+    ws = dynamics.workspace(parent)
+    n = qs.shape[1]
+    rhs = np.empty(n)
+    out = np.empty(n)
+    acc = 0.0
+    for _ in range(reps):
+        for s in range(qs.shape[0]):
+            dynamics.joint_transforms_into(qs[s], parent, jtype, jaxis, tree_e, tree_r, ws.e, ws.r, ws.t33)
+            dynamics.rnea_into(ws.e, ws.r, us[s], ws.zero, fexts[s], gravity, parent, jtype, jaxis, mass, h, ibar,
+                               ws, ws.bias)
+            dynamics.crba_into(ws.e, ws.r, parent, jtype, jaxis, mass, h, ibar, ws)
+            for i in range(n):
+                rhs[i] = taus[s, i] - ws.bias[i]
+            dynamics.cholesky_solve_into(ws.hmat, rhs, ws.low, ws.vec, out)
+            for i in range(n):
+                acc += out[i]
+    return acc
+
+
+@njit(cache=True)
+def generated_loop(kernel, qs, us, taus, fexts, gravity, tree_e, tree_r, mass, h, ibar, reps):
+    """The same sum by a generated ``forward_dynamics_into`` (passed in as ``kernel``)."""
+    n = qs.shape[1]
+    out = np.empty(n)
+    acc = 0.0
+    for _ in range(reps):
+        for s in range(qs.shape[0]):
+            kernel(qs[s], us[s], taus[s], fexts[s], gravity, tree_e, tree_r, mass, h, ibar, out)
+            for i in range(n):
+                acc += out[i]
+    return acc
+
+
+def states(tree, rng, count=STATES):
+    """``count`` random states (q, u, tau, fext) of ``tree``, as stacked arrays."""
+    n, nb = tree.n_dof, tree.n_bodies
+    qs = rng.uniform(-0.3, 0.3, (count, n))
+    us = rng.normal(0.0, 2.0, (count, n))
+    taus = rng.normal(0.0, 200.0, (count, n))
+    fexts = rng.normal(0.0, 500.0, (count, nb, 6))
+    for b in range(1, nb):
+        if tree.jtype[b] == dynamics.JOINT_PRISMATIC:
+            qs[:, 5 + b] *= 0.1
+    return qs, us, taus, fexts
+
+
+def median_time(func, repeats=REPEATS):
+    """Median wall time [s] of ``func()`` over ``repeats`` calls after one warm-up, and its last value."""
+    value = func()
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        value = func()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times), value
+
+
+def measure(preset: str = "reference-etrike", reps: int = 3000) -> dict:
+    """Microseconds per forward-dynamics evaluation, generic and generated, on ``preset``'s tree.
+
+    Parameters
+    ----------
+    preset : str
+        The vehicle preset.
+    reps : int
+        Passes over the 64 states per timing.
+
+    Returns
+    -------
+    dict
+        ``generic_us``, ``generated_us``, ``speedup`` and the two accumulators' relative difference.
+    """
+    tree = build_tree(load_vehicle(preset).params)
+    kernel = kernels_for_tree(tree).forward_dynamics_into
+    qs, us, taus, fexts = states(tree, np.random.default_rng(25))
+    values = (tree.tree_e, tree.tree_r, tree.mass, tree.h, tree.ibar)
+    evaluations = reps * qs.shape[0]
+    t_gen, acc_gen = median_time(lambda: generic_loop(qs, us, taus, fexts, GRAVITY, *tree.arrays(), reps))
+    t_cg, acc_cg = median_time(lambda: generated_loop(kernel, qs, us, taus, fexts, GRAVITY, *values, reps))
+    agreement = abs(acc_cg - acc_gen) / abs(acc_gen)
+    if not agreement < 1e-9:
+        raise AssertionError(f"generated and generic kernels disagree: {acc_cg} vs {acc_gen}")
+    return {"preset": preset, "dof": tree.n_dof, "evaluations": evaluations, "repeats": REPEATS,
+            "generic_us": t_gen / evaluations * 1e6, "generated_us": t_cg / evaluations * 1e6,
+            "speedup": t_gen / t_cg, "accumulator_rel_diff": agreement}
+
+
+def bench_generated_kernels() -> dict:
+    """``make bench``'s entry: :func:`measure` on reference-etrike, under one key.
+
+    Returns
+    -------
+    dict
+        ``{"forward_dynamics_generated_vs_generic": measure()}``.
+    """
+    return {"forward_dynamics_generated_vs_generic": measure("reference-etrike")}
+
+
+def main() -> int:
+    """Print the figures of both presets (``--json``: as one JSON object)."""
+    results = {p: measure(p) for p in ("reference-etrike", "reference-tadpole")}
+    if "--json" in sys.argv:
+        print(json.dumps(results, indent=1))
+        return 0
+    for preset, r in results.items():
+        print(f"{preset} ({r['dof']} DOF): forward dynamics generic {r['generic_us']:.3f} us, generated "
+              f"{r['generated_us']:.3f} us per evaluation: {r['speedup']:.1f}x (median of {r['repeats']}, "
+              f"{r['evaluations']} evaluations each; accumulators agree to {r['accumulator_rel_diff']:.1e})")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
