@@ -160,7 +160,7 @@ _PROBE = textwrap.dedent("""
 
 
 def test_cache_is_reused_by_a_fresh_process(tmp_path):
-    env = {**os.environ, "TRIKEDYN_CACHE_DIR": str(tmp_path)}
+    env = {**os.environ, "TRIKEDYN_CACHE_DIR": str(tmp_path), "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
 
     def probe():
         done = subprocess.run([sys.executable, "-c", _PROBE], env=env, capture_output=True, text=True, timeout=300)
@@ -176,3 +176,22 @@ def test_cache_is_reused_by_a_fresh_process(tmp_path):
     # the same kernel (to rounding: numba's fast-math code may order sums differently from one compile to another)
     assert np.allclose(second["out"], first["out"], rtol=1e-12, atol=0.0) and np.all(np.isfinite(first["out"]))
     assert [p.name for p in tmp_path.glob("generated/*.tmp")] == []
+    assert any((tmp_path / "numba").rglob("*.nbi"))  # numba's index of the compiled kernel, where we said
+
+
+def test_two_processes_racing_to_generate_agree(tmp_path):
+    env = {**os.environ, "TRIKEDYN_CACHE_DIR": str(tmp_path), "NUMBA_CACHE_DIR": str(tmp_path / "numba")}
+    procs = [subprocess.Popen([sys.executable, "-c", _PROBE], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True) for _ in range(2)]
+    outs = []
+    for proc in procs:
+        stdout, stderr = proc.communicate(timeout=300)
+        assert proc.returncode == 0, stderr
+        outs.append(json.loads(stdout.strip().splitlines()[-1]))
+    assert outs[0]["file"] == outs[1]["file"]
+    assert outs[0]["generated"] or outs[1]["generated"]
+    assert np.allclose(outs[0]["out"], outs[1]["out"], rtol=1e-12, atol=0.0)
+    files = sorted(p.name for p in (tmp_path / "generated").iterdir())
+    assert files == [os.path.basename(outs[0]["file"])]  # one module, no temporary left behind
+    with open(outs[0]["file"]) as fh:
+        compile(fh.read(), "generated", "exec")  # whole, not torn

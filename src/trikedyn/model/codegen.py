@@ -121,14 +121,15 @@ class TreeStructure:
         )
 
     def key(self) -> str:
-        """A hash of the structure, the generator's version and source and the numba options.
+        """A hash of the structure, the generator's version and source (with its emitter's) and the numba options.
 
         Returns
         -------
         str
             24 hexadecimal digits, the cached module's name.
         """
-        own = Path(__file__).read_bytes()
+        here = Path(__file__).parent
+        own = (here / "codegen.py").read_bytes() + (here / "_folding.py").read_bytes()
         blob = json.dumps([GENERATOR_VERSION, sorted(FASTMATH), self.parent, self.jtype,
                            [[float(a).hex() for a in ax] for ax in self.jaxis], self.e_const, self.r_zero,
                            self.h_zero, self.ibar_zero])
