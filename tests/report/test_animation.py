@@ -12,7 +12,8 @@ import pytest
 from PIL import Image
 
 from trikedyn.cli import main
-from trikedyn.report.animation import animate, ffmpeg_available, frame_indices
+from trikedyn.report.animation import animate, ffmpeg_available
+from trikedyn.report.scene import frame_indices
 
 from ..conftest import strict_json
 

@@ -13,7 +13,8 @@ import pytest
 
 from trikedyn.analysis.compare import load_table
 from trikedyn.cli import main
-from trikedyn.report.run_figures import KINDS, figure, figure_time, figure_wheel_loads, lift_spans, title_of
+from trikedyn.report.run_channels import lift_spans, title_of
+from trikedyn.report.run_figures import KINDS, figure, figure_time, figure_wheel_loads
 from trikedyn.simulate.runfile import run_meta
 
 

@@ -17,8 +17,8 @@ import pytest
 from trikedyn.analysis.compare import load_table
 from trikedyn.cli import main
 from trikedyn.errors import InputError
-from trikedyn.report.animation import MAX_FRAMES, check_frames
 from trikedyn.report.run_figures import figure
+from trikedyn.report.scene import MAX_FRAMES, check_frames
 from trikedyn.simulate.runfile import (
     MAX_RUN_S,
     MAX_SIDECAR_BYTES,

@@ -3,7 +3,7 @@
 A run file (``trikedyn simulate --out run.parquet``, or ``.csv``) is read back and checked, with its vehicle
 and course, as :mod:`trikedyn.simulate.runfile` reads and rebuilds them. A course that cannot be rebuilt (a
 path CSV gone, an unknown manoeuvre) leaves the animation without cones, with a warning. At most
-:data:`trikedyn.report.animation.MAX_FRAMES` frames are drawn (counted before any is).
+:data:`trikedyn.report.scene.MAX_FRAMES` frames are drawn (counted before any is).
 """
 
 from __future__ import annotations
@@ -22,13 +22,13 @@ __all__ = ["animate_cmd", "load_run"]
 
 
 def load_run(run: Path, every_s: float | None = None):
-    """A run file as a :class:`~trikedyn.report.animation.Scene`, and notes on how its vehicle and course
+    """A run file as a :class:`~trikedyn.report.scene.Scene`, and notes on how its vehicle and course
     were found.
 
     Everything that can refuse the run is checked before the vehicle and the course are rebuilt (which may
     warn): the file and its metadata (:func:`trikedyn.simulate.runcheck.read_run`), the channels drawn
-    (:func:`trikedyn.report.animation.scene_channels`) and, given ``every_s``, the number of frames
-    (:func:`trikedyn.report.animation.check_frames`). So a refusal is one line, never after a warning.
+    (:func:`trikedyn.report.scene.scene_channels`) and, given ``every_s``, the number of frames
+    (:func:`trikedyn.report.scene.check_frames`). So a refusal is one line, never after a warning.
 
     Parameters
     ----------
@@ -48,9 +48,9 @@ def load_run(run: Path, every_s: float | None = None):
     ------
     InputError
         The file is missing, is not a run file (suffix, columns, values, metadata), cannot be read, or would
-        take more than :data:`~trikedyn.report.animation.MAX_FRAMES` frames.
+        take more than :data:`~trikedyn.report.scene.MAX_FRAMES` frames.
     """
-    from ..report.animation import check_frames, scene_channels, scene_from
+    from ..report.scene import check_frames, scene_channels, scene_from
     from ..simulate.runcheck import read_run
     from ..simulate.runfile import run_course, run_vehicle
 

@@ -108,7 +108,7 @@ def lane_change_scene(result):
     Scene
         The scene, cut to the window and a second either side.
     """
-    from ..report.animation import Scene
+    from ..report.scene import Scene
 
     scene = Scene.from_result(result)
     t = np.asarray(scene.time_s)

@@ -1,6 +1,6 @@
 """The 3d view of an animation (``trikedyn animate RUN --view 3d``): the trike through the cones in perspective.
 
-The body is a see-through box over the footprint (:attr:`~trikedyn.report.animation.Scene.footprint_m`), from
+The body is a see-through box over the footprint (:attr:`~trikedyn.report.scene.Scene.footprint_m`), from
 axle height to twice the CG height, at least 1 m tall (as in the rear view), rolled and pitched by the run's
 angles about the reference point at axle height, then turned by the yaw; the wheels are discs in their own
 planes (the steered ones turned by the steer angle), standing on the ground and shaded by their vertical load

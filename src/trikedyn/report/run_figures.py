@@ -12,176 +12,36 @@ figures are made without pyplot (matplotlib is imported inside the functions); s
 * ``plan`` -- the CG path through the lanes and cones, the vehicle's footprint at intervals;
 * ``gg`` -- the g-g diagram (longitudinal against lateral acceleration [g]);
 * ``roll`` -- roll angle [deg] against lateral acceleration [m/s²], with the roll gradient.
+
+The run's channels, labels, judged window and lifts are read by :mod:`trikedyn.report.run_channels`.
 """
 
 from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Mapping
 
 import numpy as np
 
 from ..errors import InputError, did_you_mean
 from ._drawing import plain
+from .run_channels import judged_window, label_of, lift_spans, need_channel, run_source, title_of, wheel_names
 
-__all__ = ["KINDS", "figure", "figure_gg", "figure_plan", "figure_roll", "figure_time", "figure_wheel_loads",
-           "MAX_FOOTPRINTS", "lift_spans", "title_of"]
+__all__ = ["KINDS", "MAX_FOOTPRINTS", "figure", "figure_gg", "figure_plan", "figure_roll", "figure_time",
+           "figure_wheel_loads"]
 
 G = 9.80665  # standard gravity [m/s²]
 LIFT = "#d62728"
 WINDOW = "0.85"
 
-# channel -> (label with unit, scale from the stored SI value)
-LABELS = {
-    "speed_mps": ("speed [km/h]", 3.6),
-    "vx_mps": ("longitudinal velocity [km/h]", 3.6),
-    "vy_mps": ("lateral velocity [m/s]", 1.0),
-    "ax_mps2": ("longitudinal acceleration [m/s²]", 1.0),
-    "ay_mps2": ("lateral acceleration [m/s²]", 1.0),
-    "az_mps2": ("vertical acceleration [m/s²]", 1.0),
-    "imu_ay_mps2": ("lateral acceleration, seat sensor [m/s²]", 1.0),
-    "imu_ax_mps2": ("longitudinal acceleration, seat sensor [m/s²]", 1.0),
-    "yaw_rate_radps": ("yaw rate [deg/s]", math.degrees(1.0)),
-    "roll_rate_radps": ("roll rate [deg/s]", math.degrees(1.0)),
-    "pitch_rate_radps": ("pitch rate [deg/s]", math.degrees(1.0)),
-    "imu_wz_radps": ("yaw rate, seat sensor [deg/s]", math.degrees(1.0)),
-    "roll_rad": ("roll [deg]", math.degrees(1.0)),
-    "pitch_rad": ("pitch [deg]", math.degrees(1.0)),
-    "yaw_rad": ("yaw [deg]", math.degrees(1.0)),
-    "steer_rad": ("steer angle [deg]", math.degrees(1.0)),
-    "steer_cmd_rad": ("steer command [deg]", math.degrees(1.0)),
-    "ri": ("rollover index RI (Eq. 5) [-]", 1.0),
-    "ltr": ("load transfer ratio [-]", 1.0),
-    "min_wheel_load_N": ("least wheel load [N]", 1.0),
-    "path_error_m": ("path error [m]", 1.0),
-    "x_m": ("x [m]", 1.0),
-    "y_m": ("y [m]", 1.0),
-}
-# unit suffix of a channel name -> (unit shown, scale)
-SUFFIXES = (("_radps", "deg/s", math.degrees(1.0)), ("_rad", "deg", math.degrees(1.0)), ("_mps2", "m/s²", 1.0),
-            ("_mps", "m/s", 1.0), ("_Nm", "N·m", 1.0), ("_N", "N", 1.0), ("_m", "m", 1.0), ("_s", "s", 1.0),
-            ("_kmh", "km/h", 1.0))
 TIME_CHANNELS = ("speed_mps", "ay_mps2", "yaw_rate_radps", "roll_rad", "ri")
 MAX_FOOTPRINTS = 200
 """Most footprints drawn in the plan view."""
 
 
-def label_of(name: str) -> tuple[str, float]:
-    """A channel's axis label with its unit, and the factor from its stored (SI) value to the value shown."""
-    if name in LABELS:
-        return LABELS[name]
-    for suffix, unit, scale in SUFFIXES:
-        if name.endswith(suffix):
-            words = name[: -len(suffix)].replace("_", " ")
-            words = words.replace(" fz", " vertical load").replace(" fy", " lateral force").replace(" fx", " longitudinal force")
-            return f"{words} [{unit}]", scale
-    return f"{name.replace('_', ' ')} [-]", 1.0
-
-
-# --- the run as channels and metadata -------------------------------------------------------------------------
-
-def _source(source, meta) -> tuple[dict, dict]:
-    """``(channels, meta)`` of a Result, a DataFrame or a mapping; channels hold ``time_s``. A table or a mapping
-    is checked as a run file is (:func:`trikedyn.simulate.runcheck.check_run_table`: numbers, finite increasing
-    time, ...), and so is metadata that does not come with a Result (:func:`~trikedyn.simulate.runcheck.check_meta`)."""
-    from ..simulate.runcheck import check_meta, check_run_table
-
-    if hasattr(source, "time_s") and hasattr(source, "channels") and not isinstance(source, Mapping):
-        channels = {"time_s": np.asarray(source.time_s, dtype=float), **dict(source.channels)}
-        return channels, dict(source.meta or {}) if meta is None else check_meta(meta, "meta")
-    if isinstance(source, Mapping):
-        import pandas as pd
-
-        try:
-            source = pd.DataFrame({str(k): np.asarray(v).reshape(-1) for k, v in source.items()})
-        except (TypeError, ValueError) as exc:
-            raise InputError(f"the channels are not one table ({' '.join(str(exc).split())[:120]})",
-                             where="run") from None
-    if not (hasattr(source, "columns") and hasattr(source, "attrs")):
-        raise InputError(f"expected a run (Result, table or channels), got {type(source).__name__}", where="run")
-    table = check_run_table(source, "run")
-    meta = check_meta(table.attrs if meta is None else meta, "meta")
-    return {c: table[c].to_numpy() for c in table.columns}, meta
-
-
-def _need(channels: dict, name: str) -> np.ndarray:
-    if name not in channels:
-        raise InputError(f"not a run of trikedyn: no channel '{name}'", where="run")
-    return np.asarray(channels[name], dtype=float)
-
-
-def _wheels(channels: dict, meta: dict) -> list[str]:
-    names = meta.get("wheels")
-    if isinstance(names, list | tuple) and names and all(f"{n}_fz_N" in channels for n in names):
-        return [str(n) for n in names]
-    return [c[: -len("_fz_N")] for c in channels if str(c).endswith("_fz_N")]
-
-
-def title_of(meta: Mapping) -> str:
-    """``vehicle - manoeuvre at N km/h (payload P kg)`` from a run's metadata (what it holds of these).
-
-    Parameters
-    ----------
-    meta : mapping
-        A run's metadata.
-
-    Returns
-    -------
-    str
-        The title.
-    """
-    summary = meta.get("summary") if isinstance(meta.get("summary"), Mapping) else {}
-    vehicle = meta.get("vehicle") or summary.get("vehicle")
-    manoeuvre = meta.get("manoeuvre") or summary.get("manoeuvre") or meta.get("manoeuvre_name")
-    speed = meta.get("target_speed_kmh") or summary.get("speed_kmh")
-    payload = summary.get("payload_kg") or meta.get("payload_kg")
-    text = " - ".join(str(v) for v in (vehicle, manoeuvre) if v) or "run"
-    if speed:
-        text += f" at {float(speed):g} km/h"
-    if payload:
-        text += f" (payload {float(payload):g} kg)"
-    return plain(text)
-
-
-def _window(channels: dict) -> tuple[float, float] | None:
-    """The judged window (entry to exit gate) as ``(t_start, t_end)`` [s], or None."""
-    if "judged" not in channels:
-        return None
-    inside = np.nonzero(np.asarray(channels["judged"], dtype=float) > 0.5)[0]
-    if not inside.size:
-        return None
-    t = np.asarray(channels["time_s"], dtype=float)
-    return float(t[inside[0]]), float(t[inside[-1]])
-
-
 def _shade_window(ax, window, label=None) -> None:
     if window is not None:
         ax.axvspan(*window, color=WINDOW, alpha=0.6, lw=0, zorder=0, label=label, gid="judged")
-
-
-def lift_spans(time_s, fz_N) -> list[tuple[float, float]]:
-    """The spans of time ``(t_start, t_end)`` [s] in which a wheel's vertical load is zero or less (lifted).
-
-    Parameters
-    ----------
-    time_s : array_like
-        Times [s].
-    fz_N : array_like
-        Vertical load of one wheel [N].
-
-    Returns
-    -------
-    list of tuple of float
-        ``(t_start, t_end)`` [s] per span.
-    """
-    t = np.asarray(time_s, dtype=float)
-    off = np.asarray(fz_N, dtype=float) <= 0.0
-    if not off.any():
-        return []
-    edges = np.diff(np.concatenate(([0], off.astype(int), [0])))
-    starts, ends = np.nonzero(edges == 1)[0], np.nonzero(edges == -1)[0] - 1
-    return [(float(t[a]), float(t[b])) for a, b in zip(starts, ends, strict=True)]
 
 
 def _new(figsize):
@@ -220,14 +80,14 @@ def figure_time(source, meta=None, channels: list[str] | None = None):
     InputError
         A channel asked for is not in the run.
     """
-    data, meta = _source(source, meta)
+    data, meta = run_source(source, meta)
     names = list(channels) if channels else [c for c in TIME_CHANNELS if c in data]
     for name in names:
         if name not in data:
             raise InputError(f"no channel '{name}'" + did_you_mean(name, list(data)), where="run")
     if not names:
         raise InputError("the run holds none of the channels to plot", where="run")
-    t, window = _need(data, "time_s"), _window(data)
+    t, window = need_channel(data, "time_s"), judged_window(data)
     fig = _new((8.0, 1.75 * len(names) + 0.9))
     axes = np.atleast_1d(fig.subplots(len(names), 1, sharex=True))
     for ax, name in zip(axes, names, strict=True):
@@ -266,16 +126,16 @@ def figure_wheel_loads(source, meta=None):
     matplotlib.figure.Figure
         The figure.
     """
-    data, meta = _source(source, meta)
-    names = _wheels(data, meta)
+    data, meta = run_source(source, meta)
+    names = wheel_names(data, meta)
     if not names:
         raise InputError("not a run of trikedyn: no wheel loads ('<wheel>_fz_N')", where="run")
-    t, window = _need(data, "time_s"), _window(data)
+    t, window = need_channel(data, "time_s"), judged_window(data)
     fig = _new((8.0, 1.7 * len(names) + 1.0))
     axes = np.atleast_1d(fig.subplots(len(names), 1, sharex=True, sharey=True))
     lifted_any = False
     for ax, name in zip(axes, names, strict=True):
-        fz = _need(data, f"{name}_fz_N")
+        fz = need_channel(data, f"{name}_fz_N")
         _shade_window(ax, window, "judged window")
         spans = lift_spans(t, fz)
         for k, (a, b) in enumerate(spans):
@@ -298,16 +158,16 @@ def figure_wheel_loads(source, meta=None):
 
 
 def _scene(source, data: dict, meta: dict):
-    """The animation's :class:`~trikedyn.report.animation.Scene` of the run: a Result's own vehicle and course,
+    """The animation's :class:`~trikedyn.report.scene.Scene` of the run: a Result's own vehicle and course,
     else the course rebuilt from the metadata as ``trikedyn animate`` does (a warning when it cannot be)."""
-    from .animation import Scene, scene_from
+    from .scene import Scene, scene_from
 
     if isinstance(source, Scene):
         return source
     if getattr(source, "params", None) is not None and hasattr(source, "states"):
         return Scene.from_result(source)
     from ..simulate.runfile import run_course, run_vehicle
-    from .animation import scene_channels
+    from .scene import scene_channels
 
     channels, names = scene_channels(data, meta)  # every refusal before the rebuilding, which may warn
     meta = {**meta, "wheels": names}
@@ -324,12 +184,12 @@ def figure_plan(source, meta=None, every_s: float = 1.0):
     :data:`MAX_FOOTPRINTS` are drawn). The lateral scale is stretched (stated in the axis label, at most
     x1000) so that a lane change is visible over a course 100 m long.
 
-    ``source`` may also be a :class:`~trikedyn.report.animation.Scene`.
+    ``source`` may also be a :class:`~trikedyn.report.scene.Scene`.
 
     Parameters
     ----------
     source : Result, pandas.DataFrame or mapping
-        The run (channels in SI units, ``time_s`` [s]). Or a :class:`~trikedyn.report.animation.Scene`.
+        The run (channels in SI units, ``time_s`` [s]). Or a :class:`~trikedyn.report.scene.Scene`.
     meta : mapping, optional
         Its metadata (a Result's own by default).
     every_s : float
@@ -342,9 +202,10 @@ def figure_plan(source, meta=None, every_s: float = 1.0):
     """
     from matplotlib.patches import Polygon
 
-    from .animation import CONE, _box, _draw_course, _rotate, frame_indices
+    from .animation import CONE, _box, _draw_course, _rotate
+    from .scene import frame_indices
 
-    data, meta = ({"time_s": source.time_s}, dict(meta or {})) if hasattr(source, "footprint_m") else _source(source, meta)
+    data, meta = ({"time_s": source.time_s}, dict(meta or {})) if hasattr(source, "footprint_m") else run_source(source, meta)
     scene = _scene(source, data, meta)
     cgx, cgy = scene.cg_xy
     fig = _new((11.0, 4.2))
@@ -401,9 +262,9 @@ def figure_gg(source, meta=None):
     matplotlib.figure.Figure
         The figure.
     """
-    data, meta = _source(source, meta)
-    ax_g, ay_g = _need(data, "ax_mps2") / G, _need(data, "ay_mps2") / G
-    window = _window(data)
+    data, meta = run_source(source, meta)
+    ax_g, ay_g = need_channel(data, "ax_mps2") / G, need_channel(data, "ay_mps2") / G
+    window = judged_window(data)
     fig = _new((6.0, 6.2))
     ax = fig.subplots()
     ax.plot(ay_g, ax_g, lw=0.7, color="0.6", label="whole run")
@@ -450,9 +311,9 @@ def figure_roll(source, meta=None):
     matplotlib.figure.Figure
         The figure.
     """
-    data, meta = _source(source, meta)
-    ay, roll = _need(data, "ay_mps2"), np.degrees(_need(data, "roll_rad"))
-    names = _wheels(data, meta)
+    data, meta = run_source(source, meta)
+    ay, roll = need_channel(data, "ay_mps2"), np.degrees(need_channel(data, "roll_rad"))
+    names = wheel_names(data, meta)
     down = np.ones(ay.size, dtype=bool)
     for name in names:
         down &= np.asarray(data[f"{name}_fz_N"], dtype=float) > 0.0

@@ -9,8 +9,8 @@ the **vehicle as driven** (``vehicle_params``: every parameter, payload included
 again with its own vehicle and course wherever it is read (``trikedyn plot``, ``trikedyn animate``, the
 report).
 
-Reading back is checked once, where it is read: :mod:`trikedyn.simulate.runcheck` (:func:`read_run`,
-:func:`run_meta`, ...; imported here too).
+Reading back is checked once, where it is read: :mod:`trikedyn.simulate.runcheck` (:func:`read_run`, ...)
+and :mod:`trikedyn.simulate.runmeta` (:func:`run_meta`, ...); imported here too.
 
 Rebuilding (:func:`run_vehicle`, :func:`run_course`): the vehicle is the one recorded; for a file from
 before the vehicle was recorded (or a recorded one that does not have the run's wheels), the preset of its
@@ -36,17 +36,13 @@ from .runcheck import (  # noqa: F401  (the reading API, importable from here as
     MAX_RUN_COLUMNS,
     MAX_RUN_ROWS,
     MAX_RUN_S,
-    MAX_SIDECAR_BYTES,
-    MAX_WHEELS,
-    READ_FROM,
     RUN_SUFFIXES,
     RunFile,
-    check_meta,
     check_run_table,
     read_run,
     read_run_table,
-    run_meta,
 )
+from .runmeta import MAX_SIDECAR_BYTES, MAX_WHEELS, READ_FROM, check_meta, run_meta  # noqa: F401  (as before)
 
 __all__ = ["MAX_ABS_VALUE", "MAX_RUN_BYTES", "MAX_RUN_COLUMNS", "MAX_RUN_ROWS", "MAX_RUN_S", "MAX_SIDECAR_BYTES",
            "MAX_WHEELS", "READ_FROM", "RUN_SUFFIXES", "RunFile", "check_meta", "check_run_file", "check_run_table",
