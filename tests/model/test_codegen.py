@@ -195,3 +195,13 @@ def test_two_processes_racing_to_generate_agree(tmp_path):
     assert files == [os.path.basename(outs[0]["file"])]  # one module, no temporary left behind
     with open(outs[0]["file"]) as fh:
         compile(fh.read(), "generated", "exec")  # whole, not torn
+
+
+def test_cache_dir_follows_the_environment(tmp_path, monkeypatch):
+    from trikedyn.model.codegen import cache_dir
+
+    monkeypatch.setenv("TRIKEDYN_CACHE_DIR", str(tmp_path / "mine"))
+    assert cache_dir() == tmp_path / "mine" / "generated" and cache_dir().is_dir()
+    monkeypatch.delenv("TRIKEDYN_CACHE_DIR")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert cache_dir() == tmp_path / "xdg" / "trikedyn" / "generated"

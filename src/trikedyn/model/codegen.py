@@ -429,6 +429,8 @@ def cache_dir() -> Path:
     folder = base / "generated"
     try:
         folder.mkdir(parents=True, exist_ok=True)
+        if not os.access(folder, os.W_OK):
+            raise PermissionError(folder)
     except OSError:
         folder = Path(tempfile.gettempdir()) / f"trikedyn-generated-{os.getuid()}"
         folder.mkdir(parents=True, exist_ok=True)
@@ -476,7 +478,11 @@ def kernels(structure: TreeStructure):
         spec = importlib.util.spec_from_file_location(name, path)
         module = importlib.util.module_from_spec(spec)
         sys.modules[name] = module
-        spec.loader.exec_module(module)
+        try:
+            spec.loader.exec_module(module)
+        except BaseException:
+            del sys.modules[name]
+            raise
         module.GENERATED_NOW = written
         _LOADED[key] = module
         return module
