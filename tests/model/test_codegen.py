@@ -205,3 +205,45 @@ def test_cache_dir_follows_the_environment(tmp_path, monkeypatch):
     monkeypatch.delenv("TRIKEDYN_CACHE_DIR")
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
     assert cache_dir() == tmp_path / "xdg" / "trikedyn" / "generated"
+
+
+def random_tree(rng, nb=7):
+    """A made-up tree: random parents, joint types (revolute, prismatic, rotor), oblique axes and fixed
+    rotations, physical inertias; the general paths of the generator that the presets' aligned axes skip."""
+    from scipy.spatial.transform import Rotation
+
+    parent = np.array([-1] + [int(rng.integers(0, b)) for b in range(1, nb)], dtype=np.int64)
+    kinds = [dynamics.JOINT_REVOLUTE, dynamics.JOINT_PRISMATIC, dynamics.JOINT_ROTOR]
+    jtype = np.array([0] + [kinds[b % 3] for b in range(1, nb)], dtype=np.int64)
+    jaxis = rng.normal(size=(nb, 3))
+    jaxis /= np.linalg.norm(jaxis, axis=1)[:, None]
+    tree_e = Rotation.random(nb, random_state=int(rng.integers(1 << 31))).as_matrix()
+    tree_r = rng.normal(0.0, 0.4, (nb, 3))
+    mass = rng.uniform(1.0, 50.0, nb)
+    cg = rng.normal(0.0, 0.2, (nb, 3))
+    ibar = np.empty((nb, 3, 3))
+    for b in range(nb):
+        a = rng.normal(0.0, 0.3, (3, 3))
+        ibar[b] = a @ a.T + 0.05 * np.eye(3) + mass[b] * (cg[b] @ cg[b] * np.eye(3) - np.outer(cg[b], cg[b]))
+    return parent, jtype, jaxis, tree_e, tree_r, mass, mass[:, None] * cg, ibar
+
+
+def test_a_made_up_tree_with_oblique_axes_equals_generic():
+    from trikedyn.model.codegen import kernels
+
+    rng = np.random.default_rng(2025)
+    parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar = random_tree(rng)
+    assert set(jtype[1:].tolist()) == {dynamics.JOINT_REVOLUTE, dynamics.JOINT_PRISMATIC, dynamics.JOINT_ROTOR}
+    assert len(set(parent[1:].tolist())) > 1  # branches, not a chain
+    k = kernels(TreeStructure.of(parent, jtype, jaxis, tree_e, tree_r, h, ibar))
+    n, nb = len(parent) + 5, len(parent)
+    for _ in range(50):
+        q = rng.uniform(-1.0, 1.0, n)
+        u, udot, tau = rng.normal(size=n), rng.normal(size=n), rng.normal(0.0, 50.0, n)
+        fext = rng.normal(0.0, 50.0, (nb, 6))
+        generic = (parent, jtype, jaxis, tree_e, tree_r, mass, h, ibar)
+        vals = (tree_e, tree_r, mass, h, ibar)
+        ref = dynamics.forward_dynamics(q, u, tau, fext, GRAVITY, *generic)
+        assert rel_err(k.forward_dynamics_generated(q, u, tau, fext, GRAVITY, *vals), ref) < 1e-12
+        assert rel_err(k.rnea(q, u, udot, fext, GRAVITY, *vals), dynamics.rnea(q, u, udot, fext, GRAVITY, *generic)) < 1e-12
+        assert rel_err(k.mass_matrix(q, *vals), dynamics.crba(q, *generic)) < 1e-12
