@@ -14,7 +14,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from . import pac2002
-from .tir import TyreProperties
+from .tir_properties import TyreProperties
 
 __all__ = ["PeakForces", "cornering_stiffness", "longitudinal_slip_stiffness", "peak_forces", "plot_characteristics",
            "relaxation_lengths"]

@@ -5,7 +5,7 @@ with ``!`` or ``$`` (a ``$`` may also follow a value on the same line), strings 
 bare tables under a ``{column column}`` header (``[SHAPE]``). Sections and keys are read case-insensitively
 and kept upper case.
 
-What :func:`read_tir` gives (:class:`TyreProperties`):
+What :func:`read_tir` gives (:class:`~trikedyn.tyre.tir_properties.TyreProperties`):
 
 - the model family from ``FITTYP`` (6 PAC2002, 21 MF 5.2, 61 MF 6.1, 62 MF 6.2) or, without it, from
   ``PROPERTY_FILE_FORMAT`` (``'PAC2002'``, ``'MF_05'``/``'MF 5.2'``, ``'MF_61'``/``'MF 6.1'``, ``'MF_62'``);
@@ -34,21 +34,19 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Mapping
-from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
 
 from .._reading import excerpt, read_bytes
 from ..errors import InputError
+from .tir_properties import MF52, MF61, MF62, PAC2002, RANGE_PAIRS, TirTable, TyreProperties
 
-__all__ = ["MAX_BYTES", "MAX_RADIUS_M", "MIN_RADIUS_M", "TirTable", "TyreProperties", "parse_tir", "read_tir"]
+__all__ = ["MAX_BYTES", "MAX_RADIUS_M", "MIN_RADIUS_M", "parse_tir", "read_tir"]
 
 MAX_BYTES = 1 << 20  #: largest file read [bytes]
 MAX_LINE_CHARS = 4096  #: longest line read [characters]
 MIN_RADIUS_M, MAX_RADIUS_M = 0.01, 2.5  #: range of UNLOADED_RADIUS [m]: from a toy's tyre to the largest earthmover's
 
-PAC2002, MF52, MF61, MF62 = "PAC2002", "MF5.2", "MF6.1", "MF6.2"
 _FITTYP = {6: PAC2002, 21: MF52, 61: MF61, 62: MF62}
 _FORMATS = {"PAC2002": PAC2002, "MF05": MF52, "MF52": MF52, "MF5.2": MF52, "MF61": MF61, "MF6.1": MF61,
             "MF62": MF62, "MF6.2": MF62}
@@ -103,7 +101,6 @@ _REQUIRED = ("FNOMIN", "UNLOADED_RADIUS")
 _RECORDED = {"PROPERTY_FILE_FORMAT", "FITTYP", "TYRESIDE", "USE_MODE", "FILE_TYPE", "FILE_VERSION", "FILE_FORMAT",
              "WIDTH", "ASPECT_RATIO", "RIM_RADIUS", "RIM_WIDTH", "NOMPRES", "INFLPRES"}
 _STRINGS = {"PROPERTY_FILE_FORMAT", "TYRESIDE", "FILE_TYPE", "FILE_FORMAT", "FUNCTION_NAME", "CONTACT_MODEL"}
-_RANGE_PAIRS = (("FZMIN", "FZMAX"), ("KPUMIN", "KPUMAX"), ("ALPMIN", "ALPMAX"), ("CAMMIN", "CAMMAX"))
 _KNOWN_SECTIONS = {
     "MDI_HEADER", "UNITS", "MODEL", "DIMENSION", "OPERATING_CONDITIONS", "INERTIA", "VERTICAL", "STRUCTURAL",
     "CONTACT_PATCH", "INFLATION_PRESSURE_RANGE", "VERTICAL_FORCE_RANGE", "LONG_SLIP_RANGE", "SLIP_ANGLE_RANGE",
@@ -120,109 +117,6 @@ def _evaluator_keys(family: str) -> dict[str, float]:
     keys |= dict.fromkeys(_BOTH.split() + (_ONLY6 if mf6 else _ONLY5).split(), 0.0)
     keys |= {k: v for k, v in _SPECIAL.items() if mf6 or k != "PKY4"}
     return keys
-
-
-@dataclass(frozen=True)
-class TirTable:
-    """A bare table of a ``.tir`` section: column names from its ``{...}`` header, rows of numbers."""
-
-    columns: tuple[str, ...]
-    rows: tuple[tuple[float, ...], ...]
-
-
-@dataclass(frozen=True, eq=False)
-class TyreProperties:
-    """A tyre property file as read: immutable, SI units.
-
-    Attributes
-    ----------
-    path : str
-        The file read (or the name given to :func:`parse_tir`).
-    family : str
-        ``'PAC2002'``, ``'MF5.2'``, ``'MF6.1'`` or ``'MF6.2'``: the equations the file's coefficients are for.
-    file_format : str
-        ``PROPERTY_FILE_FORMAT`` as written (or ``FITTYP=n``).
-    file_version : float or None
-        ``FILE_VERSION`` of ``[MDI_HEADER]``.
-    tyre_side : str
-        ``'LEFT'``, ``'RIGHT'`` or ``'SYMMETRIC'``: the side the tyre was measured on.
-    use_mode : int or None
-        ``USE_MODE`` (recorded; the evaluator always gives combined slip, its sign does not mirror).
-    units : Mapping[str, str]
-        ``[UNITS]`` as written (lower case).
-    coefficients : Mapping[str, float]
-        Every value the evaluator reads, SI, defaults filled in.
-    sections : Mapping[str, Mapping[str, float | str]]
-        Every section's keys as read (dimensional ones converted to SI).
-    tables : Mapping[str, TirTable]
-        Bare tables by section (``SHAPE``).
-    defaulted : tuple of str
-        Evaluator keys the file lacks (their defaults are used).
-    ignored_keys : tuple of str
-        ``SECTION.KEY`` entries kept but not used by the evaluator.
-    unknown_sections : tuple of str
-        Sections this reader does not know (kept).
-    encoding : str
-        ``'utf-8'`` or ``'latin-1'``.
-    notes : tuple of str
-        Anything worth telling a user about how the file was read.
-    """
-
-    path: str
-    family: str
-    file_format: str
-    file_version: float | None
-    tyre_side: str
-    use_mode: int | None
-    units: Mapping[str, str]
-    coefficients: Mapping[str, float]
-    sections: Mapping[str, Mapping[str, float | str]]
-    tables: Mapping[str, TirTable]
-    defaulted: tuple[str, ...]
-    ignored_keys: tuple[str, ...]
-    unknown_sections: tuple[str, ...]
-    encoding: str
-    notes: tuple[str, ...]
-
-    def __getitem__(self, key: str) -> float:
-        return self.coefficients[key.upper()]
-
-    @property
-    def mf6(self) -> bool:
-        """True for MF 6.1 / 6.2 files."""
-        return self.family in (MF61, MF62)
-
-    @property
-    def fnomin(self) -> float:
-        """Nominal load ``FNOMIN`` [N]."""
-        return self.coefficients["FNOMIN"]
-
-    @property
-    def unloaded_radius(self) -> float:
-        """Free tyre radius ``UNLOADED_RADIUS`` [m]."""
-        return self.coefficients["UNLOADED_RADIUS"]
-
-    @property
-    def vertical_stiffness(self) -> float:
-        """``VERTICAL_STIFFNESS`` [N/m] (0 when absent)."""
-        return self.coefficients["VERTICAL_STIFFNESS"]
-
-    @property
-    def vertical_damping(self) -> float:
-        """``VERTICAL_DAMPING`` [N s/m] (0 when absent)."""
-        return self.coefficients["VERTICAL_DAMPING"]
-
-    @property
-    def dimensions(self) -> dict[str, float]:
-        """``[DIMENSION]`` numbers as read (SI): unloaded radius, width, aspect ratio, rim radius and width."""
-        return {k: v for k, v in self.sections.get("DIMENSION", {}).items() if isinstance(v, float)}
-
-    @property
-    def ranges(self) -> dict[str, tuple[float, float]]:
-        """Validity ranges ``fz`` [N], ``kappa`` [1], ``alpha`` [rad], ``gamma`` [rad] (defaults if absent)."""
-        c = self.coefficients
-        names = ("fz", "kappa", "alpha", "gamma")
-        return {n: (c[lo], c[hi]) for n, (lo, hi) in zip(names, _RANGE_PAIRS, strict=True)}
 
 
 # ---- reading ---------------------------------------------------------------------------------------------
@@ -434,7 +328,7 @@ def _build(name, sections, lines, tables, encoding) -> TyreProperties:
                          where=at(side_entry[1], "TYRESIDE"))
     if side_entry is None:
         notes.append("no TYRESIDE: the tyre is taken as measured on the LEFT")
-    unbounded = [f"{lo}/{hi}" for lo, hi in _RANGE_PAIRS if lo not in flat or hi not in flat]
+    unbounded = [f"{lo}/{hi}" for lo, hi in RANGE_PAIRS if lo not in flat or hi not in flat]
     if unbounded:
         notes.append(f"no validity range {', '.join(unbounded)}: the missing bounds are open")
     use_mode = flat.get("USE_MODE", (None,))[0]
@@ -506,7 +400,7 @@ def _check(c: dict[str, float], flat, at, length_unit: str) -> None:
         raise InputError("LMUY must not be 0 (the aligning-torque stiffness divides by it)", where=where("LMUY"))
     if c["LONGVL"] <= 0.0:
         raise InputError(f"LONGVL must be > 0 m/s, got {c['LONGVL']:g}", where=where("LONGVL"))
-    for lo, hi in _RANGE_PAIRS:
+    for lo, hi in RANGE_PAIRS:
         if not c[lo] < c[hi]:
             raise InputError(f"{lo} ({c[lo]:g}) must be below {hi} ({c[hi]:g})", where=where(hi))
     if c["FZMIN"] < 0.0:

@@ -1,5 +1,5 @@
 """A ``.tir`` file parsed once per version: the load's validation, the audit and the tyre setup of a vehicle
-share one :class:`~trikedyn.tyre.tir.TyreProperties` for the file a wheel names.
+share one :class:`~trikedyn.tyre.tir_properties.TyreProperties` for the file a wheel names.
 
 A version is the file's real path, device, inode, size and modification and change times, with the name
 given (``TyreProperties.path`` stays that name); a file changed since it was read is read again. Anything but
@@ -14,7 +14,8 @@ import threading
 from collections import OrderedDict
 from pathlib import Path
 
-from .tir import TyreProperties, read_tir
+from .tir import read_tir
+from .tir_properties import TyreProperties
 
 __all__ = ["KEPT_VERSIONS", "forget_tir_files", "read_tir_once"]
 
