@@ -79,6 +79,7 @@ __all__ = [
 # Tyre property files (.tir) and the full Magic Formula (PAC2002 / MF 5.2 / MF 6.1): see trikedyn.tyre.tir,
 # trikedyn.tyre.pac2002 (compiled kernels, ISO signs) and trikedyn.tyre.mf_figures (stiffnesses, peaks, plots).
 from . import mf_figures, pac2002, tir  # noqa: E402
-from .tir import TyreProperties, read_tir  # noqa: E402
+from .tir import read_tir  # noqa: E402
+from .tir_properties import TyreProperties  # noqa: E402
 
 __all__ += ["TyreProperties", "mf_figures", "pac2002", "read_tir", "tir"]
