@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..registry import Registry
-from .magic_formula import N_COEFFS
+from .mf_coefficients import N_COEFFS
 from .pac2002 import N_PACKED
 
 __all__ = ["COEFFS_WIDTH", "MAGIC_FORMULA", "SIMILARITY", "TYRE_MODELS", "TyreModel", "TyreSetup", "for_wheel", "get",

@@ -6,7 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..magic_formula import N_COEFFS, cornering_stiffness, slip_stiffness, tyre_coefficients
+from ..magic_formula import cornering_stiffness, slip_stiffness
+from ..mf_coefficients import N_COEFFS, tyre_coefficients
 from ..models import COEFFS_WIDTH, SIMILARITY, TyreModel, TyreSetup, register
 
 
