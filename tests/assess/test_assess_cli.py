@@ -11,7 +11,7 @@ import json
 import pytest
 
 from trikedyn.cli import main
-from trikedyn.paper.html import format_value
+from trikedyn.paper.cells import format_value
 
 from ..paper.browser import WIDTHS, assert_fits_and_loads, probe
 

@@ -19,7 +19,8 @@ import pytest
 
 import trikedyn
 from trikedyn.errors import InputError
-from trikedyn.paper.html import column_header, format_value, render_report, verdict_class, write_report
+from trikedyn.paper.cells import column_header, format_value, verdict_class
+from trikedyn.paper.html import render_report, write_report
 
 from .browser import WIDTHS, Images, assert_fits_and_loads, console_messages, probe, render
 

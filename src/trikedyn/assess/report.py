@@ -217,7 +217,8 @@ def write_dossier(out: str | Path, data: dict, date: _dt.date | str | None = Non
     """
     from .._files import atomic_write
     from .._version import __version__
-    from ..paper.html import _image_source, _table
+    from ..paper.cells import _table
+    from ..paper.html import _image_source
 
     out = Path(out)
     taken: dict = {}
