@@ -110,7 +110,7 @@ def test_grid_anchored_at_low_and_ending_at_high():
 def test_margin_table_is_signed_across_the_threshold(reference):
     """Below the threshold every entry is a load; above it the lifting wheel's entry is negative, small
     just above and larger further up, and later entries are unknown."""
-    from trikedyn.analysis.threshold import judge_run
+    from trikedyn.analysis.criteria import judge_run
 
     signed = {}
     for v in (70.0, 74.7, 74.8, 76.0):  # ideal speed control: the speed asked for is driven

@@ -48,17 +48,13 @@ from ..driver.preview import DriverSettings
 from ..errors import InputError
 from ..model.vehicle import VehicleModel, build_model
 from ..params.io import ParameterSet
+from .criteria import CRITERIA, DEFAULT_CRITERION, RunVerdict, check_criterion, classify, strikes_and_load
 from .search import Grid, Probe, margin_search, seed_speed
-from .verdict import CONE_STRIKE, LIFT_OFF, PATH_LOST, SPEED_NOT_HELD, SPIN, STOPPED, Judging, Verdict, judge
+from .verdict import Judging, judge
 
-__all__ = ["CRITERIA", "DEFAULT_CRITERION", "METHODS", "RunVerdict", "ThresholdResult", "judge_run",
-           "manoeuvre_builder", "threshold_velocity"]
+__all__ = ["CRITERIA", "DEFAULT_CRITERION", "METHODS", "ThresholdResult", "manoeuvre_builder", "threshold_velocity"]
 
-TRACKING, TOP_SPEED = "tracking", "top speed"
-CRITERIA = ("course", "lift-off", "both")
-"""What a search judges its runs by (see the module docstring)."""
-DEFAULT_CRITERION = "course"
-"""The default criterion: a threshold an engineer can sign is a speed at which the run is a valid test."""
+TOP_SPEED = "top speed"
 METHODS = ("margin", "bisection")
 
 
@@ -100,122 +96,6 @@ def manoeuvre_builder(manoeuvre, options: dict | None = None):
     if not name.lower().endswith(".csv"):
         registry.get(name)  # unknown names fail before any run
     return lambda params, v: registry.build(name, params, v, **options)
-
-
-@dataclass(frozen=True)
-class RunVerdict:
-    """How one run at one target speed went, under the search's criterion.
-
-    ``speed_kmh`` [km/h] is the target; ``passed`` under ``criterion``; ``limit`` what failed (see the module
-    docstring) with the wheel and time [s] of the first lift (or of the failure); ``min_wheel_load_N`` [N]
-    the smallest wheel load up to the exit gate; ``margin_N`` [N] the smallest wheel entry of the margin
-    table (negative when a wheel lifted). ``verdict`` is the run's own verdict (the earliest reason of all,
-    :mod:`trikedyn.analysis.verdict`); ``entry_speed_kmh`` and ``window_speed_kmh`` (min, mean, max) the
-    speed it drove [km/h].
-    """
-
-    speed_kmh: float
-    passed: bool
-    limit: str | None
-    wheel: str | None
-    time_s: float | None
-    detail: str
-    cone_strikes: int = 0
-    min_wheel_load_N: float | None = None
-    margin_N: float | None = None
-    verdict: str = "pass"
-    entry_speed_kmh: float | None = None
-    window_speed_kmh: dict | None = None
-    criterion: str = DEFAULT_CRITERION
-
-    def to_dict(self) -> dict:
-        """Every field, JSON-ready.
-
-        Returns
-        -------
-        dict
-            The fields.
-        """
-        return asdict(self)
-
-
-def _check_criterion(criterion: str, allowed=CRITERIA) -> None:
-    if criterion not in allowed:
-        raise InputError(f"unknown criterion {criterion!r}; expected one of {', '.join(allowed)}", where="criterion")
-
-
-def classify(verdict: Verdict, criterion: str, speed_kmh: float, cone_strikes: int = 0,
-             min_wheel_load_N: float | None = None) -> RunVerdict:
-    """A run's :class:`~trikedyn.analysis.verdict.Verdict` seen by a search under ``criterion``
-    (``"lift-off"`` or ``"course"``)."""
-    _check_criterion(criterion, ("lift-off", "course"))
-    speeds = {"verdict": verdict.verdict, "entry_speed_kmh": verdict.entry_speed_kmh,
-              "window_speed_kmh": verdict.window_speed_kmh, "criterion": criterion}
-    first = verdict.first(criterion)
-    lift = verdict.reason(LIFT_OFF)
-    if first is None:
-        note = f", {cone_strikes} cone strike(s) from {verdict.reason(CONE_STRIKE).time_s:.2f} s" if cone_strikes else ""
-        return RunVerdict(speed_kmh, True, None, None, None, f"every wheel down{note}; {verdict.speed_text}",
-                          cone_strikes, min_wheel_load_N, **speeds)
-    if criterion == "course":
-        wheel = lift.wheel if first.reason == LIFT_OFF else None
-        return RunVerdict(speed_kmh, False, first.reason, wheel, first.time_s, first.detail, cone_strikes,
-                          min_wheel_load_N, **speeds)
-    if lift is not None and first.reason in (LIFT_OFF, PATH_LOST, SPIN, STOPPED):
-        earlier = [r for r in verdict.reasons if r.reason in (CONE_STRIKE, PATH_LOST, SPIN) and r.time_s < lift.time_s]
-        if earlier:
-            lead = "cone strike" if earlier[0].reason == CONE_STRIKE else earlier[0].reason
-            detail = f"{lead} at {earlier[0].time_s:.2f} s, then {lift.wheel} lifted at {lift.time_s:.2f} s"
-            return RunVerdict(speed_kmh, False, TRACKING, lift.wheel, lift.time_s, detail, cone_strikes,
-                              min_wheel_load_N, **speeds)
-        if first.reason == LIFT_OFF:
-            return RunVerdict(speed_kmh, False, LIFT_OFF, lift.wheel, lift.time_s,
-                              f"{lift.wheel} lifted at {lift.time_s:.2f} s", cone_strikes, min_wheel_load_N, **speeds)
-    limit = SPEED_NOT_HELD if first.reason == SPEED_NOT_HELD else TRACKING
-    return RunVerdict(speed_kmh, False, limit, None, first.time_s, first.detail, cone_strikes, min_wheel_load_N,
-                      **speeds)
-
-
-def judge_run(result, lost_m: float = 2.5, speed_kmh: float | None = None, *, criterion: str = DEFAULT_CRITERION,
-              judging: Judging | None = None) -> RunVerdict:
-    """Pass or fail of a run under ``criterion`` (see the module docstring), and what went wrong first.
-
-    Judged up to the exit gate: a lift in the run-in counts, nothing in the run-out does. A run that
-    stopped early (rollover, divergence) fails. ``lost_m`` [m] is used when ``judging`` is not given.
-
-    Parameters
-    ----------
-    result : Result
-        A run.
-    lost_m : float
-        Path error that counts as a lost course [m].
-    speed_kmh : float, optional
-        Target speed [km/h]; the run's own by default.
-    criterion : str
-        ``"lift-off"``, ``"course"`` or both.
-    judging : Judging, optional
-        Judging settings.
-
-    Returns
-    -------
-    RunVerdict
-        Pass or fail and the first failure.
-    """
-    verdict = judge(result, judging or Judging(lost_m=lost_m))
-    speed_kmh = float(result.meta.get("target_speed_kmh", float("nan")) if speed_kmh is None else speed_kmh)
-    return classify(verdict, criterion, speed_kmh, *_strikes_and_load(result))
-
-
-def _strikes_and_load(result) -> tuple[int, float | None]:
-    """Cones struck in the window, and the smallest wheel load up to the exit gate [N]."""
-    import numpy as np
-
-    from .window import cone_strikes, until_exit
-
-    scope = until_exit(result)
-    fz = np.column_stack([result[f"{w}_fz_N"] for w in result.meta["wheels"]])
-    fz = fz[scope] if scope.any() else fz
-    return len(cone_strikes(result)), (float(fz.min()) if fz.size else None)
 
 
 @dataclass(frozen=True)
@@ -347,7 +227,7 @@ class _Runs:
 
             result = run(self.model, self.build(self.model.params, speed_kmh), driver=self.driver, dt=self.dt,
                          speed_control=self.speed_control)
-            self.done[speed_kmh] = (result, judge(result, self.judging), *_strikes_and_load(result), {})
+            self.done[speed_kmh] = (result, judge(result, self.judging), *strikes_and_load(result), {})
         result, verdict, strikes, min_load, probes = self.done[speed_kmh]
         if criterion not in probes:
             table, anchors, margin = run_margins(result, verdict, criterion, self.judging)
@@ -413,7 +293,7 @@ def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *,
                          where="threshold search")
     if method not in METHODS:
         raise InputError(f"unknown method {method!r}; expected one of {', '.join(METHODS)}", where="threshold search")
-    _check_criterion(criterion)
+    check_criterion(criterion)
     if speed_control not in SPEED_CONTROLS:
         raise InputError(f"unknown speed control {speed_control!r}; expected one of {', '.join(SPEED_CONTROLS)}",
                          where="speed_control")
