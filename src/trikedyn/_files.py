@@ -23,7 +23,7 @@ Every file trikedyn writes for a user goes through here:
   never through a link), flushes it to disk and renames it into place (``os.replace``): an interrupted
   write leaves the old file (or none) and no temporary file, never half a file.
 
-The SQLite store (``study.sqlite``) has its own crash safety (:mod:`trikedyn.study.store`).
+The SQLite store (``study.sqlite``) has its own crash safety (:mod:`trikedyn.study.engine.store`).
 """
 
 from __future__ import annotations

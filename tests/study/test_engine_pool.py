@@ -1,11 +1,11 @@
-"""The pool that survives dead workers (:mod:`trikedyn.study.pool_runs`), shared by the sampled studies, the
+"""The pool that survives dead workers (:mod:`trikedyn.study.engine.pool`), shared by the sampled studies, the
 loading chart and the optimiser."""
 
 import os
 
 import pytest
 
-from trikedyn.study.pool_runs import MAX_RESTARTS, ResilientPool, WorkersKeptDying
+from trikedyn.study.engine.pool import MAX_RESTARTS, ResilientPool, WorkersKeptDying
 
 
 def _square_or_die(x, deadly):

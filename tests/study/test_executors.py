@@ -1,4 +1,4 @@
-"""trikedyn.study.executors: where the process pool's workers come from, and how they end.
+"""trikedyn.study.engine.executors: where the process pool's workers come from, and how they end.
 
 That the workers exit when the main process is killed is shown by the kill tests of ``test_resume`` and
 ``test_acceptance`` (the whole process group gone); the executor interface by ``test_metrics``.
@@ -14,8 +14,8 @@ import sys
 
 import pytest
 
-from trikedyn.study import executors
-from trikedyn.study.executors import PRELOAD, ProcessPool, pool_context
+from trikedyn.study.engine import executors
+from trikedyn.study.engine.executors import PRELOAD, ProcessPool, pool_context
 
 from .test_resume import _group_gone
 
@@ -63,7 +63,7 @@ def test_a_killed_main_process_takes_its_fork_server_and_workers_with_it(tmp_pat
     script = tmp_path / "main.py"
     script.write_text(
         "import os, time\n"
-        "from trikedyn.study.executors import ProcessPool\n"
+        "from trikedyn.study.engine.executors import ProcessPool\n"
         "if __name__ == '__main__':\n"
         "    pool = ProcessPool(2)\n"
         "    futures = [pool.submit(time.sleep, 600) for _ in range(2)]\n"

@@ -135,7 +135,7 @@ def test_a_metric_registered_elsewhere_needs_no_runner_edit(tmp_path):
 # one executor interface
 # ------------------------------------------------------------------------------------------------
 def test_every_executor_is_a_concurrent_futures_executor():
-    from trikedyn.study.executors import InlineExecutor, ProcessPool, make_executor
+    from trikedyn.study.engine.executors import InlineExecutor, ProcessPool, make_executor
 
     inline = make_executor(0, None, None, 3)
     assert isinstance(inline, InlineExecutor) and isinstance(inline, cf.Executor)
@@ -226,7 +226,7 @@ def test_progress_without_a_terminal_is_a_plain_line(tmp_path, monkeypatch, caps
 
 
 def test_progress_line_says_the_time_spent_and_left(monkeypatch, capsys):
-    from trikedyn.study import progress
+    from trikedyn.study.engine import progress
 
     now = [100.0]
     monkeypatch.setattr(progress.time, "monotonic", lambda: now[0])

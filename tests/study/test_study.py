@@ -174,7 +174,7 @@ def test_store_refuses_another_study_and_a_second_writer(tmp_path):
 CRASH = """
 import os, signal, sys
 from trikedyn.study import StudyStore, expand, load_spec
-from trikedyn.study.store import StudyStore as S
+from trikedyn.study.engine.store import StudyStore as S
 sys.path.insert(0, {tests!r})
 from study.test_study import _fake_row
 scenarios = expand(load_spec({spec!r}))

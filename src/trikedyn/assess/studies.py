@@ -206,7 +206,7 @@ def loading_chart(pset, out: Path, *, resume: bool = False, workers: int = 2):
         The chart.
     """
     from ..study import loading as lc
-    from ..study.progress import ProgressLine
+    from ..study.engine.progress import ProgressLine
 
     chart = lc.run_loading_chart(pset, _search(pset), margin_kmh=lc.DEFAULT_MARGIN_KMH, workers=workers,
                                  log=lc.CellLog(Path(out) / "loading-chart-cells.csv"), resume=resume,
@@ -236,7 +236,7 @@ def sensitivity(pset, out: Path, *, resume: bool = False, workers: int = 2):
         The ranking.
     """
     from ..study import sensitivity as sa
-    from ..study.progress import ProgressLine
+    from ..study.engine.progress import ProgressLine
 
     s = SENSITIVITY_SETTINGS
     factors, excluded = sa.candidate_factors(pset, s["fraction"])

@@ -13,10 +13,10 @@ import typer
 from .._json import finite, json_default
 from ..errors import InputError
 
-__all__ = ["INTERRUPT_NOTES", "WARNINGS", "BandKmhOpt", "BandPercentOpt", "CriterionOpt", "ForceOpt", "FreightAliasOpt",
-           "JsonOpt", "ManoeuvreOpt", "OptionOpt", "PayloadOpt", "SpeedControlOpt", "VehicleArg", "choice", "emit",
+__all__ = ["INTERRUPT_NOTES", "WARNINGS", "BandKmhOpt", "BandPercentOpt", "CriterionOpt", "DaskLocalOpt", "ForceOpt",
+           "FreightAliasOpt", "JsonOpt", "ManoeuvreOpt", "OptionOpt", "PayloadOpt", "SpeedControlOpt", "VehicleArg", "choice", "emit",
            "finite", "json_default", "judging", "key_values", "manoeuvre_options", "on_interrupt", "payload_kg",
-           "readable", "round_text", "save_figure", "within"]
+           "readable", "round_text", "save_figure", "SchedulerOpt", "WorkersOpt", "within"]
 
 
 def within(low: float, high: float, unit: str = "", *, above: bool = False):
@@ -40,6 +40,12 @@ def within(low: float, high: float, unit: str = "", *, above: bool = False):
 JsonOpt = Annotated[bool, typer.Option("--json", help="Print machine-readable JSON instead of text.")]
 ForceOpt = Annotated[bool, typer.Option("--force", help="Replace output files that exist already.")]
 VehicleArg = Annotated[str, typer.Argument(help="Preset name (see `trikedyn vehicle list`) or a .toml file.")]
+
+# Where a study or a sampled design runs (trikedyn.study.engine.executors): at most one of the three; the
+# command checks them with check_executor before anything is written.
+WorkersOpt = Annotated[int | None, typer.Option("--workers", callback=within(0, 256), help="Processes on this machine (default: all cores; 0: in this process).")]
+DaskLocalOpt = Annotated[int | None, typer.Option("--dask-local", callback=within(1, 256), help="Run on a local Dask cluster of N workers.")]
+SchedulerOpt = Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:port).")]
 
 # One name per quantity: the paper's freight is ``--payload`` on every command. ``--freight``, its older name
 # in ``modes`` and ``cg payload``, still works but is hidden from --help. A command that takes freight has

@@ -1,5 +1,5 @@
-"""What the sampled studies (``sensitivity``, ``uncertainty``, ``loading-chart``, ``optimise``) share: a
-progress line that works without a terminal, an output folder that a resumed run must match, and the
+"""What the sampled studies (``sensitivity``, ``uncertainty``, ``loading-chart``, ``optimise``) share: the
+executor's check (as ``study``'s), a progress line that works without a terminal, an output folder that a resumed run must match, and the
 figure and JSON they end with."""
 
 from __future__ import annotations
@@ -8,7 +8,8 @@ import json
 from pathlib import Path
 
 from ..errors import InputError
-from ..study.progress import ProgressLine  # noqa: F401  (the sampled commands' progress line)
+from ..study.engine.executors import check_executor  # noqa: F401  (--workers, --dask-local, --scheduler: one)
+from ..study.engine.progress import ProgressLine  # noqa: F401  (the sampled commands' progress line)
 
 MAX_PLAN_BYTES = 1 << 20
 """Largest plan file a resumed run reads [bytes] (a plan is a few KiB)."""

@@ -17,17 +17,20 @@ import typer
 from ..errors import InputError
 from ._common import (
     CriterionOpt,
+    DaskLocalOpt,
     ForceOpt,
     JsonOpt,
     ManoeuvreOpt,
     OptionOpt,
+    SchedulerOpt,
     SpeedControlOpt,
     VehicleArg,
+    WorkersOpt,
     emit,
     manoeuvre_options,
     within,
 )
-from ._sampled import ProgressLine, check_resume, start_output, write_results
+from ._sampled import ProgressLine, check_executor, check_resume, start_output, write_results
 
 JSON_FILE, CSV_FILE, FIGURE_FILE = "loading-chart.json", "loading-chart.csv", "loading-chart.png"
 CELLS_FILE, PLAN_FILE = "loading-chart-cells.csv", "loading-chart-plan.json"
@@ -62,7 +65,9 @@ def loading_chart_cmd(
     high: Annotated[float, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h] (raise it for slc).")] = 90.0,
     criterion: CriterionOpt = "course",
     speed_control: SpeedControlOpt = "driver",
-    workers: Annotated[int, typer.Option("--workers", callback=within(0, 256), help="Processes (0: in this process).")] = 2,
+    workers: WorkersOpt = None,
+    dask_local: DaskLocalOpt = None,
+    scheduler: SchedulerOpt = None,
     out: Annotated[Path | None, typer.Option("--out", help="Folder for loading-chart.json, .csv and .png (a printable figure), and the cells as they finish (loading-chart-cells.csv).")] = None,
     resume: Annotated[bool, typer.Option("--resume", help="Continue an interrupted run in --out: cells in its log are not run again.")] = False,
     force: ForceOpt = False,
@@ -78,6 +83,7 @@ def loading_chart_cmd(
     grid = [_numbers(masses, "--masses"), _numbers(x, "--x"), _numbers(z, "--z")]
     if grid[0] is not None and any(m < 0 for m in grid[0]):
         raise InputError("freight masses must be >= 0 kg", where="--masses")
+    check_executor(workers, dask_local, scheduler)
     check_resume(out, resume, force)
     options = manoeuvre_options(manoeuvre, option)
     pset = load_vehicle(vehicle)
@@ -94,7 +100,7 @@ def loading_chart_cmd(
         log = lc.CellLog(out / CELLS_FILE)
     chart = lc.run_loading_chart(pset, search, *grid,
                                  margin_kmh=lc.DEFAULT_MARGIN_KMH if margin_kmh is None else margin_kmh,
-                                 margin_fraction=margin_fraction, workers=workers, log=log, resume=resume,
+                                 margin_fraction=margin_fraction, workers=workers, dask_local=dask_local, scheduler=scheduler, log=log, resume=resume,
                                  progress=ProgressLine("loading-chart", "cells", every_s=3.0))
     data = chart.to_dict()
     if out is not None:

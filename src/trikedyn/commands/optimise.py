@@ -14,16 +14,19 @@ import typer
 from ..errors import InputError
 from ._common import (
     CriterionOpt,
+    DaskLocalOpt,
     ForceOpt,
     JsonOpt,
     OptionOpt,
+    SchedulerOpt,
     SpeedControlOpt,
     VehicleArg,
+    WorkersOpt,
     emit,
     manoeuvre_options,
     within,
 )
-from ._sampled import ProgressLine, check_resume, start_output, write_results
+from ._sampled import ProgressLine, check_executor, check_resume, start_output, write_results
 
 JSON_FILE, LOG_FILE, FIGURE_FILE, PLAN_FILE = ("optimise.json", "optimise-evaluations.csv", "optimise.png",
                                                "optimise-plan.json")
@@ -67,7 +70,9 @@ def optimise_cmd(
     high: Annotated[float | None, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h] (default: the spec's, 90; raise it for slc).")] = None,
     criterion: Annotated[str | None, CriterionOpt.__metadata__[0]] = None,
     speed_control: Annotated[str | None, SpeedControlOpt.__metadata__[0]] = None,
-    workers: Annotated[int, typer.Option("--workers", callback=within(0, 256), help="Processes (0: in this process); the result does not depend on it.")] = 2,
+    workers: WorkersOpt = None,
+    dask_local: DaskLocalOpt = None,
+    scheduler: SchedulerOpt = None,
     out: Annotated[Path, typer.Option("--out", help="Folder for the optimised vehicle (TOML), optimise.json, the evaluations (CSV, written as they finish) and the figure (PNG).")] = Path("optimise-output"),
     resume: Annotated[bool, typer.Option("--resume", help="Continue an interrupted run in --out: layouts in its CSV are not searched again.")] = False,
     force: ForceOpt = False,
@@ -82,6 +87,7 @@ def optimise_cmd(
     from ..study import optimise as opt
 
     start = time.perf_counter()
+    check_executor(workers, dask_local, scheduler)
     check_resume(out, resume, force)
     the_spec = opt.load_optimise_spec(spec)
     changes = {k: v for k, v in (("maxiter", maxiter), ("popsize", popsize), ("seed", seed),
@@ -105,7 +111,7 @@ def optimise_cmd(
     start_output(out, _plan(pset, the_spec, searches), PLAN_FILE, kind="an optimise", resume=resume, force=force,
                  reads=reads, writes=[JSON_FILE, LOG_FILE, FIGURE_FILE, vehicle_file.name])
     log = opt.EvaluationLog(out / LOG_FILE, the_spec.names, the_spec.manoeuvres)
-    result = opt.run_optimise(pset, the_spec, searches, workers=workers, log=log, resume=resume,
+    result = opt.run_optimise(pset, the_spec, searches, workers=workers, dask_local=dask_local, scheduler=scheduler, log=log, resume=resume,
                               progress=ProgressLine("optimise", "evaluations", every_s=5.0))
     save_vehicle(result.vehicle, vehicle_file)
     # the file as written, searched on its own: what `trikedyn threshold FILE` gives

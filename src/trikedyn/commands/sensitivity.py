@@ -8,20 +8,24 @@ from typing import Annotated
 
 import typer
 
+from ..errors import InputError
 from ._common import (
     CriterionOpt,
+    DaskLocalOpt,
     ForceOpt,
     JsonOpt,
     ManoeuvreOpt,
     OptionOpt,
+    SchedulerOpt,
     SpeedControlOpt,
     VehicleArg,
+    WorkersOpt,
     emit,
     manoeuvre_options,
     readable,
     within,
 )
-from ._sampled import ProgressLine, check_resume, start_output, write_results
+from ._sampled import ProgressLine, check_executor, check_resume, start_output, write_results
 
 JSON_FILE, SAMPLES_FILE, FIGURE_FILE, PLAN_FILE = ("sensitivity.json", "sensitivity-samples.csv", "sensitivity.png",
                                                    "sensitivity-plan.json")
@@ -30,15 +34,32 @@ def _plan(pset, search, factors, method, samples, seed, fraction) -> dict:
     return {"vehicle": pset.name, "manoeuvre": search.manoeuvre, "options": search.options,
             "resolution_kmh": search.resolution_kmh, "high_kmh": search.high_kmh, "criterion": search.criterion,
             "speed_control": search.speed_control, "method": method, "samples": samples, "seed": seed,
-            "fraction": fraction, "factors": [[f.name, f.low, f.high] for f in factors]}
+            "fraction": fraction, "factors": [[f.name, f.low, f.high] for f in factors],
+            **({"metric": search.metric, "metric_options": search.metric_options} if search.metric != "threshold" else {})}
+
+
+def _metric_options(pairs: list[str]) -> dict:
+    """``--metric-option KEY=VALUE`` pairs as a dict (numbers as numbers; checked by the metric)."""
+    options = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key.strip():
+            raise InputError(f"expected KEY=VALUE, got {pair!r}", where="--metric-option")
+        try:
+            options[key.strip()] = float(value)
+        except ValueError:
+            options[key.strip()] = value.strip()
+    return options
 
 
 def _table(result) -> str:
     data = result.to_dict()
     ref = data["reference_threshold_speed_kmh"]
+    what, unit = data["metric"].replace("_", " "), data["unit"]
+    shown = ".1f" if data["metric"] == "threshold" else ".4g"
     group = "trajectories" if result.method == "morris" else "base samples"
     lines = [
-        f"{result.vehicle} on {result.manoeuvre}: threshold {'none' if ref is None else f'{ref:.1f} km/h'} as given",
+        f"{result.vehicle} on {result.manoeuvre}: {what} {'none' if ref is None else f'{ref:{shown}} {unit}'} as given",
         f"{result.method}: {len(result.factors)} factors ({_origins(result)}); "
         f"{result.samples} {group}, {result.n_runs} runs, {result.failed} failed"
         + (f" ({result.dropped} {group} left out)" if result.dropped else ""),
@@ -56,7 +77,7 @@ def _table(result) -> str:
     width = max(len(r["parameter"]) for r in result.indices) + 2
     by_name = {f.name: f for f in result.factors}
     if result.method == "morris":
-        lines.append(f"{'rank':<5}{'parameter':<{width}}{'mu* [km/h]':>11}{'+/-':>7}{'sigma':>8}   range")
+        lines.append(f"{'rank':<5}{'parameter':<{width}}{f'mu* [{unit}]':>11}{'+/-':>7}{'sigma':>8}   range")
         keys = ("mu_star", "mu_star_conf", "sigma")
     else:
         lines.append(f"{'rank':<5}{'parameter':<{width}}{'ST':>8}{'+/-':>7}{'S1':>8}{'+/-':>7}   range")
@@ -104,7 +125,11 @@ def sensitivity_cmd(
     seed: Annotated[int, typer.Option("--seed", callback=within(0, 2**32 - 1), help="Seed of the sampling and of the confidence intervals.")] = 1,
     criterion: CriterionOpt = "course",
     speed_control: SpeedControlOpt = "driver",
-    workers: Annotated[int, typer.Option("--workers", callback=within(0, 256), help="Processes (0: in this process).")] = 2,
+    metric: Annotated[str, typer.Option("--metric", help="What each sample measures: a registered study metric (threshold, tilt_angle, understeer_gradient, peak_ri, min_wheel_load ...; see the study spec reference).")] = "threshold",
+    metric_option: Annotated[list[str], typer.Option("--metric-option", help="An option of the metric, KEY=VALUE (e.g. speed_kmh=40 for peak_ri); repeatable.")] = [],  # noqa: B006
+    workers: WorkersOpt = None,
+    dask_local: DaskLocalOpt = None,
+    scheduler: SchedulerOpt = None,
     out: Annotated[Path | None, typer.Option("--out", help="Folder for sensitivity.json, the samples (CSV, written as they finish) and the figure (PNG).")] = None,
     resume: Annotated[bool, typer.Option("--resume", help="Continue an interrupted run in --out: samples in its CSV are not run again.")] = False,
     force: ForceOpt = False,
@@ -115,6 +140,7 @@ def sensitivity_cmd(
     from ..study import sensitivity as sa
 
     sa.check_method(method)
+    check_executor(workers, dask_local, scheduler)
     check_resume(out, resume, force)
     options = manoeuvre_options(manoeuvre, option)
     pset = load_vehicle(vehicle)
@@ -124,7 +150,7 @@ def sensitivity_cmd(
         factors, excluded = sa.candidate_factors(pset, fraction)
     n = sa.DEFAULT_SAMPLES[method] if samples is None else int(samples)
     search = sa.Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion,
-                       speed_control=speed_control)
+                       speed_control=speed_control, metric=metric, metric_options=_metric_options(metric_option))
     sa.sample(sa.problem(factors), method, n, seed)  # a bad --samples fails before anything is written
     plan = json.loads(json.dumps(_plan(pset, search, factors, method, n, seed, fraction)))
     log = None
@@ -133,7 +159,7 @@ def sensitivity_cmd(
                      reads=[vehicle, manoeuvre, options.get("file")], writes=[JSON_FILE, SAMPLES_FILE, FIGURE_FILE])
         log = sa.SampleLog(out / SAMPLES_FILE, factors, sa.group_size(method, len(factors)))
     result = sa.run_sensitivity(pset, search, factors, method=method, samples=n, seed=seed, fraction=fraction,
-                                excluded=excluded, workers=workers, log=log, resume=resume, progress=ProgressLine("sensitivity"))
+                                excluded=excluded, workers=workers, dask_local=dask_local, scheduler=scheduler, log=log, resume=resume, progress=ProgressLine("sensitivity"))
     data = result.to_dict()
     if out is not None:
         write_results(out, data, result.plot(), FIGURE_FILE, JSON_FILE, samples=str(out / SAMPLES_FILE))

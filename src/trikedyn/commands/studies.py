@@ -10,7 +10,10 @@ import typer
 
 from ..errors import InputError
 from ._common import (
+    DaskLocalOpt,
     JsonOpt,
+    SchedulerOpt,
+    WorkersOpt,
     emit,
     within,
 )
@@ -18,9 +21,9 @@ from ._common import (
 
 def study_cmd(
     spec: Annotated[str, typer.Argument(help="Study spec (TOML file), or 'paper' for the built-in Fig. 10 study.")],
-    workers: Annotated[int | None, typer.Option("--workers", callback=within(0, 256), help="Processes on this machine (default: all cores).")] = None,
-    dask_local: Annotated[int | None, typer.Option("--dask-local", callback=within(1, 256), help="Run on a local Dask cluster of N workers.")] = None,
-    scheduler: Annotated[str | None, typer.Option("--scheduler", help="Dask scheduler address (tcp://host:port).")] = None,
+    workers: WorkersOpt = None,
+    dask_local: DaskLocalOpt = None,
+    scheduler: SchedulerOpt = None,
     out: Annotated[Path, typer.Option("--out", help="Output folder (its store makes a re-run resume).")] = Path("study-output"),
     dry_run: Annotated[bool, typer.Option("--dry-run", help="Check the spec and count its scenarios; run nothing.")] = False,
     max_scenarios: Annotated[int, typer.Option("--max-scenarios", callback=within(1, 1e9), help="Refuse a spec with more scenarios than this.")] = 10_000,

@@ -10,18 +10,21 @@ import typer
 
 from ._common import (
     CriterionOpt,
+    DaskLocalOpt,
     ForceOpt,
     JsonOpt,
     ManoeuvreOpt,
     OptionOpt,
+    SchedulerOpt,
     SpeedControlOpt,
     VehicleArg,
+    WorkersOpt,
     emit,
     manoeuvre_options,
     readable,
     within,
 )
-from ._sampled import ProgressLine, check_resume, start_output, write_results
+from ._sampled import ProgressLine, check_executor, check_resume, start_output, write_results
 
 JSON_FILE, SAMPLES_FILE, FIGURE_FILE, PLAN_FILE = ("uncertainty.json", "uncertainty-samples.csv", "uncertainty.png",
                                                    "uncertainty-plan.json")
@@ -121,7 +124,9 @@ def uncertainty_cmd(
     seed: Annotated[int, typer.Option("--seed", callback=within(0, 2**32 - 1), help="Seed of the sampling.")] = 1,
     criterion: CriterionOpt = "course",
     speed_control: SpeedControlOpt = "driver",
-    workers: Annotated[int, typer.Option("--workers", callback=within(0, 256), help="Processes (0: in this process).")] = 2,
+    workers: WorkersOpt = None,
+    dask_local: DaskLocalOpt = None,
+    scheduler: SchedulerOpt = None,
     out: Annotated[Path | None, typer.Option("--out", help="Folder for uncertainty.json, the samples (CSV, written as they finish) and the histogram (PNG).")] = None,
     resume: Annotated[bool, typer.Option("--resume", help="Continue an interrupted run in --out: samples in its CSV are not run again.")] = False,
     force: ForceOpt = False,
@@ -132,6 +137,7 @@ def uncertainty_cmd(
     from ..study import uncertainty as ua
 
     stds = ua.parse_std(std)
+    check_executor(workers, dask_local, scheduler)
     check_resume(out, resume, force)
     options = manoeuvre_options(manoeuvre, option)
     pset = load_vehicle(vehicle)
@@ -149,7 +155,7 @@ def uncertainty_cmd(
                      writes=[JSON_FILE, SAMPLES_FILE, FIGURE_FILE])
         log = ua.SampleLog(out / SAMPLES_FILE, [i.factor for i in inputs], 1)
     result = ua.run_uncertainty(pset, search, inputs, samples=int(samples), seed=seed, fraction=fraction,
-                                excluded=excluded, workers=workers, log=log, resume=resume,
+                                excluded=excluded, workers=workers, dask_local=dask_local, scheduler=scheduler, log=log, resume=resume,
                                 progress=ProgressLine("uncertainty"))
     result.measured, result.notes = list(measured), _far_from_measured(pset, measured, stds)
     data = result.to_dict()

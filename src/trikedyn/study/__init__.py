@@ -3,8 +3,8 @@ manoeuvres x metrics (paper Tables 2-3, Fig. 10).
 
 A study is a TOML spec (:mod:`~trikedyn.study.spec`), expanded into scenarios with deterministic ids, each
 measuring one metric (:mod:`~trikedyn.study.metrics`: the threshold velocity by default), run in parallel
-on any :class:`concurrent.futures.Executor` (:mod:`~trikedyn.study.executors`: a process pool or a Dask
-cluster) by :mod:`~trikedyn.study.runner` into a resumable SQLite store (:mod:`~trikedyn.study.store`),
+on any :class:`concurrent.futures.Executor` (:mod:`~trikedyn.study.engine.executors`: a process pool or a Dask
+cluster) by :mod:`~trikedyn.study.runner` into a resumable SQLite store (:mod:`~trikedyn.study.engine.store`),
 with figures chosen from the study's shape (:mod:`~trikedyn.study.figures`)::
 
     from trikedyn.study import run_study
@@ -43,7 +43,7 @@ _WHERE = {
     "load_spec": "spec",
     "parse_spec": "spec",
     "scenario_id": "scenarios",
-    "StudyStore": "store",
+    "StudyStore": "engine.store",
     "StudyIncomplete": "runner",
     "StudyInterrupted": "runner",
     "StudyRun": "runner",

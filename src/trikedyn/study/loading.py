@@ -10,7 +10,7 @@ The **safe speed** is the threshold less a stated margin, never below 0:
 * ``margin_fraction`` F: ``safe = max(threshold * (1 - F), 0)``.
 
 A cell whose vehicle is invalid, or whose search fails or finds no threshold, is null with the reason. The
-cells run on a process pool (:mod:`trikedyn.study.executors`). :func:`run_loading_chart` returns a
+cells run on a process pool (:mod:`trikedyn.study.engine.executors`). :func:`run_loading_chart` returns a
 :class:`LoadingChart` (``to_dict``, ``rows`` for a CSV, ``plot``; matplotlib is imported only to plot).
 
 Given a :class:`CellLog`, each cell is appended to it (a CSV, flushed) as it finishes; with ``resume`` the cells
@@ -25,10 +25,11 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
-from ..errors import InputError, ParameterError
+from ..errors import InputError, ParameterError, SimulationError
 from ..params.io import ParameterSet
 from .csv_log import AppendedCsv
-from .pool_runs import ResilientPool, WorkersKeptDying
+from .engine.executors import worker_count
+from .engine.pool import ResilientPool, SchedulerGone, WorkersKeptDying
 from .sample_runs import Search
 
 __all__ = ["DEFAULT_MARGIN_KMH", "DEFAULT_MASSES_KG", "DEFAULT_X_OFFSETS_M", "DEFAULT_Z_OFFSETS_M", "CellLog",
@@ -262,7 +263,7 @@ class LoadingChart:
     margin_fraction: float | None = None
     search: Search = field(default_factory=Search)
     site_m: tuple = (0.0, 0.0, 0.0)
-    workers: int = 2
+    workers: int | None = 2
     wall_time_s: float = 0.0
     resumed: int = 0
     """Cells read from the log of an earlier, interrupted run (not run again)."""
@@ -421,8 +422,9 @@ def _blank(value):
 def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[float] | None = None,
                       x_m: Sequence[float] | None = None, z_m: Sequence[float] | None = None, *,
                       margin_kmh: float | None = DEFAULT_MARGIN_KMH, margin_fraction: float | None = None,
-                      workers: int = 2, progress: Callable | None = None, log: CellLog | None = None,
-                      resume: bool = False) -> LoadingChart:
+                      workers: int | None = 2, progress: Callable | None = None, log: CellLog | None = None,
+                      resume: bool = False, dask_local: int | None = None,
+                      scheduler: str | None = None) -> LoadingChart:
     """The loading chart of ``pset`` (grid: :func:`grid_cells`); cells on ``workers`` processes (0: in this
     process); ``progress(done, total)`` is called about once a second and at the end.
 
@@ -446,8 +448,12 @@ def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[fl
         Margin below the threshold [km/h].
     margin_fraction : float, optional
         Margin as a fraction of the threshold, dimensionless.
-    workers : int
-        Worker processes.
+    workers : int or None
+        Processes (0: one row after the other in this process; None: all cores).
+    dask_local : int, optional
+        Workers of a new local Dask cluster instead.
+    scheduler : str, optional
+        Address of a Dask scheduler instead (``tcp://host:port``).
     progress : callable, optional
         ``progress(done, total)``.
     log : CellLog, optional
@@ -492,13 +498,16 @@ def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[fl
 
     if log is not None:
         log.open(fresh=not resume)
-    pool = ResilientPool(workers)
+    pool = ResilientPool(workers, dask_local, scheduler)
     try:
         pool.run(evaluate_cell, ((key, (pset, *key, search)) for key in keys if key not in known), record,
                  lambda key: record(key, (None, "a worker process died on this cell (a crash, or out of memory)")))
     except WorkersKeptDying as exc:  # the cells not run are null
         for key in exc.remaining:
             threshold[key], errors[key] = None, "worker processes kept dying; cell not run"
+    except SchedulerGone as exc:  # what finished is logged: a resumed run goes on
+        kept = "; the cells done are logged: run again with --resume" if log is not None else ""
+        raise SimulationError(f"{exc}; {len(threshold)} of {len(keys)} cells done{kept}") from None
     finally:
         pool.close()
         if log is not None:
@@ -508,5 +517,5 @@ def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[fl
     site = pset.params.freight
     return LoadingChart(pset.name, search.manoeuvre, masses, xs, zs, threshold, errors, margin_kmh=margin_kmh
                         if margin_fraction is None else None, margin_fraction=margin_fraction, search=search,
-                        site_m=(site.x_m, site.y_m, site.z_m), workers=int(workers),
+                        site_m=(site.x_m, site.y_m, site.z_m), workers=worker_count(workers, dask_local, scheduler),
                         wall_time_s=time.perf_counter() - start, resumed=len(known), computed=computed)

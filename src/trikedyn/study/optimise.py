@@ -21,7 +21,7 @@ arrangement:
 * among layouts of equal worst threshold, the best is the one that moves least from the reference (the
   sum of each knob's move as a fraction of its range).
 
-:func:`run_optimise` evaluates each generation on a process pool (:mod:`trikedyn.study.executors`), logs
+:func:`run_optimise` evaluates each generation on a process pool (:mod:`trikedyn.study.engine.executors`), logs
 every evaluation as it finishes (:class:`EvaluationLog`, a CSV; with ``resume`` the logged layouts are
 not searched again and, the optimiser being deterministic for its seed, an interrupted run replays to where
 it stopped and goes on; :mod:`trikedyn.study.optimise_log`), and returns an :class:`OptimiseResult` (``to_dict``, ``table``, ``plot``,
@@ -39,6 +39,8 @@ import numpy as np
 
 from ..errors import InputError, ParameterError, SimulationError
 from ..params.io import ParameterSet
+from .engine.executors import worker_count
+from .engine.pool import ExecutorLost, ResilientPool
 from .optimise_log import Evaluation, EvaluationLog, OptimiseResult, worst
 from .optimise_spec import (
     MAX_EVALUATIONS,
@@ -48,7 +50,6 @@ from .optimise_spec import (
     parse_optimise_spec,
     population_size,
 )
-from .pool_runs import ResilientPool, WorkersKeptDying
 from .sample_runs import Search
 
 __all__ = ["MAX_EVALUATIONS", "Evaluation", "EvaluationLog", "OptimiseResult", "OptimiseSpec", "evaluate_layout",
@@ -144,13 +145,13 @@ class _Evaluator:
     """The map-like callable differential evolution evaluates a generation with: the layouts not yet known
     run on its pool (one for the whole run), each logged as it finishes."""
 
-    def __init__(self, pset, spec, searches, workers, log, known, progress, total):
+    def __init__(self, pset, spec, searches, workers, log, known, progress, total, dask_local=None, scheduler=None):
         self.pset, self.spec, self.searches, self.workers = pset, spec, searches, workers
         self.log, self.progress, self.total = log, progress, total
         self.cache: dict[tuple, Evaluation] = {}
         self.evaluations: list[Evaluation] = []
         self.generation = 0
-        self.pool = ResilientPool(workers)
+        self.pool = ResilientPool(workers, dask_local, scheduler)
         self.resumed = 0
         self.done = 0
         self.known = {e.values: e for e in known if e.values is not None}
@@ -201,7 +202,7 @@ class _Evaluator:
                            self.spec.payload_kg)) for values in todo)
         try:
             self.pool.run(evaluate_layout, tasks, finished, died)
-        except WorkersKeptDying as exc:
+        except ExecutorLost as exc:  # workers that kept dying, a lost scheduler
             raise SimulationError(f"{exc}; the evaluations done are logged: run again with --resume") from None
 
     def __call__(self, func: Callable, population) -> list[float]:
@@ -237,8 +238,9 @@ def _least_move(candidates: list[Evaluation], spec: OptimiseSpec, ref: tuple[flo
 
 
 def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: Sequence[Search] | None = None, *,
-                 workers: int = 2, log: EvaluationLog | None = None, resume: bool = False,
-                 progress: Callable | None = None) -> OptimiseResult:
+                 workers: int | None = 2, log: EvaluationLog | None = None, resume: bool = False,
+                 progress: Callable | None = None, dask_local: int | None = None,
+                 scheduler: str | None = None) -> OptimiseResult:
     """Optimise the layout of ``pset`` as ``spec`` says (see the module docstring).
 
     Parameters
@@ -249,8 +251,12 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
     searches : sequence of Search, optional
         One threshold search per manoeuvre (default: the spec's manoeuvres with its resolution and highest
         speed, default options).
-    workers : int
-        Processes (0: in this process). The result does not depend on it.
+    workers : int or None
+        Processes (0: in this process; None: all cores). The result does not depend on it (nor on the executor).
+    dask_local : int, optional
+        Workers of a new local Dask cluster instead.
+    scheduler : str, optional
+        Address of a Dask scheduler instead (``tcp://host:port``).
     log : EvaluationLog, optional
         Where each evaluation is appended as it finishes; with ``resume``, the layouts it holds are not
         searched again.
@@ -305,7 +311,7 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
     if log is not None:
         log.open(fresh=not resume)
     most = total + 1  # the layouts, and the reference vehicle first
-    evaluator = _Evaluator(pset, spec, searches, workers, log, known, progress, most)
+    evaluator = _Evaluator(pset, spec, searches, workers, log, known, progress, most, dask_local, scheduler)
     try:
         if progress is not None:
             progress(0, most)
@@ -357,4 +363,4 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
         vehicle_name=pset.name, spec=spec, searches=searches, reference=reference, best=best,
         reference_values=ref_values, evaluations=evaluations, vehicle=vehicle,
         generations=evaluator.generation, message=" ".join(str(result.message).split()),
-        resumed=evaluator.resumed, workers=int(workers), wall_time_s=time.perf_counter() - start)
+        resumed=evaluator.resumed, workers=worker_count(workers, dask_local, scheduler), wall_time_s=time.perf_counter() - start)

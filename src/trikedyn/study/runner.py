@@ -2,17 +2,17 @@
 result store; the runner returns data and prints nothing (the ``trikedyn study`` command, in
 :mod:`trikedyn.commands.studies`, prints).
 
-Executors (:mod:`trikedyn.study.executors`, each a :class:`concurrent.futures.Executor`, driven here with
-``submit``, ``wait(FIRST_COMPLETED)``, ``cancel`` and ``shutdown`` only; the same function, the same results,
+Executors (:mod:`trikedyn.study.engine.executors`, each a :class:`concurrent.futures.Executor`, driven by the
+engine's one scheduling loop, :func:`trikedyn.study.engine.loop.drive`; the same function, the same results,
 to the last digit):
 
 - a local process pool (default; ``workers`` processes, from a preloaded fork server where the platform
   has one, else spawned: neither forks a process with threads, which is what makes it safe with numba);
 - ``workers=0``: one scenario after the other in this process (debugging);
 - ``dask_local=N``: a ``dask.distributed.LocalCluster`` of N single-threaded worker processes, through a
-  client (:class:`~trikedyn.study.executors.DaskExecutor`);
+  client (:class:`~trikedyn.study.engine.dask.DaskExecutor`);
 - ``scheduler="tcp://host:port"``: an existing Dask cluster (its workers need the same trikedyn), likewise.
-  A scheduler lost mid-study (:class:`~trikedyn.study.executors.SchedulerLost`) loses the scenarios in
+  A scheduler lost mid-study (:class:`~trikedyn.study.engine.dask.SchedulerLost`) loses the scenarios in
   flight and stops the submissions: the run ends at once as :class:`StudyIncomplete`, and a re-run (on a
   new scheduler, or another executor) resumes.
 
@@ -22,8 +22,8 @@ paper's study has 50) is an :class:`~trikedyn.errors.InputError` naming the spec
 TOML with seven ten-value axes (10^7 scenarios) are refused at once instead of filling the memory.
 
 The main process keeps at most a few scenarios more in flight than there are workers, writes each result
-to the store as it completes (:mod:`trikedyn.study.store`) and reports its progress to a reporter
-(:mod:`trikedyn.study.progress`: a bar on a terminal, a plain line every few seconds otherwise). Once every
+to the store as it completes (:mod:`trikedyn.study.engine.store`) and reports its progress to a reporter
+(:mod:`trikedyn.study.engine.progress`: a bar on a terminal, a plain line every few seconds otherwise). Once every
 scenario is stored it exports the table and draws the study's figures (:mod:`trikedyn.study.figures`).
 
 Interruption: the first SIGINT (Ctrl-C) stops submitting, lets the scenarios in flight finish and be
@@ -48,7 +48,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import signal
 import socket
 import threading
 import time
@@ -56,16 +55,16 @@ import traceback
 import uuid
 import warnings
 from collections import deque
-from concurrent.futures import FIRST_COMPLETED, CancelledError, wait
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..errors import InputError, TrikedynError
-from .executors import InlineExecutor, check_executor, make_executor, start_pool_server
-from .executors import one_line as _one_line
+from .engine.executors import InlineExecutor, check_executor, make_executor, start_pool_server
+from .engine.executors import one_line as _one_line
+from .engine.loop import StopSignal, drive
+from .engine.store import RESULT_KEYS, StudyStore
 from .scenarios import SCENARIO_KEYS, count_scenarios, expand
 from .spec import StudySpec, load_spec
-from .store import RESULT_KEYS, StudyStore
 
 __all__ = ["MAX_SCENARIOS", "STUDY_FILES", "StudyIncomplete", "StudyInterrupted", "StudyRun", "check_study_folder",
            "execute_study", "run_scenario", "run_study"]
@@ -159,45 +158,6 @@ def run_scenario(scenario: dict, vehicle=None, run_token: str | None = None) -> 
 # ------------------------------------------------------------------------------------------------
 # the loop
 # ------------------------------------------------------------------------------------------------
-class _StopSignal:
-    """First SIGINT: ask to stop after the scenarios in flight; a second one, or SIGTERM: abandon them.
-
-    :attr:`requested` is the name of the last signal seen (None: none); :attr:`abandon` is set by an abandoning
-    signal, and the loop, which polls every 0.25 s, raises KeyboardInterrupt at its next turn. Only with
-    ``inline`` (the scenarios run in this thread, the loop not polling while one runs) does the handler raise
-    KeyboardInterrupt itself: raised from a handler at any point of the main thread, it can land in the middle
-    of an import while another thread imports (the table's libraries load in a thread while the workers
-    compute) and leave both waiting on each other's import lock for ever.
-    """
-
-    def __init__(self, note=None, inline: bool = False):
-        self.requested: str | None = None
-        self.abandon = False
-        self._previous: dict = {}
-        self._note = note
-        self._inline = inline
-
-    def _handler(self, signum, frame):
-        again, self.requested = self.requested is not None, signal.Signals(signum).name
-        if again or signum != signal.SIGINT:
-            self.abandon = True
-            if self._inline:
-                raise KeyboardInterrupt
-            return
-        if self._note is not None:
-            self._note(f"{self.requested}: stopping after the scenarios in flight (again to abandon them)")
-
-    def __enter__(self):
-        if threading.current_thread() is threading.main_thread():
-            for sig in (signal.SIGINT, signal.SIGTERM):
-                self._previous[sig] = signal.signal(sig, self._handler)
-        return self
-
-    def __exit__(self, *exc):
-        for sig, handler in self._previous.items():
-            signal.signal(sig, handler)
-
-
 @dataclass
 class StudyRun:
     """What a run of a study gives (:func:`execute_study`).
@@ -335,7 +295,7 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
     scheduler : str, optional
         Address of an existing Dask scheduler.
     progress : bool or callable
-        Progress reporting (:func:`~trikedyn.study.progress.reporter`).
+        Progress reporting (:func:`~trikedyn.study.engine.progress.reporter`).
     max_scenarios : int or None
         Refuse a larger spec.
     figures : bool
@@ -348,7 +308,7 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
     StudyRun
         The run: its table, summary and how it ended.
     """
-    from .progress import reporter
+    from .engine.progress import reporter
 
     started = time.perf_counter()
     check_executor(workers, dask_local, scheduler)
@@ -374,20 +334,11 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
         if workers != 0 and todo:  # the export and figures' libraries load while the workers compute
             threading.Thread(target=_warm_imports, args=(figures,), daemon=True).start()
         store.begin_run(token, len(todo), executor.label)
-        stop = _StopSignal(getattr(report, "note", None), inline=isinstance(executor, InlineExecutor))
-        running: dict = {}
+        stop = StopSignal(getattr(report, "note", None), inline=isinstance(executor, InlineExecutor))
         abandoned = False
 
-        def collect(fut):
+        def collect(scenario_id, row):
             nonlocal n_done, computed
-            scenario = running.pop(fut)
-            try:
-                row = fut.result()
-            except CancelledError:
-                return
-            except Exception as exc:  # the worker died, not the scenario
-                lost.append((scenario["scenario_id"], _one_line(exc)))
-                return
             store.put(row)
             computed += 1
             n_done += 1
@@ -398,33 +349,10 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
             with stop:  # the first progress line once a signal is ours: a Ctrl-C on seeing it stops the study
                 if report is not None:
                     report(n_done, len(order))
-                while todo or running:
-                    if stop.abandon:  # a second SIGINT, or SIGTERM: raised here, where the loop can take it
-                        raise KeyboardInterrupt
-                    if stop.requested:
-                        todo.clear()
-                        for fut in list(running):
-                            if fut.cancel():  # never started: nothing to store
-                                running.pop(fut)
-                    while todo and len(running) < executor.window and not stop.requested:
-                        scenario = todo.popleft()
-                        try:
-                            fut = executor.submit(run_scenario, scenario, base, token)
-                        except RuntimeError as exc:  # BrokenProcessPool, a closed client
-                            lost.append((scenario["scenario_id"], _one_line(exc)))
-                            lost.extend((s["scenario_id"], "not run: executor broken") for s in todo)
-                            todo.clear()
-                            break
-                        running[fut] = scenario
-                    if running:
-                        finished, _ = wait(list(running), timeout=0.25, return_when=FIRST_COMPLETED)
-                        for fut in finished:
-                            collect(fut)
-                    if running and getattr(executor, "lost", None):  # a lost scheduler: nothing in flight ends
-                        lost.extend((s["scenario_id"], executor.lost) for s in running.values())
-                        running.clear()
-        except KeyboardInterrupt:  # a second signal: abandon the scenarios in flight
-            executor.shutdown(wait=False, cancel_futures=True)
+                dropped = drive(executor, run_scenario, [(s["scenario_id"], (s, base, token)) for s in todo], collect,
+                                stop=stop)
+                lost.extend((item.key, item.why) for item in dropped)
+        except KeyboardInterrupt:  # a second signal: the loop abandoned the scenarios in flight
             abandoned = True
             outcome = "interrupted"
         except Exception:  # not the scenarios' own failures (those are rows): say so, then let it through
@@ -434,9 +362,7 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
         finally:
             if report is not None and hasattr(report, "close"):
                 report.close()
-            if not abandoned and running:
-                executor.shutdown(wait=True, cancel_futures=True)
-            elif not abandoned:  # every call collected: the idle workers exit while the results are exported
+            if not abandoned:  # every call collected: the idle workers exit while the results are exported
                 executor.shutdown(wait=False)
         if stop.requested:
             outcome = "interrupted"
@@ -504,7 +430,7 @@ def run_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers: int
         Run on an existing Dask cluster, e.g. ``"tcp://host:8786"``, instead.
     progress : bool or callable
         True: a progress bar on stderr when it is a terminal, else a line every few seconds
-        (:mod:`trikedyn.study.progress`); False: silent; a callable ``(done, total)`` is called instead.
+        (:mod:`trikedyn.study.engine.progress`); False: silent; a callable ``(done, total)`` is called instead.
     max_scenarios : int or None
         Refuse a spec with more scenarios than this (counted from its axes before anything is expanded or
         written; an upper bound in the rare spec whose groups overlap too much to count exactly); None for

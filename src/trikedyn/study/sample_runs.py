@@ -14,8 +14,8 @@ from ..errors import InputError, ParameterError, SimulationError
 from ..params.io import ParameterSet
 from ..simulate import DEFAULT_DT_S
 from .csv_log import AppendedCsv
+from .engine.pool import MAX_RESTARTS, ExecutorLost, ResilientPool
 from .factors import Factor, apply_factors
-from .pool_runs import MAX_RESTARTS, ResilientPool, WorkersKeptDying
 
 __all__ = ["LIMITS", "MAX_RESTARTS", "SampleLog", "Search", "evaluate_sample", "limit_counts", "limits_line",
            "raise_interrupt", "regimes", "run_logged_samples", "run_samples"]
@@ -27,7 +27,9 @@ class Search:
     """The threshold search each sample runs (:func:`~trikedyn.analysis.threshold.threshold_velocity`):
     the manoeuvre with its options, the range and resolution [km/h], the time step [s], the criterion
     (``"course"``, ``"lift-off"`` or ``"both"``: the course threshold is then the value) and the speed control
-    (``"driver"`` or ``"ideal"``)."""
+    (``"driver"`` or ``"ideal"``). With a ``metric`` other than ``"threshold"``, each sample measures that
+    registered study metric (:mod:`trikedyn.study.metrics`: ``tilt_angle``, ``understeer_gradient``, ...) with
+    its ``metric_options`` instead (the manoeuvre and speed control for the metrics that run one)."""
 
     manoeuvre: str = "dlc"
     options: dict = field(default_factory=dict)
@@ -37,6 +39,8 @@ class Search:
     dt_s: float | None = None
     criterion: str = "course"
     speed_control: str = "driver"
+    metric: str = "threshold"
+    metric_options: dict = field(default_factory=dict)
 
     def __post_init__(self):
         from ..analysis.threshold import CRITERIA
@@ -47,6 +51,21 @@ class Search:
         if self.speed_control not in SPEED_CONTROLS:
             raise InputError(f"expected one of {', '.join(SPEED_CONTROLS)}, got {self.speed_control!r}",
                              where="speed_control")
+        if self.metric != "threshold" or self.metric_options:
+            from .metrics import parse_entry
+
+            try:  # the options complete (defaults filled in) and checked
+                _, options = parse_entry({"name": self.metric, **self.metric_options})
+            except InputError as exc:
+                raise InputError(exc.reason, where="--metric") from None
+            object.__setattr__(self, "metric_options", options)
+
+    @property
+    def unit(self) -> str:
+        """The unit of what each sample measures (``km/h`` for the threshold)."""
+        from .metrics import get
+
+        return get(self.metric).unit
 
     def to_dict(self) -> dict:
         """The settings, as a plan file records them.
@@ -58,7 +77,9 @@ class Search:
         """
         return {"manoeuvre": self.manoeuvre, "options": dict(self.options), "resolution_kmh": self.resolution_kmh,
                 "low_kmh": self.low_kmh, "high_kmh": self.high_kmh, "dt_s": self.dt_s, "criterion": self.criterion,
-                "speed_control": self.speed_control}
+                "speed_control": self.speed_control,
+                **({"metric": self.metric, "metric_options": dict(self.metric_options)}
+                   if self.metric != "threshold" else {})}
 
     def on_course_of(self, pset: ParameterSet) -> Search:
         """This search with its course laid out for ``pset``, the reference vehicle of a design: a manoeuvre
@@ -168,8 +189,10 @@ class Search:
         limit : str
             What limits it.
         """
-        from .executors import one_line
+        from .engine.executors import one_line
 
+        if self.metric != "threshold":
+            return self._measure(pset)
         try:
             try:
                 result = self.run(pset)
@@ -183,6 +206,25 @@ class Search:
         if result.threshold_speed_kmh is None:
             return None, f"no threshold: {' '.join(str(result.detail).split())}", ""
         return float(result.threshold_speed_kmh), None, result.limit or ""
+
+
+    def _measure(self, pset: ParameterSet) -> tuple[float | None, str | None, str]:
+        """The search's study metric (not the threshold) of ``pset``, as :meth:`outcome` gives it."""
+        from .engine.executors import one_line
+        from .metrics import get
+
+        scenario = {"manoeuvre": self.manoeuvre, "speed_control": self.speed_control, "criterion": self.criterion,
+                    "course_width_m": self.options.get("course_width_m"), "low_kmh": self.low_kmh,
+                    "high_kmh": self.high_kmh, "resolution_kmh": self.resolution_kmh}
+        try:
+            result = get(self.metric).fn(pset, scenario, **self.metric_options)
+        except Exception as exc:  # noqa: BLE001 - a vehicle that cannot be measured is reported, the study goes on
+            raise_interrupt(exc)
+            return None, one_line(exc), ""
+        value = result.get("value")
+        if value is None or not np.isfinite(float(value)):
+            return None, f"no {self.metric}: {' '.join(str(result.get('detail') or '').split())}", ""
+        return float(value), None, ""
 
 
 def raise_interrupt(exc: BaseException) -> None:
@@ -313,8 +355,8 @@ def evaluate_sample(pset: ParameterSet, factors: tuple[Factor, ...], x,
     return search.outcome(varied)
 
 
-def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, search: Search, *, workers: int = 2,
-                known: dict | None = None, on_result: Callable | None = None,
+def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, search: Search, *, workers: int | None = 2,
+                dask_local: int | None = None, scheduler: str | None = None, known: dict | None = None, on_result: Callable | None = None,
                 progress: Callable | None = None) -> tuple[np.ndarray, list[str | None], list[str]]:
     """Evaluate every row of ``X`` (:func:`evaluate_sample`) on a process pool.
 
@@ -328,8 +370,12 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
         Inputs, one row per sample [factor units].
     search : Search
         The threshold search.
-    workers : int
-        Processes (0: one row after the other in this process).
+    workers : int or None
+        Processes (0: one row after the other in this process; None: all cores).
+    dask_local : int, optional
+        Workers of a new local Dask cluster instead.
+    scheduler : str, optional
+        Address of a Dask scheduler instead (``tcp://host:port``).
     known : dict, optional
         Row index -> ``(threshold [km/h] or None, error or None, limit)`` already evaluated (a resumed run): not
         evaluated again.
@@ -375,12 +421,12 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
 
     if progress is not None:
         progress(done, n)
-    pool = ResilientPool(workers)
+    pool = ResilientPool(workers, dask_local, scheduler)
     try:
         pool.run(evaluate_sample, ((i, (pset, factors, X[i], search)) for i in range(n) if i not in (known or {})),
                  lambda i, value: record(i, *value),
                  lambda i: record(i, None, "a worker process died on this sample (twice)"))
-    except WorkersKeptDying as exc:
+    except ExecutorLost as exc:  # workers that kept dying, a lost scheduler
         kept = "; the samples done are logged: run again with --resume" if on_result is not None else ""
         raise SimulationError(f"{exc}; {done} of {n} samples done{kept}") from None
     finally:
@@ -389,7 +435,8 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
 
 
 def run_logged_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, search: Search, *,
-                       workers: int = 2, log: SampleLog | None = None, resume: bool = False,
+                       workers: int | None = 2, dask_local: int | None = None, scheduler: str | None = None,
+                       log: SampleLog | None = None, resume: bool = False,
                        progress: Callable | None = None) -> tuple[np.ndarray, list[str | None], list[str]]:
     """:func:`run_samples` with each finished sample appended to ``log``; with ``resume`` the samples logged
     already (:meth:`SampleLog.read`, which checks they are this run's) are not evaluated again.
@@ -404,8 +451,12 @@ def run_logged_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndar
         Inputs, one row per sample [factor units].
     search : Search
         The threshold search.
-    workers : int
-        Processes.
+    workers : int or None
+        Processes (0: one row after the other in this process; None: all cores).
+    dask_local : int, optional
+        Workers of a new local Dask cluster instead.
+    scheduler : str, optional
+        Address of a Dask scheduler instead (``tcp://host:port``).
     log : SampleLog, optional
         Where each sample is appended.
     resume : bool
@@ -423,11 +474,13 @@ def run_logged_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndar
         What limits each.
     """
     if log is None:
-        return run_samples(pset, factors, X, search, workers=workers, progress=progress)
+        return run_samples(pset, factors, X, search, workers=workers, dask_local=dask_local, scheduler=scheduler,
+                           progress=progress)
     known = log.read(X) if resume else {}
     log.open(fresh=not resume)
     try:
-        return run_samples(pset, factors, X, search, workers=workers, known=known,
+        return run_samples(pset, factors, X, search, workers=workers, dask_local=dask_local, scheduler=scheduler,
+                           known=known,
                            on_result=lambda i, y, err, limit: log.append(i, X[i], y, err, limit),
                            progress=progress)
     finally:

@@ -19,7 +19,7 @@ velocity on a manoeuvre depends on:
 3. :func:`evaluate_sample` applies one row (:func:`~trikedyn.params.ops.override`) and searches the threshold
    velocity (:func:`~trikedyn.analysis.threshold.threshold_velocity`); a row that gives an invalid vehicle or
    no threshold is a failed sample, not an error of the run. :func:`run_samples` evaluates the rows on a
-   process pool (:mod:`trikedyn.study.executors`), reporting each as it finishes.
+   process pool (:mod:`trikedyn.study.engine.executors`), reporting each as it finishes.
 4. :func:`analyse` computes the indices with SALib. A failed sample removes its Morris trajectory (or its
    Sobol block of ``k + 2`` rows) from the analysis; the number left out is reported.
 
@@ -345,6 +345,7 @@ class SensitivityResult:
             "resolution_kmh": self.search.resolution_kmh, "high_kmh": self.search.high_kmh,
             "criterion": self.search.criterion, "speed_control": self.search.speed_control,
             "reference_threshold_speed_kmh": self.reference_threshold_speed_kmh,
+            "metric": self.search.metric, "unit": self.search.unit, "metric_options": dict(self.search.metric_options),
             "n_runs": self.n_runs, "failed": self.failed, "at_search_limit": self.at_search_limit,
             "groups_used": self.used, "groups_dropped": self.dropped, "limits": limit_counts(self.limits),
             "indices": self.indices,
@@ -376,26 +377,29 @@ class SensitivityResult:
         names = [r["parameter"] for r in rows]
         y = np.arange(len(rows))
         fig = Figure(figsize=(8.0, 1.6 + 0.28 * max(len(rows), 1)))
+        what = "threshold" if self.search.metric == "threshold" else self.search.metric.replace("_", " ")
+        unit = self.search.unit
+        shown = ".1f" if self.search.metric == "threshold" else ".4g"
         ax = fig.subplots()
         if self.method == "morris":
             ax.barh(y, [r["mu_star"] for r in rows], xerr=[r["mu_star_conf"] for r in rows], height=0.6,
                     color="tab:blue", ecolor="0.3", capsize=2, label="mu* (95 % interval)")
             ax.plot([r["sigma"] for r in rows], y, "kd", ms=4, label="sigma")
-            ax.set_xlabel("Morris mu* and sigma: change of the threshold over the range [km/h]")
+            ax.set_xlabel(f"Morris mu* and sigma: change of the {what} over the range [{unit}]")
         else:
             h = 0.38
             ax.barh(y + h / 2, [r["ST"] for r in rows], xerr=[r["ST_conf"] for r in rows], height=h,
                     color="tab:blue", ecolor="0.3", capsize=2, label="ST (total)")
             ax.barh(y - h / 2, [r["S1"] for r in rows], xerr=[r["S1_conf"] for r in rows], height=h,
                     color="tab:orange", ecolor="0.3", capsize=2, label="S1 (first order)")
-            ax.set_xlabel("Sobol index of the threshold velocity [-]")
+            ax.set_xlabel(f"Sobol index of the {what} [-]")
         ax.set_yticks(y, names, fontsize=8)
         ax.axvline(0.0, color="k", lw=0.8)
         ref = self.reference_threshold_speed_kmh
         count = regimes(self.limits)
         regime = ("\nlimits: " + ", ".join(f"{n} {name}" for name, n in count.items())
                   + ": regimes mixed in the indices") if count else ""
-        ax.set_title(f"{self.vehicle}, {self.manoeuvre}: threshold {'-' if ref is None else f'{ref:.1f}'} km/h; "
+        ax.set_title(f"{self.vehicle}, {self.manoeuvre}: {what} {'-' if ref is None else format(ref, shown)} {unit}; "
                      f"factors +/-{self.fraction:.0%} ({self.method}, {self.n_runs} runs){regime}", fontsize=9)
         ax.legend(loc="lower right", fontsize=8)
         ax.grid(axis="x", alpha=0.3)
@@ -405,7 +409,8 @@ class SensitivityResult:
 
 def run_sensitivity(pset: ParameterSet, search: Search, factors: list[Factor], *, method: str = "morris",
                     samples: int | None = None, seed: int = 1, fraction: float = DEFAULT_FRACTION,
-                    excluded: dict | None = None, workers: int = 2, log: SampleLog | None = None,
+                    excluded: dict | None = None, workers: int | None = 2, dask_local: int | None = None,
+                    scheduler: str | None = None, log: SampleLog | None = None,
                     resume: bool = False, progress: Callable | None = None) -> SensitivityResult:
     """Sample, evaluate (in parallel) and analyse: the sensitivity of the threshold velocity to ``factors``.
 
@@ -426,8 +431,12 @@ def run_sensitivity(pset: ParameterSet, search: Search, factors: list[Factor], *
         The fraction the factors were made with (reported).
     excluded : dict, optional
         Assumed values left out -> why (reported).
-    workers : int
-        Processes (0: this process).
+    workers : int or None
+        Processes (0: one row after the other in this process; None: all cores).
+    dask_local : int, optional
+        Workers of a new local Dask cluster instead.
+    scheduler : str, optional
+        Address of a Dask scheduler instead (``tcp://host:port``).
     log : SampleLog, optional
         Where each sample is appended as it finishes; with ``resume``, the samples logged already are not
         evaluated again.
@@ -448,8 +457,14 @@ def run_sensitivity(pset: ParameterSet, search: Search, factors: list[Factor], *
         raise InputError("no factor to vary", where="--parameter")
     prob = problem(factors)
     X = sample(prob, method, samples, seed)
-    reference = search.run(pset).threshold_speed_kmh  # also checks the manoeuvre before any process starts
-    Y, errors, limits = run_logged_samples(pset, factors, X, search, workers=workers, log=log, resume=resume,
+    if search.metric == "threshold":
+        reference = search.run(pset).threshold_speed_kmh  # also checks the manoeuvre before any process starts
+    else:
+        reference, why, _ = search.outcome(pset)
+        if reference is None:
+            raise InputError(f"the vehicle as given has no {search.metric} ({why})", where="--metric")
+    Y, errors, limits = run_logged_samples(pset, factors, X, search, workers=workers, dask_local=dask_local,
+                                           scheduler=scheduler, log=log, resume=resume,
                                            progress=progress)
     indices, used, dropped = analyse(prob, method, X, Y, seed)
     return SensitivityResult(pset.name, search.manoeuvre, method, float(fraction), int(samples), int(seed),

@@ -571,7 +571,8 @@ class UncertaintyResult:
 
 def run_uncertainty(pset: ParameterSet, search: Search, inputs: list[Input], *, samples: int = DEFAULT_SAMPLES,
                     seed: int = 1, fraction: float = DEFAULT_FRACTION, excluded: dict | None = None,
-                    workers: int = 2, log: SampleLog | None = None, resume: bool = False,
+                    workers: int | None = 2, dask_local: int | None = None, scheduler: str | None = None,
+                    log: SampleLog | None = None, resume: bool = False,
                     progress: Callable | None = None) -> UncertaintyResult:
     """Sample (Latin hypercube), evaluate (in parallel; logged, resumable) and summarise the threshold velocity.
 
@@ -594,8 +595,12 @@ def run_uncertainty(pset: ParameterSet, search: Search, inputs: list[Input], *, 
         Default relative range, dimensionless.
     excluded : dict, optional
         Candidates left out, recorded.
-    workers : int
-        Worker processes.
+    workers : int or None
+        Processes (0: one row after the other in this process; None: all cores).
+    dask_local : int, optional
+        Workers of a new local Dask cluster instead.
+    scheduler : str, optional
+        Address of a Dask scheduler instead (``tcp://host:port``).
     log : SampleLog, optional
         Where each sample is logged.
     resume : bool
@@ -614,7 +619,8 @@ def run_uncertainty(pset: ParameterSet, search: Search, inputs: list[Input], *, 
     X = sample(inputs, samples, seed)
     reference = search.run(pset).threshold_speed_kmh  # also checks the manoeuvre before any process starts
     Y, errors, limits = run_logged_samples(pset, [i.factor for i in inputs], X, search, workers=workers, log=log,
-                                           resume=resume, progress=progress)
+                                           dask_local=dask_local, scheduler=scheduler, resume=resume,
+                                           progress=progress)
     return UncertaintyResult(pset.name, search.manoeuvre, float(fraction), int(samples), int(seed), list(inputs),
                              dict(excluded or {}), X, Y, errors, None if reference is None else float(reference),
                              search, time.perf_counter() - start, limits=limits)

@@ -53,8 +53,17 @@ import sqlite3
 import time
 from pathlib import Path
 
-from .._files import atomic_write, ensure_folder, open_nofollow, refuse_symlink
-from ..errors import InputError
+from ..._files import atomic_write, ensure_folder, open_nofollow, refuse_symlink
+from ...errors import InputError
+from .table import (  # noqa: F401  (the columns are the store's: re-exported)
+    EXPORT_COLUMNS,
+    METRIC_COLUMNS,
+    RESULT_KEYS,
+    RUN_INFO_COLUMNS,
+    SCENARIO_COLUMNS,
+    SEARCH_COLUMNS,
+    _unit,
+)
 
 __all__ = ["DB_NAME", "EXPORT_COLUMNS", "RESULT_KEYS", "StudyStore"]
 
@@ -65,20 +74,6 @@ DB_COMPANIONS = ("-wal", "-shm", "-journal")
 EXPORT_NAMES = {"csv": "results.csv", "parquet": "results.parquet"}
 SCHEMA_VERSION = "1"
 
-SCENARIO_COLUMNS = ("scenario_id", "groups", "vehicle", "manoeuvre", "freight_kg", "stiffness_scale",
-                    "damping_scale")
-RESULT_KEYS = ("threshold_speed_kmh", "limit", "limiting_wheel", "lift_time_s", "first_failure_kmh",
-               "first_cone_strike_kmh", "n_runs", "detail", "failure_time_s", "entry_speed_kmh", "driven_min_kmh", "driven_mean_kmh",
-               "driven_max_kmh", "top_speed_kmh", "course_speed_kmh", "lift_off_speed_kmh", "lift_off_limit")
-SEARCH_COLUMNS = ("resolution_kmh", "low_kmh", "high_kmh", "step_kmh", "criterion", "speed_control",
-                  "speed_band_percent", "speed_band_kmh", "course_width_m")
-EXPORT_COLUMNS = (*SCENARIO_COLUMNS, "status", *RESULT_KEYS, *SEARCH_COLUMNS, "error")
-"""Columns of the exported table; override columns (named by their dotted parameter path) follow
-``damping_scale``."""
-RUN_INFO_COLUMNS = ("wall_time_s", "worker", "run_token", "finished_at")
-METRIC_COLUMNS = ("metric", "value", "unit")
-"""Columns of a study with metrics other than the threshold: ``metric`` after the overrides, ``value`` and
-``unit`` after ``status``."""
 _LEGACY = {"metric": "threshold", "metric_options": {}, "metric_label": "threshold"}
 """What a scenario stored before metrics existed measured."""
 
@@ -111,16 +106,6 @@ CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
 
 def _json(value) -> str:
     return json.dumps(value, sort_keys=False, separators=(",", ":"), allow_nan=True)
-
-
-def _unit(metric: str) -> str | None:
-    """A metric's unit from the registry (a failed row keeps no result, hence no unit)."""
-    from .metrics import get
-
-    try:
-        return get(metric).unit
-    except InputError:
-        return None
 
 
 class StudyStore:
@@ -266,7 +251,7 @@ class StudyStore:
             return self._insert(row)
 
     def _insert(self, row: dict) -> bool:
-        from .scenarios import SCENARIO_KEYS
+        from ..scenarios import SCENARIO_KEYS
 
         scenario = {k: row.get(k, _LEGACY.get(k)) for k in SCENARIO_KEYS}
         if row["status"] == "ok":
@@ -394,36 +379,9 @@ class StudyStore:
             the threshold: ``metric`` (its label) after the overrides, ``value`` and ``unit`` after
             ``status`` (see the module docstring).
         """
-        import pandas as pd
+        from .table import results_table
 
-        rows = {r["scenario_id"]: r for r in self.rows()}
-        ids = sorted(rows) if order is None else [i for i in order if i in rows]
-        chosen = [rows[i] for i in ids]
-        paths: list[str] = []
-        for r in chosen:
-            paths.extend(p for p in r["overrides"] if p not in paths)
-        with_metrics = any(r["metric"] != "threshold" for r in chosen)
-        columns = [*SCENARIO_COLUMNS, *paths, *(["metric"] if with_metrics else []), "status",
-                   *(["value", "unit"] if with_metrics else []), *RESULT_KEYS, *SEARCH_COLUMNS, "error"]
-        if run_info:
-            columns += list(RUN_INFO_COLUMNS)
-        records = []
-        for r in chosen:
-            rec = {c: r.get(c) for c in columns if c not in paths}
-            if with_metrics:
-                rec.update(metric=r["metric_label"], value=r.get("value"), unit=r.get("unit") or _unit(r["metric"]))
-            rec.update({p: r["overrides"].get(p) for p in paths})
-            records.append(rec)
-        frame = pd.DataFrame.from_records(records, columns=columns)
-        frame["n_runs"] = frame["n_runs"].astype("Int64")
-        for col in ("freight_kg", "stiffness_scale", "damping_scale", "threshold_speed_kmh", "lift_time_s",
-                    "first_failure_kmh", "first_cone_strike_kmh", "failure_time_s", "entry_speed_kmh", "driven_min_kmh",
-                    "driven_mean_kmh", "driven_max_kmh", "top_speed_kmh", "course_speed_kmh", "lift_off_speed_kmh",
-                    "resolution_kmh", "low_kmh", "high_kmh", "step_kmh", "speed_band_percent", "speed_band_kmh",
-                    "course_width_m",
-                    *(["value"] if with_metrics else [])):
-            frame[col] = frame[col].astype("float64")
-        return frame
+        return results_table(self.rows(), order, run_info=run_info)
 
     def export(self, order: list[str], folder: str | Path | None = None) -> dict[str, Path]:
         """Write ``results.csv`` and ``results.parquet`` (spec order, deterministic columns only), each
