@@ -11,7 +11,9 @@ shell reports a process ended by it).
 
 from __future__ import annotations
 
+import contextlib
 import json
+import os
 import signal
 import sys
 import threading
@@ -168,7 +170,72 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):  #
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point: the one error boundary of the command line.
+    """Entry point: the one error boundary of the command line (:func:`run_command`); an interrupted command
+    (exit code 130 or 143) also ends the worker processes it started, before this process exits.
+
+    A pool's worker whose start was cut short by the interrupt (the fork server was still importing, so the
+    worker is forked after this process has gone) finds the pool's semaphores gone and prints a traceback
+    (``SemLock._rebuild``: ``FileNotFoundError``) onto the terminal after the command's one line. So the fork
+    server is ended too, before it forks it.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments after the program name; ``sys.argv[1:]`` by default.
+
+    Returns
+    -------
+    int
+        The exit code (see :func:`run_command`).
+    """
+    code = run_command(argv)
+    if code in (130, 143):
+        _stop_children()
+    return code
+
+
+def _stop_children(timeout_s: float = 5.0) -> None:
+    """End the processes this process started through ``multiprocessing`` (a pool's workers), waiting at most
+    ``timeout_s`` [s] for them to go before killing the rest."""
+    mp = sys.modules.get("multiprocessing")
+    if mp is None:
+        return
+    import time
+
+    server = sys.modules.get("multiprocessing.forkserver")
+    server_pid = getattr(getattr(server, "_forkserver", None), "_forkserver_pid", None)
+    if server_pid:
+        with contextlib.suppress(OSError):
+            os.kill(server_pid, signal.SIGKILL)
+        for pid in _children_of(server_pid):  # forked, but their start was cut short: not in active_children
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
+    children = mp.active_children()
+    for child in children:
+        child.terminate()
+    deadline = time.monotonic() + timeout_s
+    for child in children:
+        child.join(max(0.0, deadline - time.monotonic()))
+        if child.is_alive():
+            child.kill()
+            child.join(1.0)
+
+
+def _children_of(pid: int) -> list[int]:
+    """The processes whose parent is ``pid``, from ``/proc`` (none where there is no ``/proc``)."""
+    found = []
+    with contextlib.suppress(OSError):
+        for entry in os.scandir("/proc"):
+            if entry.name.isdigit():
+                with contextlib.suppress(OSError, ValueError, IndexError):
+                    with open(f"/proc/{entry.name}/stat", "rb") as stat:  # "pid (name) state ppid ..."
+                        if int(stat.read(4096).rsplit(b")", 1)[1].split()[1]) == pid:
+                            found.append(int(entry.name))
+    return found
+
+
+def run_command(argv: list[str] | None = None) -> int:
+    """Run one command: the one error boundary of the command line.
 
     A user's mistake or environment (a bad file, field or value; a file that cannot be written; a
     simulation that cannot start or that fails) prints one line ``trikedyn: error: WHERE: WHAT`` on stderr
