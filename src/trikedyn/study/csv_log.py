@@ -1,6 +1,6 @@
 """A CSV log a long run appends a row to as each piece of work finishes, read back to resume after a kill.
 
-Used by the sampled studies (:class:`~trikedyn.study.sample_runs.SampleLog`) and the layout optimiser
+Used by the sampled studies (:class:`SampleLog`) and the layout optimiser
 (:class:`~trikedyn.study.optimise_log.EvaluationLog`): each row is flushed at once; a row cut short by a kill
 (the last, without its line end) is dropped on reading and stays a line of its own when appending goes on.
 Every row's third column is its status, ``ok`` or ``failed``. A log is read by the bounded reader
@@ -13,11 +13,14 @@ from __future__ import annotations
 import csv
 import io
 import os
+from collections.abc import Iterable
 from pathlib import Path
+
+import numpy as np
 
 from ..errors import InputError
 
-__all__ = ["MAX_LOG_BYTES", "AppendedCsv"]
+__all__ = ["MAX_LOG_BYTES", "AppendedCsv", "SampleLog"]
 
 MAX_LOG_BYTES = 512 << 20
 """Largest log a resumed run reads [bytes] (100,000 samples of 40 factors are about 100 MiB)."""
@@ -108,3 +111,75 @@ class AppendedCsv:
         if self._fh is not None:
             self._fh.close()
             self._fh = None
+
+
+# ------------------------------------------------------------------------------------------------
+# the log of samples (CSV, appended as rows finish) and the run
+# ------------------------------------------------------------------------------------------------
+class SampleLog(AppendedCsv):
+    """The samples of a run as a CSV file: one row per evaluated sample, appended (and flushed) as it finishes.
+
+    Columns: ``sample`` (row index), ``group`` (Morris trajectory or Sobol block), ``status`` (``ok`` or
+    ``failed``), ``threshold_speed_kmh`` [km/h], ``limit`` (what failed above the threshold, or empty:
+    :meth:`~trikedyn.study.sample_runs.Search.outcome`), ``error``, then each factor's value [its unit].
+    """
+
+    def __init__(self, path: str | os.PathLike, factors: Iterable, group: int):
+        self.names = [f.name for f in factors]
+        self.group = group
+        super().__init__(path, ["sample", "group", "status", "threshold_speed_kmh", "limit", "error", *self.names])
+
+    def read(self, X: np.ndarray) -> dict[int, tuple[float | None, str | None, str]]:
+        """The samples logged already: index -> ``(threshold or None, error or None, limit)``.
+
+        A row cut short by a kill (the last, without its line end) is skipped: evaluated again. A row whose
+        inputs are not those of ``X`` means the file belongs to another run.
+
+        Parameters
+        ----------
+        X : numpy.ndarray
+            The run's inputs, one row per sample [factor units].
+
+        Returns
+        -------
+        dict
+            Index -> ``(threshold [km/h] or None, error or None, limit)``.
+
+        Raises
+        ------
+        InputError
+            The file's columns or rows are not those of this run.
+        """
+        known = {}
+        for row in self.logged_rows("use another --out or --force (other parameters?)"):
+            try:
+                i = int(row[0])
+                inputs = np.array([float(v) for v in row[6:]])
+                y = float(row[3]) if row[2] == "ok" else None
+            except ValueError:
+                continue
+            if not (0 <= i < X.shape[0]) or not np.allclose(inputs, X[i], rtol=1e-12, atol=0.0):
+                raise InputError(f"sample {i} is not this run's (another seed, method or range?); use another --out "
+                                 "or --force", where=str(self.path))
+            known[i] = (y, row[5] or None, row[4])
+        return known
+
+    def append(self, index: int, x, threshold: float | None, error: str | None, limit: str = "") -> None:
+        """Log one finished sample (flushed at once).
+
+        Parameters
+        ----------
+        index : int
+            The sample's row.
+        x : sequence of float
+            Its inputs [factor units].
+        threshold : float or None
+            Threshold [km/h].
+        error : str or None
+            Why it has none.
+        limit : str
+            What limits it.
+        """
+        status = "ok" if threshold is not None else "failed"
+        self.write([index, index // self.group, status, "" if threshold is None else repr(float(threshold)), limit,
+                    " ".join((error or "").split()), *(repr(float(v)) for v in x)])

@@ -4,7 +4,6 @@ they finish so that an interrupted run resumes (see :mod:`trikedyn.study.sensiti
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, replace
 
@@ -13,9 +12,10 @@ import numpy as np
 from ..errors import InputError, ParameterError, SimulationError
 from ..params.io import ParameterSet
 from ..simulate import DEFAULT_DT_S
-from .csv_log import AppendedCsv
+from .csv_log import SampleLog
 from .engine.pool import MAX_RESTARTS, ExecutorLost, ResilientPool
 from .factors import Factor, apply_factors
+from .limits import LIMITS, limit_counts, limits_line, regimes  # noqa: F401  (re-exported)
 
 __all__ = ["LIMITS", "MAX_RESTARTS", "SampleLog", "Search", "evaluate_sample", "limit_counts", "limits_line",
            "raise_interrupt", "regimes", "run_logged_samples", "run_samples"]
@@ -251,75 +251,6 @@ def raise_interrupt(exc: BaseException) -> None:
         seen = seen.__cause__ or seen.__context__
 
 
-LIMITS = ("lift-off", "tracking", "cone strike", "path lost", "spin", "speed not held", "top speed")
-"""What can limit a threshold (:mod:`trikedyn.analysis.threshold`), in the order the counts are listed."""
-
-_LIMIT_WORDS = {"lift-off": "a wheel lifted first", "tracking": "the driver lost the path before a wheel lifted",
-                "cone strike": "a cone was struck first", "path lost": "the driver lost the path first",
-                "spin": "the vehicle spun first", "speed not held": "the speed could not be held",
-                "top speed": "it passed at its top speed"}
-
-
-def limit_counts(limits) -> dict[str, int]:
-    """Samples per limit, for every limit that occurs (``{"lift-off": n, "cone strike": m}``; samples without a
-    threshold or without a limit left out); ``lift-off`` and ``tracking`` always listed.
-
-    Parameters
-    ----------
-    limits : iterable of str
-        Each sample's limit (empty or None for none).
-
-    Returns
-    -------
-    dict of str to int
-        Limit -> samples.
-    """
-    found = [str(limit) for limit in limits if limit]
-    names = [*LIMITS[:2], *(n for n in LIMITS[2:] if n in found), *sorted(set(found) - set(LIMITS))]
-    return {name: found.count(name) for name in names}
-
-
-def regimes(limits) -> dict[str, int]:
-    """The limits that occur with their counts, when there are two or more (else empty).
-
-    Parameters
-    ----------
-    limits : iterable of str
-        Each sample's limit (empty or None for none).
-
-    Returns
-    -------
-    dict of str to int
-        Limit -> samples, empty for fewer than two limits.
-    """
-    count = {k: v for k, v in limit_counts(limits).items() if v}
-    return count if len(count) > 1 else {}
-
-
-def limits_line(limits, consequence: str = "") -> str | None:
-    """The samples' limits in words for a text summary (``consequence`` appended), or None when every sample with
-    a threshold had the same one (nothing to say).
-
-    Parameters
-    ----------
-    limits : iterable of str
-        Each sample's limit (empty or None for none).
-    consequence : str
-        Appended to the line.
-
-    Returns
-    -------
-    str or None
-        The line.
-    """
-    count = regimes(limits)
-    if not count:
-        return None
-    parts = ", ".join(f"{n} {name} ({_LIMIT_WORDS.get(name, name)})" for name, n in count.items())
-    word = "two" if len(count) == 2 else str(len(count))
-    return f"limits: {parts}: {word} regimes{consequence}"
-
-
 def evaluate_sample(pset: ParameterSet, factors: tuple[Factor, ...], x,
                     search: Search) -> tuple[float | None, str | None, str]:
     """The threshold velocity [km/h] of the vehicle with the factors at ``x`` or None, why it failed, and its
@@ -485,75 +416,3 @@ def run_logged_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndar
                            progress=progress)
     finally:
         log.close()
-
-
-# ------------------------------------------------------------------------------------------------
-# the log of samples (CSV, appended as rows finish) and the run
-# ------------------------------------------------------------------------------------------------
-class SampleLog(AppendedCsv):
-    """The samples of a run as a CSV file: one row per evaluated sample, appended (and flushed) as it finishes.
-
-    Columns: ``sample`` (row index), ``group`` (Morris trajectory or Sobol block), ``status`` (``ok`` or
-    ``failed``), ``threshold_speed_kmh`` [km/h], ``limit`` (what failed above the threshold, or empty:
-    :meth:`Search.outcome`), ``error``, then each factor's value [its unit].
-    """
-
-    def __init__(self, path: str | os.PathLike, factors: Iterable[Factor], group: int):
-        self.names = [f.name for f in factors]
-        self.group = group
-        super().__init__(path, ["sample", "group", "status", "threshold_speed_kmh", "limit", "error", *self.names])
-
-    def read(self, X: np.ndarray) -> dict[int, tuple[float | None, str | None, str]]:
-        """The samples logged already: index -> ``(threshold or None, error or None, limit)``.
-
-        A row cut short by a kill (the last, without its line end) is skipped: evaluated again. A row whose
-        inputs are not those of ``X`` means the file belongs to another run.
-
-        Parameters
-        ----------
-        X : numpy.ndarray
-            The run's inputs, one row per sample [factor units].
-
-        Returns
-        -------
-        dict
-            Index -> ``(threshold [km/h] or None, error or None, limit)``.
-
-        Raises
-        ------
-        InputError
-            The file's columns or rows are not those of this run.
-        """
-        known = {}
-        for row in self.logged_rows("use another --out or --force (other parameters?)"):
-            try:
-                i = int(row[0])
-                inputs = np.array([float(v) for v in row[6:]])
-                y = float(row[3]) if row[2] == "ok" else None
-            except ValueError:
-                continue
-            if not (0 <= i < X.shape[0]) or not np.allclose(inputs, X[i], rtol=1e-12, atol=0.0):
-                raise InputError(f"sample {i} is not this run's (another seed, method or range?); use another --out "
-                                 "or --force", where=str(self.path))
-            known[i] = (y, row[5] or None, row[4])
-        return known
-
-    def append(self, index: int, x, threshold: float | None, error: str | None, limit: str = "") -> None:
-        """Log one finished sample (flushed at once).
-
-        Parameters
-        ----------
-        index : int
-            The sample's row.
-        x : sequence of float
-            Its inputs [factor units].
-        threshold : float or None
-            Threshold [km/h].
-        error : str or None
-            Why it has none.
-        limit : str
-            What limits it.
-        """
-        status = "ok" if threshold is not None else "failed"
-        self.write([index, index // self.group, status, "" if threshold is None else repr(float(threshold)), limit,
-                    " ".join((error or "").split()), *(repr(float(v)) for v in x)])
