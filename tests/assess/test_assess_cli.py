@@ -7,9 +7,11 @@ from __future__ import annotations
 import contextlib
 import io
 import json
+import math
 
 import pytest
 
+from trikedyn.assess.transient import sweep_summary
 from trikedyn.cli import main
 from trikedyn.paper.cells import format_value
 
@@ -99,6 +101,39 @@ def test_numbers_are_the_commands_numbers(etrike):
         assert f">{format_value(value)}<" in report, f"{name} = {format_value(value)} not in the report"
 
 
+@pytest.mark.parametrize("manoeuvre", ["step", "sweep"])
+def test_transient_figures_are_simulates_figures(etrike, manoeuvre):
+    data = json.loads((etrike["out"] / "assess.json").read_text())
+    state = data["states"]["as_given"]
+    piece = state[manoeuvre]
+    # 30 km/h unless 80 % of the DLC course threshold is lower
+    assert piece["speed_kmh"] == min(30.0, math.floor(0.8 * state["metrics"]["dlc_threshold_kmh"]))
+    shown = _command("simulate", "reference-etrike", "--manoeuvre", manoeuvre, "--speed", f"{piece['speed_kmh']:g}")
+    assert piece["failure"] is None
+    assert piece["figures"] == shown["figures"]
+    assert (etrike["out"] / f"assess-parts/{manoeuvre}-{piece['speed_kmh']:g}.json").is_file()
+    report = (etrike["out"] / "report.html").read_text()
+    assert f'src="{manoeuvre}.png"' in report
+    if manoeuvre == "step":
+        yaw = shown["figures"]["yaw_rate"]
+        for value in (yaw["response_time_s"], yaw["peak_response_time_s"], 100 * yaw["overshoot"]):
+            assert f">{format_value(value)}<" in report
+    else:
+        summary = piece["summary"]["yaw_rate"]
+        assert summary["low_frequency_gain"] == shown["figures"]["yaw_rate"]["gain"][0]
+        assert f">{format_value(summary['phase_1hz_deg'])}<" in report
+
+
+def test_sweep_summary_interpolates_the_3db_frequency_and_1hz():
+    response = {"frequency_hz": [0.5, 1.0, 2.0], "gain": [2.0, 2.0, 1.0], "phase_deg": [-10.0, -20.0, -60.0]}
+    s = sweep_summary(response)
+    level = 2.0 / math.sqrt(2.0)
+    assert s["minus_3db_hz"] == pytest.approx(1.0 + (2.0 - level) / 1.0 * 1.0)
+    assert s["gain_1hz"] == 2.0 and s["phase_1hz_deg"] == -20.0 and s["low_frequency_gain"] == 2.0
+    assert sweep_summary({**response, "gain": [2.0, 2.5, 2.0]})["minus_3db_hz"] is None
+    assert sweep_summary({**response, "frequency_hz": [1.5, 2.0, 3.0]})["phase_1hz_deg"] is None
+
+
 def test_tadpole_dossier(tadpole):
     assert tadpole["code"] == 0, tadpole["stderr"]
     data = json.loads((tadpole["out"] / "assess.json").read_text())
@@ -114,7 +149,8 @@ def test_report_fits_and_its_images_load_in_chromium(request, which, width, tmp_
     result, _, console = probe(dossier["out"] / "report.html", tmp_path, width)
     assert console == ""
     assert_fits_and_loads(result, width)
-    assert len(result["images"]) >= 2  # the tilt table and the handling diagram
+    loaded = {image["src"] for image in result["images"]}
+    assert {"tilt.png", "handling.png", "step.png", "sweep.png"} <= loaded, loaded
 
 
 @pytest.mark.parametrize(("text", "needle"), [

@@ -1,7 +1,7 @@
 """The stability dossier of one trike, computed piece by piece into a folder that keeps each piece as it is done.
 
-:func:`assess` runs the pieces of :mod:`trikedyn.assess.runs` and :mod:`trikedyn.assess.studies` for the vehicle
-as given and with its payload, derives the guidelines (:mod:`trikedyn.assess.guidelines`) and judges the
+:func:`assess` runs the pieces of :mod:`trikedyn.assess.runs`, :mod:`trikedyn.assess.transient` (step steer and
+frequency response) and :mod:`trikedyn.assess.studies` for the vehicle as given and with its payload, derives the guidelines (:mod:`trikedyn.assess.guidelines`) and judges the
 requirements (:mod:`trikedyn.assess.requirements`). Each piece is written to ``OUT/assess-parts/NAME.json``
 (its figure beside the report) as soon as it is done; with ``resume`` a piece already there is read, not
 computed again, so an interrupted dossier goes on where it stopped.
@@ -58,7 +58,7 @@ class _Parts:
 
 
 def _state(parts: _Parts, pset, tag: str, payload_kg: float, sheet: dict) -> dict:
-    from . import runs
+    from . import runs, transient
 
     suffix = "" if tag == "as_given" else "-laden"
     state = {
@@ -68,8 +68,14 @@ def _state(parts: _Parts, pset, tag: str, payload_kg: float, sheet: dict) -> dic
         "handling": parts.get(f"handling{suffix}", lambda: runs.handling(pset), f"handling{suffix}.png"),
         "performance": parts.get(f"performance{suffix}", lambda: runs.top_speed(pset)),
         "thresholds": parts.get(f"thresholds{suffix}", lambda: runs.thresholds(pset, say=parts.say)),
-        "figures": {"tilt": f"tilt{suffix}.png", "handling": f"handling{suffix}.png"},
+        "figures": {"tilt": f"tilt{suffix}.png", "handling": f"handling{suffix}.png", "step": f"step{suffix}.png",
+                    "sweep": f"sweep{suffix}.png"},
     }
+    speed = transient.transient_speed(state["thresholds"])
+    state["step"] = parts.get(f"step-{speed:g}{suffix}", lambda: transient.step_response(pset, speed),
+                              f"step{suffix}.png")
+    state["sweep"] = parts.get(f"sweep-{speed:g}{suffix}", lambda: transient.frequency_response(pset, speed),
+                               f"sweep{suffix}.png")
     state["metrics"] = runs.state_metrics(state)
     return state
 
@@ -101,7 +107,8 @@ def assess(pset, *, payload_kg: float = 0.0, out: str | Path, quick: bool = Fals
     -------
     dict
         ``vehicle`` (the sheet), ``states`` (``as_given``, ``laden``: mass, static, handling, performance,
-        thresholds, metrics), ``freight_positions``, ``design_changes``, ``speed_limits``, ``loading_chart``,
+        thresholds, step, sweep, metrics),
+        ``freight_positions``, ``design_changes``, ``speed_limits``, ``loading_chart``,
         ``sensitivity``, ``animation`` (None with ``quick``), ``guidelines``, ``requirements`` and ``figures``.
     """
     from ..params import with_freight

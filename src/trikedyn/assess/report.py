@@ -78,10 +78,44 @@ def _handling(data: dict, out: Path) -> dict:
                      "max_lateral_acceleration_mps2": h["max_lateral_acceleration_mps2"],
                      "roll_gradient_deg_per_g": h["roll_gradient_deg_per_g"], "limit": h["limit"]})
         figures.append((out / s["figures"]["handling"], f"Handling diagram, {label} (trikedyn handling --plot)"))
+    steps, sweeps, speeds = [], [], set()
+    for _, label, s in _states(data):
+        step, sweep = s["step"], s["sweep"]
+        speeds.add(step["speed_kmh"])
+        for key, words in (("yaw_rate", "yaw rate"), ("lateral_acceleration", "lateral acceleration")):
+            f = (step["figures"] or {}).get(key) or {}
+            steps.append({"state": label, "speed_kmh": step["speed_kmh"], "response": words,
+                          "steady_state_gain_per_rad": f.get("steady_state_gain"),
+                          "response_time_s": f.get("response_time_s"), "rise_time_s": f.get("rise_time_s"),
+                          "peak_response_time_s": f.get("peak_response_time_s"),
+                          "overshoot_percent": None if f.get("overshoot") is None else 100 * f["overshoot"],
+                          "failure": step["failure"]})
+            g = (sweep["summary"] or {}).get(key) or {}
+            sweeps.append({"state": label, "speed_kmh": sweep["speed_kmh"], "response": words,
+                           "low_frequency_hz": g.get("low_frequency_hz"), "gain_per_rad": g.get("low_frequency_gain"),
+                           "peak_gain_ratio": g.get("peak_gain_ratio"), "minus_3db_hz": g.get("minus_3db_hz"),
+                           "gain_1hz_per_rad": g.get("gain_1hz"), "phase_1hz_deg": g.get("phase_1hz_deg"),
+                           "failure": sweep["failure"]})
+        figures.append((out / s["figures"]["step"], f"Step steer, {label}: yaw rate and lateral acceleration "
+                        f"against time at {step['speed_kmh']:g} km/h (trikedyn simulate --manoeuvre step)"))
+        figures.append((out / s["figures"]["sweep"], f"Frequency response, {label}: gain and phase against "
+                        f"frequency at {sweep['speed_kmh']:g} km/h (trikedyn simulate --manoeuvre sweep)"))
+    at = " and ".join(f"{v:g}" for v in sorted(speeds))
+    first = _states(data)[0][2]
+    step_o, sweep_o = first["step"]["options"], first["sweep"]["options"]
     return {"title": "Handling", "paragraphs": [
         "ISO 4138 steady-state circular driving on a 20 m circle, the speed raised from 15 km/h: the understeer "
-        "gradient of the linear range and the behaviour at the limit."],
-        "tables": [(_frame(rows), "Handling (trikedyn handling)")], "figures": figures}
+        "gradient of the linear range and the behaviour at the limit.",
+        f"ISO 7401 transient response at {at} km/h (30 km/h, or 80 % of the DLC course threshold when that is "
+        f"lower), the driver holding the speed: a {step_o['steer_deg']:g} deg step of the steering (times from "
+        "50 % steer to 90 % of the steady response and to the peak, overshoot, steady gain per rad of road-wheel "
+        f"steer) and a {sweep_o['amplitude_deg']:g} deg sine sweep from {sweep_o['f_start_hz']:g} to "
+        f"{sweep_o['f_end_hz']:g} Hz (gain at the lowest frequency, the frequency where it has fallen by 3 dB, "
+        "gain and phase at 1 Hz; empty where the band does not reach them)."],
+        "tables": [(_frame(rows), "Handling (trikedyn handling)"),
+                   (_frame(steps), "Step steer response (trikedyn simulate --manoeuvre step --json, figures)"),
+                   (_frame(sweeps), "Frequency response (trikedyn simulate --manoeuvre sweep --json, figures)")],
+        "figures": figures}
 
 
 def _dynamic(data: dict, out: Path) -> dict:
