@@ -261,7 +261,7 @@ def run_command(argv: list[str] | None = None) -> int:
     as_json = "--json" in args
     WARNINGS.clear()
     INTERRUPT_NOTES.clear()
-    from .errors import SimulationError
+    from .errors import RunIncomplete, SimulationError
 
     with warnings.catch_warnings(), _SigintSeen() as sigint:
         warnings.simplefilter("default")
@@ -278,6 +278,11 @@ def run_command(argv: list[str] | None = None) -> int:
                 return _interrupted(as_json, sigint.seen)
         except InputError as exc:
             return _fail(str(exc), as_json, exc.where)
+        except RunIncomplete as exc:  # the workers were lost; what finished is kept: exit 1, as the study's
+            typer.echo(f"trikedyn: {exc}", err=True)
+            if as_json:
+                typer.echo(json.dumps({"error": str(exc), "where": "executor", "incomplete": True}, allow_nan=False))
+            return 1
         except SimulationError as exc:
             return _fail(f"simulation: {exc}", as_json, "simulation")
         except OSError as exc:

@@ -13,6 +13,7 @@ __all__ = [
     "did_you_mean",
     "LogFormatError",
     "ParameterError",
+    "RunIncomplete",
     "SimulationError",
     "TrikedynError",
 ]
@@ -64,6 +65,13 @@ class SimulationError(TrikedynError):
         self.reason = message
         text = f"at t = {time_s:.4f} s: {message}" if time_s is not None else message
         super().__init__(text)
+
+
+class RunIncomplete(TrikedynError):
+    """A design's run lost its workers for good (they kept dying, or the Dask scheduler is gone): what
+    finished is kept (logged) and the same command with ``--resume`` goes on. The CLI prints the message in
+    one line and exits with code 1, as the study does when it loses its scheduler (not 2: the input was fine).
+    """
 
 
 def did_you_mean(name: str, choices, cutoff: float = 0.6) -> str:

@@ -25,7 +25,7 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
-from ..errors import InputError, ParameterError, SimulationError
+from ..errors import InputError, ParameterError, RunIncomplete
 from ..params.io import ParameterSet
 from .csv_log import AppendedCsv
 from .engine.executors import worker_count
@@ -507,7 +507,7 @@ def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[fl
             threshold[key], errors[key] = None, "worker processes kept dying; cell not run"
     except SchedulerGone as exc:  # what finished is logged: a resumed run goes on
         kept = "; the cells done are logged: run again with --resume" if log is not None else ""
-        raise SimulationError(f"{exc}; {len(threshold)} of {len(keys)} cells done{kept}") from None
+        raise RunIncomplete(f"{exc}; {len(threshold)} of {len(keys)} cells done{kept}") from None
     finally:
         pool.close()
         if log is not None:

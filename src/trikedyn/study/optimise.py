@@ -37,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, ParameterError, SimulationError
+from ..errors import InputError, ParameterError, RunIncomplete, SimulationError
 from ..params.io import ParameterSet
 from .engine.executors import worker_count
 from .engine.pool import ExecutorLost, ResilientPool
@@ -203,7 +203,7 @@ class _Evaluator:
         try:
             self.pool.run(evaluate_layout, tasks, finished, died)
         except ExecutorLost as exc:  # workers that kept dying, a lost scheduler
-            raise SimulationError(f"{exc}; the evaluations done are logged: run again with --resume") from None
+            raise RunIncomplete(f"{exc}; the evaluations done are logged: run again with --resume") from None
 
     def __call__(self, func: Callable, population) -> list[float]:
         xs = list(population)
@@ -277,7 +277,9 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
         A knob the vehicle does not have, bounds outside a knob's own, too many evaluations, a bad manoeuvre.
     SimulationError
         No layout could be searched on every manoeuvre (every evaluation failed: there is no optimised
-        vehicle; ``log`` keeps them), or worker processes kept dying (``log`` keeps what finished).
+        vehicle; ``log`` keeps them).
+    RunIncomplete
+        Worker processes kept dying, or the Dask scheduler is gone (``log`` keeps what finished).
 
     Notes
     -----

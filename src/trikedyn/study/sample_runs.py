@@ -9,7 +9,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..errors import InputError, ParameterError, SimulationError
+from ..errors import InputError, ParameterError, RunIncomplete, SimulationError
 from ..params.io import ParameterSet
 from ..simulate import DEFAULT_DT_S
 from .csv_log import SampleLog
@@ -326,9 +326,10 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
 
     Raises
     ------
-    SimulationError
+    RunIncomplete
         Worker processes died more than :data:`MAX_RESTARTS` times (after each death the rows in flight go to a
-        new pool; a row on which a worker dies twice fails); the rows reported are kept.
+        new pool; a row on which a worker dies twice fails), or the Dask scheduler is gone; the rows reported
+        are kept.
     """
     factors = tuple(factors)
     n = X.shape[0]
@@ -359,7 +360,7 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
                  lambda i: record(i, None, "a worker process died on this sample (twice)"))
     except ExecutorLost as exc:  # workers that kept dying, a lost scheduler
         kept = "; the samples done are logged: run again with --resume" if on_result is not None else ""
-        raise SimulationError(f"{exc}; {done} of {n} samples done{kept}") from None
+        raise RunIncomplete(f"{exc}; {done} of {n} samples done{kept}") from None
     finally:
         pool.close()
     return Y, errors, limits
