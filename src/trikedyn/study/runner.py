@@ -58,7 +58,7 @@ from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError, TrikedynError
+from ..errors import InputError, RunIncomplete
 from .engine.executors import InlineExecutor, check_executor, make_executor, start_pool_server
 from .engine.executors import one_line as _one_line
 from .engine.loop import StopSignal, drive
@@ -90,8 +90,9 @@ class StudyInterrupted(KeyboardInterrupt):
         self.signal = signal
 
 
-class StudyIncomplete(TrikedynError):
-    """Some scenarios were lost to dead workers (not to their own errors); a re-run retries them."""
+class StudyIncomplete(RunIncomplete):
+    """Some scenarios were lost to dead workers or a lost scheduler (not to their own errors); a re-run retries
+    them (the study's :class:`~trikedyn.errors.RunIncomplete`, with its summary)."""
 
     def __init__(self, message: str, summary: dict):
         super().__init__(message)
