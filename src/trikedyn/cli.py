@@ -12,6 +12,7 @@ shell reports a process ended by it).
 from __future__ import annotations
 
 import contextlib
+import functools
 import json
 import os
 import signal
@@ -234,6 +235,13 @@ def _children_of(pid: int) -> list[int]:
     return found
 
 
+@functools.cache
+def _click_command():
+    """The command tree, built from ``app`` once per process (Typer rebuilds it on every call: ~0.1 s, most of
+    a quick command's time when commands run in one process, as the tests and the fuzz campaign do)."""
+    return typer.main.get_command(app)
+
+
 def run_command(argv: list[str] | None = None) -> int:
     """Run one command: the one error boundary of the command line.
 
@@ -268,7 +276,7 @@ def run_command(argv: list[str] | None = None) -> int:
         warnings.showwarning = _show_warning
         try:
             try:
-                result = app(args=args, prog_name="trikedyn", standalone_mode=False)
+                result = _click_command().main(args=args, prog_name="trikedyn", standalone_mode=False)
             except Exception as exc:  # a Ctrl-C in compiled code comes back as an error caused by it
                 from .study.sample_runs import raise_interrupt
 
