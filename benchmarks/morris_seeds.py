@@ -21,7 +21,7 @@ TRAJECTORIES = 10
 def ranking(seed: int, criterion: str = "course", workers: int = 2) -> dict:
     """One Morris run on the reference trike's double lane change: the indices, limits and wall time."""
     from trikedyn.params import load_vehicle
-    from trikedyn.study import sensitivity as sa
+    from trikedyn.study.designs import sensitivity as sa
 
     pset = load_vehicle("reference-etrike")
     factors, excluded = sa.candidate_factors(pset, sa.DEFAULT_FRACTION)

@@ -45,7 +45,7 @@ def test_the_flat_api_offers_what_the_readme_uses():
     from trikedyn.manoeuvres.registry import build
     from trikedyn.params import override
     from trikedyn.simulate.closed_loop import drive
-    from trikedyn.study.runner import run_study
+    from trikedyn.study.designs.runner import run_study
 
     expected = {"drive": drive, "compare": compare, "run_study": run_study, "override": override,
                 "build_manoeuvre": build, "threshold_velocity": td.threshold_velocity, "run": td.run}

@@ -167,10 +167,10 @@ def test_design_outputs_page_names_every_column_and_key():
     them (a column or key added without the page fails here)."""
     import numpy as np
 
-    from trikedyn.study.optimise_log import EvaluationLog
-    from trikedyn.study.sample_runs import SampleLog
-    from trikedyn.study.sensitivity import SensitivityResult
-    from trikedyn.study.uncertainty import UncertaintyResult
+    from trikedyn.study.designs.optimise_log import EvaluationLog
+    from trikedyn.study.designs.sample_runs import SampleLog
+    from trikedyn.study.designs.sensitivity import SensitivityResult
+    from trikedyn.study.designs.uncertainty import UncertaintyResult
 
     text = (DOCS / "reference" / "design-outputs.md").read_text(encoding="utf-8")
     named = set(re.findall(r"`([\w+.-]+)`", text))

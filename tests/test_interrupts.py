@@ -169,7 +169,7 @@ def test_a_study_stopped_by_sigterm_inside_reproduce_exits_143(monkeypatch, caps
     130)."""
     from trikedyn.cli import main
     from trikedyn.paper import reproduce
-    from trikedyn.study.runner import StudyInterrupted
+    from trikedyn.study.designs.runner import StudyInterrupted
 
     def stopped(*args, **kwargs):
         raise StudyInterrupted("interrupted: 3 of 50 scenarios stored in study.sqlite", {}, "SIGTERM")

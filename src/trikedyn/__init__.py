@@ -100,7 +100,7 @@ _LAZY = {
     "drive": ("simulate.closed_loop", "drive"),
     "compare": ("analysis.compare", "compare"),
     "override": ("params", "override"),
-    "run_study": ("study.runner", "run_study"),
+    "run_study": ("study.designs.runner", "run_study"),
 }
 
 

@@ -278,7 +278,7 @@ def run_command(argv: list[str] | None = None) -> int:
             try:
                 result = _click_command().main(args=args, prog_name="trikedyn", standalone_mode=False)
             except Exception as exc:  # a Ctrl-C in compiled code comes back as an error caused by it
-                from .study.sample_runs import raise_interrupt
+                from .study.designs.sample_runs import raise_interrupt
 
                 raise_interrupt(exc)
                 raise

@@ -14,7 +14,7 @@ from trikedyn.errors import InputError
 from trikedyn.params import load_vehicle, override, with_freight
 from trikedyn.params.layouts import DEFAULT_KEEP, WHEEL_NAMES, mirror_layout
 from trikedyn.params.ops import mass_properties, static_wheel_loads, unsprung_mass
-from trikedyn.study.factors import declared_ranges
+from trikedyn.study.designs.factors import declared_ranges
 from trikedyn.units import STANDARD_GRAVITY
 
 

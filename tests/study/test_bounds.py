@@ -60,7 +60,7 @@ def _fake_scenario(scenario, vehicle=None, run_token=None):
 @pytest.fixture
 def fake(monkeypatch):
     """Run studies with the stand-in threshold search (in this process: workers=0)."""
-    import trikedyn.study.runner as runner
+    import trikedyn.study.designs.runner as runner
 
     monkeypatch.setattr(runner, "run_scenario", _fake_scenario)
 

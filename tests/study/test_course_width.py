@@ -6,7 +6,7 @@ import pytest
 
 from trikedyn.manoeuvres.registry import build
 from trikedyn.params.knobs import apply_knobs
-from trikedyn.study.sample_runs import Search
+from trikedyn.study.designs.sample_runs import Search
 from trikedyn.study.scenarios import expand
 from trikedyn.study.spec import parse_spec
 

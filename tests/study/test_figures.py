@@ -1,5 +1,5 @@
 """Study figures that cannot mislead: main effects only where the design is balanced for the factor, else the
-means over the balanced part (said in the title), else one line per setting (trikedyn.study.figures)."""
+means over the balanced part (said in the title), else one line per setting (trikedyn.study.designs.figures)."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from trikedyn.study.figures import AS_GIVEN, factors, main_effects, plan, study_figures
+from trikedyn.study.designs.figures import AS_GIVEN, factors, main_effects, plan, study_figures
 
 TUTORIAL = Path(__file__).resolve().parents[2] / "docs" / "tutorials" / "design-study.md"
 Y_LEFT, Y_RIGHT = "wheels.rear_left.y_m", "wheels.rear_right.y_m"

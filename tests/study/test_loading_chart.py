@@ -7,8 +7,8 @@ import pytest
 
 from trikedyn.cli import main
 from trikedyn.params import load_vehicle
-from trikedyn.study.loading import run_loading_chart, safe_speed
-from trikedyn.study.sample_runs import Search
+from trikedyn.study.designs.loading import run_loading_chart, safe_speed
+from trikedyn.study.designs.sample_runs import Search
 
 COARSE = ("--resolution", "1", "--high", "120")
 

@@ -156,7 +156,7 @@ def test_every_executor_is_a_concurrent_futures_executor():
 
 
 def test_the_runner_has_no_command_line_of_its_own():
-    import trikedyn.study.runner as runner
+    import trikedyn.study.designs.runner as runner
 
     assert not hasattr(runner, "main") and not hasattr(runner, "study_command")
     import trikedyn as td
@@ -194,7 +194,7 @@ def _frame(**axes):
     ({"freight_kg": [0.0, 100.0], "stiffness_scale": [0.8, 1.2], "damping_scale": [0.8, 1.2]}, "main effects"),
 ])
 def test_figures_follow_the_study_shape(tmp_path, axes, kind):
-    from trikedyn.study.figures import plan, study_figures
+    from trikedyn.study.designs.figures import plan, study_figures
 
     frame = _frame(**axes)
     assert plan(frame) == [("threshold", kind, list(axes))] or kind in ("two factors", "heat map")
@@ -204,7 +204,7 @@ def test_figures_follow_the_study_shape(tmp_path, axes, kind):
 
 
 def test_the_paper_table_gives_main_effects():
-    from trikedyn.study.figures import plan
+    from trikedyn.study.designs.figures import plan
 
     frame = _frame(freight_kg=[0.0, 50.0], stiffness_scale=[0.8, 1.0], damping_scale=[1.0, 1.2])
     assert plan(frame)[0][1] == "main effects"
@@ -214,7 +214,7 @@ def test_the_paper_table_gives_main_effects():
 # progress without a terminal
 # ------------------------------------------------------------------------------------------------
 def test_progress_without_a_terminal_is_a_plain_line(tmp_path, monkeypatch, capsys):
-    import trikedyn.study.runner as runner
+    import trikedyn.study.designs.runner as runner
 
     from .test_bounds import _fake_scenario
 

@@ -17,7 +17,7 @@ import pytest
 from tests.conftest import strict_json
 from trikedyn.cli import main
 from trikedyn.errors import InputError
-from trikedyn.study import optimise as opt
+from trikedyn.study.designs import optimise as opt
 
 # the battery moved rearwards and lower than the reference (x 0.70 m, z 0.32 m): a box where most layouts beat it
 SMALL = """[optimise]

@@ -7,7 +7,7 @@ changes) and checks the paper's qualitative findings against it.
 import pytest
 
 from trikedyn.paper.model_side import study_findings
-from trikedyn.study.runner import run_study
+from trikedyn.study.designs.runner import run_study
 
 
 @pytest.fixture(scope="module")

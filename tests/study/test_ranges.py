@@ -15,8 +15,8 @@ from trikedyn.cli import main
 from trikedyn.errors import InputError, ParameterError
 from trikedyn.params import load_vehicle, save_vehicle
 from trikedyn.params.schema import RelativeRange, VehicleParameters
-from trikedyn.study import factors as fm
-from trikedyn.study import uncertainty as ua
+from trikedyn.study.designs import factors as fm
+from trikedyn.study.designs import uncertainty as ua
 
 from ..conftest import SHARED, WEIGHING, strict_json
 from . import warm_numba_cache

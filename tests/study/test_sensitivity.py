@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 from trikedyn.cli import main
-from trikedyn.study import factors as factor_module
-from trikedyn.study import sample_runs
-from trikedyn.study import sensitivity as sa
+from trikedyn.study.designs import factors as factor_module
+from trikedyn.study.designs import sample_runs
+from trikedyn.study.designs import sensitivity as sa
 
 from ..conftest import strict_json
 from . import warm_numba_cache

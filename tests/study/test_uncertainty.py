@@ -13,8 +13,8 @@ import pytest
 
 from trikedyn.cli import main
 from trikedyn.errors import InputError
-from trikedyn.study import sample_runs
-from trikedyn.study import uncertainty as ua
+from trikedyn.study.designs import sample_runs
+from trikedyn.study.designs import uncertainty as ua
 
 from ..conftest import strict_json
 from . import warm_numba_cache

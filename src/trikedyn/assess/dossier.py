@@ -112,7 +112,7 @@ def assess(pset, *, payload_kg: float = 0.0, out: str | Path, quick: bool = Fals
         ``sensitivity``, ``animation`` (None with ``quick``), ``guidelines``, ``requirements`` and ``figures``.
     """
     from ..params import with_freight
-    from ..study.loading import DEFAULT_MASSES_KG
+    from ..study.designs.loading import DEFAULT_MASSES_KG
     from . import runs, studies
     from .guidelines import derive_guidelines
     from .requirements import METRICS, judge

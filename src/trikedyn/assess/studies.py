@@ -25,7 +25,7 @@ assumed value that can vary, +/-20 % (or the range the vehicle file declares).""
 
 def _search(pset, manoeuvre: str = "dlc"):
     """``trikedyn threshold``'s search (course criterion, driver speed control), on the course of ``pset``."""
-    from ..study.sample_runs import Search
+    from ..study.designs.sample_runs import Search
 
     return Search(manoeuvre, {}, 0.1, high_kmh=90.0, criterion="course", speed_control="driver").on_course_of(pset)
 
@@ -56,7 +56,7 @@ def freight_positions(pset, mass_kg: float) -> list[dict]:
 
     from ..errors import ParameterError
     from ..params import apply_knobs, with_freight
-    from ..study.loading import grid_cells
+    from ..study.designs.loading import grid_cells
 
     _, xs, zs = grid_cells(pset)
     rows = []
@@ -138,7 +138,7 @@ def design_changes(pset, say=None) -> list[dict]:
 
 def speed_limits(pset, masses_kg, say=None, known: dict | None = None) -> list[dict]:
     """The speed to print on the vehicle per payload: the lowest course threshold of the DLC, SLC and
-    fishhook less the loading chart's margin (:data:`trikedyn.study.loading.DEFAULT_MARGIN_KMH`).
+    fishhook less the loading chart's margin (:data:`trikedyn.study.designs.loading.DEFAULT_MARGIN_KMH`).
 
     Parameters
     ----------
@@ -160,7 +160,7 @@ def speed_limits(pset, masses_kg, say=None, known: dict | None = None) -> list[d
         ``failed_everywhere``: the manoeuvres failed already at the lowest speed searched.
     """
     from ..params import with_freight
-    from ..study.loading import DEFAULT_MARGIN_KMH, safe_speed
+    from ..study.designs.loading import DEFAULT_MARGIN_KMH, safe_speed
     from .runs import MANOEUVRES
 
     rows = []
@@ -205,7 +205,7 @@ def loading_chart(pset, out: Path, *, resume: bool = False, workers: int = 2):
     figure : matplotlib.figure.Figure
         The chart.
     """
-    from ..study import loading as lc
+    from ..study.designs import loading as lc
     from ..study.engine.progress import ProgressLine
 
     chart = lc.run_loading_chart(pset, _search(pset), margin_kmh=lc.DEFAULT_MARGIN_KMH, workers=workers,
@@ -235,7 +235,7 @@ def sensitivity(pset, out: Path, *, resume: bool = False, workers: int = 2):
     figure : matplotlib.figure.Figure
         The ranking.
     """
-    from ..study import sensitivity as sa
+    from ..study.designs import sensitivity as sa
     from ..study.engine.progress import ProgressLine
 
     s = SENSITIVITY_SETTINGS

@@ -2,7 +2,7 @@
 
 With ``--out``, each cell is logged (``loading-chart-cells.csv``) as it finishes, beside the run's plan
 (``loading-chart-plan.json``); ``--resume`` continues a run that was killed or interrupted: the cells logged
-are not run again (:class:`trikedyn.study.loading.CellLog`)."""
+are not run again (:class:`trikedyn.study.designs.loading.CellLog`)."""
 
 from __future__ import annotations
 
@@ -75,8 +75,8 @@ def loading_chart_cmd(
 ):
     """The safe speed (threshold velocity less a stated margin) over freight mass and freight position."""
     from ..params import load_vehicle
-    from ..study import loading as lc
-    from ..study.sample_runs import Search
+    from ..study.designs import loading as lc
+    from ..study.designs.sample_runs import Search
 
     if margin_kmh is not None and margin_fraction is not None:
         raise InputError("give --margin-kmh or --margin-fraction, not both", where="--margin-fraction")

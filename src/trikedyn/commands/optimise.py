@@ -84,7 +84,7 @@ def optimise_cmd(
     import time
 
     from ..params import load_vehicle, save_vehicle
-    from ..study import optimise as opt
+    from ..study.designs import optimise as opt
 
     start = time.perf_counter()
     check_executor(workers, dask_local, scheduler)

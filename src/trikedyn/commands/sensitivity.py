@@ -68,7 +68,7 @@ def _table(result) -> str:
     if result.at_search_limit:
         lines.append(f"  {result.at_search_limit} runs reached the top of the search ({result.search.high_kmh:g} km/h; "
                      "raise it with --high)")
-    from ..study.sample_runs import limits_line
+    from ..study.designs.sample_runs import limits_line
 
     regimes = limits_line(result.limits, ", each with its own sensitivities: the indices mix them, and factors "
                                          "whose intervals overlap can change places with --seed")
@@ -88,7 +88,7 @@ def _table(result) -> str:
                         for k in keys)
         origin = {"declared": "declared", "narrowed": "narrowed"}.get(f.range_from, f"+/-{result.fraction:.0%}")
         lines.append(f"{rank:<5}{row['parameter']:<{width}}{cells}   {readable(f.low)} .. {readable(f.high)} ({origin})")
-    from ..study.sensitivity import unsettled_places
+    from ..study.designs.sensitivity import unsettled_places
 
     for first, last in unsettled_places(result.indices):
         lines.append(f"places {first}-{last}: their 95 % intervals overlap, so their order is not settled by these "
@@ -137,7 +137,7 @@ def sensitivity_cmd(
 ):
     """Sensitivity of the threshold velocity to the vehicle's assumed values (SALib: Morris or Sobol)."""
     from ..params import load_vehicle
-    from ..study import sensitivity as sa
+    from ..study.designs import sensitivity as sa
 
     sa.check_method(method)
     check_executor(workers, dask_local, scheduler)

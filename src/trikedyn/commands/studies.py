@@ -51,7 +51,7 @@ def study_cmd(
 
 
 def study_summary_text(s: dict) -> str:
-    """The text summary of a study run (:attr:`trikedyn.study.runner.StudyRun.summary`).
+    """The text summary of a study run (:attr:`trikedyn.study.designs.runner.StudyRun.summary`).
 
     Parameters
     ----------
@@ -80,7 +80,7 @@ def study_summary_text(s: dict) -> str:
 
 
 def _said_interrupted(exc, as_json: bool = False) -> None:
-    """Say a :class:`~trikedyn.study.runner.StudyInterrupted` in one line on stderr (``interrupted by SIGTERM``
+    """Say a :class:`~trikedyn.study.designs.runner.StudyInterrupted` in one line on stderr (``interrupted by SIGTERM``
     after a SIGTERM), with ``as_json`` also as a JSON object on stdout, and exit with 128 + the signal's number
     (130, 143).
 
@@ -125,7 +125,7 @@ def run_study_cmd(spec, out, *, workers=None, dask_local=None, scheduler=None, m
     dict
         The run's summary.
     """
-    from ..study.runner import StudyIncomplete, StudyInterrupted, execute_study
+    from ..study.designs.runner import StudyIncomplete, StudyInterrupted, execute_study
     from ._common import on_interrupt
 
     on_interrupt(f"the scenarios finished are stored in {out}: the same command resumes")
@@ -158,7 +158,7 @@ def reproduce_cmd(
     """The reference paper's workflow on the built-in reference vehicle: tables, figures, verdicts, report.html."""
     from .._files import check_output_folder
     from ..paper.reproduce import reproduce
-    from ..study.runner import StudyInterrupted
+    from ..study.designs.runner import StudyInterrupted
 
     if workers is not None and not 1 <= workers <= 256:
         raise InputError(f"expected 1 to 256 processes, got {workers}", where="--workers")

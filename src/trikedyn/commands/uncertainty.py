@@ -65,7 +65,7 @@ def _text(result) -> str:
         lines.append(f"  uniform: {origins['declared']} over the range declared in the vehicle file, "
                      f"{origins['fraction']} over +/-{result.fraction:.0%} of their value (none declared)"
                      + (f", {origins['narrowed']} narrowed to rigid bodies (the inertias)" if origins["narrowed"] else ""))
-    from ..study.sample_runs import limits_line
+    from ..study.designs.sample_runs import limits_line
 
     regimes = limits_line(result.limits, ": the distribution has a part of each")
     if regimes:
@@ -82,7 +82,7 @@ def _text(result) -> str:
 
 def _far_from_measured(pset, measured, stds) -> list[str]:
     """A note for each measured sigma used about a vehicle value more than 3 sigma from what was measured."""
-    from ..study.factors import numeric_parameters
+    from ..study.designs.factors import numeric_parameters
 
     values = numeric_parameters(pset)
     notes = []
@@ -134,7 +134,7 @@ def uncertainty_cmd(
 ):
     """Uncertainty of the threshold velocity: median and 5-95 % interval over the assumed and measured values."""
     from ..params import load_vehicle
-    from ..study import uncertainty as ua
+    from ..study.designs import uncertainty as ua
 
     stds = ua.parse_std(std)
     check_executor(workers, dask_local, scheduler)

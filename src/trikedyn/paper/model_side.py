@@ -222,7 +222,7 @@ def study_table(out: Path, workers: int | None = 2):
 
     Uses no pyplot, so that :func:`~trikedyn.paper.reproduce.reproduce` can run it in a thread while it draws
     the other figures."""
-    from ..study.runner import run_study
+    from ..study.designs.runner import run_study
 
     table = run_study(STUDY_SPEC, out / "study", workers=workers, progress=False)
     atomic_write(out / "fig10_threshold_study.csv", lambda fh: table.to_csv(fh, index=False), binary=False)

@@ -68,7 +68,7 @@ DEFAULT_KEEP = "pair-distance"
 """The CG at the same distance from the two-wheel axle: the layouts compared, not two CG positions."""
 
 _MIN_HEAD_MASS_KG, _MIN_HEAD_INERTIA_KGM2 = 0.1, 0.001  # the schema's least values
-_PAIR = "+"  # a range key for both wheels of a pair: wheels.LEFT+RIGHT.ATTR (trikedyn.study.factors)
+_PAIR = "+"  # a range key for both wheels of a pair: wheels.LEFT+RIGHT.ATTR (trikedyn.study.designs.factors)
 _RATES = ("stiffness_N_per_m", "damping_Ns_per_m", "bump_stop_stiffness_N_per_m")
 
 

@@ -1,7 +1,7 @@
 """Declared ranges of a vehicle file's assumed values (the ``ranges`` field of
 :class:`~trikedyn.params.schema.VehicleParameters`; the form is described in :mod:`trikedyn.params.schema`):
 ``[low, high]`` in the value's unit, or ``{ rel = f }`` for ``value * (1 -/+ f)``, in ``[ranges.SECTION]``
-tables or with dotted keys in ``[ranges]``. What they are for: :mod:`trikedyn.study.factors`."""
+tables or with dotted keys in ``[ranges]``. What they are for: :mod:`trikedyn.study.designs.factors`."""
 
 from __future__ import annotations
 

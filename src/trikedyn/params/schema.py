@@ -39,7 +39,7 @@ is ``[low, high]`` in the value's unit or ``{ rel = f }`` for ``value * (1 -/+ f
 Dotted keys in one ``[ranges]`` table (``tyre.mu_y = [0.6, 1.0]``) are the same thing. The schema checks the
 form (two finite numbers, low < high; ``0 < rel < 1``); the sensitivity and uncertainty commands check that
 each key names a number of the vehicle (or a design knob) and that low < value < high, naming the file and
-the key (``trikedyn.study.factors.declared_ranges``). A value moved by a study or an override may leave its
+the key (``trikedyn.study.designs.factors.declared_ranges``). A value moved by a study or an override may leave its
 range: the range describes the vehicle as written.
 """
 

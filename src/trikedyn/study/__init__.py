@@ -4,8 +4,11 @@ manoeuvres x metrics (paper Tables 2-3, Fig. 10).
 A study is a TOML spec (:mod:`~trikedyn.study.spec`), expanded into scenarios with deterministic ids, each
 measuring one metric (:mod:`~trikedyn.study.metrics`: the threshold velocity by default), run in parallel
 on any :class:`concurrent.futures.Executor` (:mod:`~trikedyn.study.engine.executors`: a process pool or a Dask
-cluster) by :mod:`~trikedyn.study.runner` into a resumable SQLite store (:mod:`~trikedyn.study.engine.store`),
-with figures chosen from the study's shape (:mod:`~trikedyn.study.figures`)::
+cluster) by :mod:`~trikedyn.study.designs.runner` into a resumable SQLite store
+(:mod:`~trikedyn.study.engine.store`), with figures chosen from the study's shape
+(:mod:`~trikedyn.study.designs.figures`). The engine (:mod:`~trikedyn.study.engine`) runs every design's
+evaluations; the designs (:mod:`~trikedyn.study.designs`: the grid study, Morris/Sobol sensitivity, uncertainty,
+the loading chart, the optimiser) say what to evaluate::
 
     from trikedyn.study import run_study
     table = run_study("paper", "paper-study", workers=2)   # the paper's 50 scenarios
@@ -44,12 +47,12 @@ _WHERE = {
     "parse_spec": "spec",
     "scenario_id": "scenarios",
     "StudyStore": "engine.store",
-    "StudyIncomplete": "runner",
-    "StudyInterrupted": "runner",
-    "StudyRun": "runner",
-    "execute_study": "runner",
-    "run_scenario": "runner",
-    "run_study": "runner",
+    "StudyIncomplete": "designs.runner",
+    "StudyInterrupted": "designs.runner",
+    "StudyRun": "designs.runner",
+    "execute_study": "designs.runner",
+    "run_scenario": "designs.runner",
+    "run_study": "designs.runner",
     "study_metric": "metrics",
 }
 

@@ -115,7 +115,7 @@ class OptimiseSpec:
     seed, popsize, maxiter : int
     tol, step, resolution_kmh, high_kmh : float
     criterion, speed_control : str
-        The threshold search's pass rule and speed control (:class:`~trikedyn.study.sample_runs.Search`).
+        The threshold search's pass rule and speed control (:class:`~trikedyn.study.designs.sample_runs.Search`).
     description, origin : str
         ``origin``: the built-in name or file path it was read from (named in error messages).
     """

@@ -1,7 +1,7 @@
 """A CSV log a long run appends a row to as each piece of work finishes, read back to resume after a kill.
 
 Used by the sampled studies (:class:`SampleLog`) and the layout optimiser
-(:class:`~trikedyn.study.optimise_log.EvaluationLog`): each row is flushed at once; a row cut short by a kill
+(:class:`~trikedyn.study.designs.optimise_log.EvaluationLog`): each row is flushed at once; a row cut short by a kill
 (the last, without its line end) is dropped on reading and stays a line of its own when appending goes on.
 Every row's third column is its status, ``ok`` or ``failed``. A log is read by the bounded reader
 (:mod:`trikedyn._reading`), at most :data:`MAX_LOG_BYTES`: a FIFO or a device put in its place is refused,
@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ...errors import InputError
 
 __all__ = ["MAX_LOG_BYTES", "AppendedCsv", "SampleLog"]
 
@@ -52,11 +52,11 @@ class AppendedCsv:
         InputError
             The header is not :attr:`columns` (``mismatch`` says what to do).
         """
-        from .._files import refuse_symlink
+        from ..._files import refuse_symlink
 
         if not refuse_symlink(self.path).exists():
             return []
-        from .._reading import read_bytes
+        from ..._reading import read_bytes
 
         text = read_bytes(self.path, max_bytes=MAX_LOG_BYTES, expected="a run's log (CSV)").decode(
             "utf-8", errors="replace")
@@ -77,7 +77,7 @@ class AppendedCsv:
         fresh : bool
             Empty the file first.
         """
-        from .._files import open_nofollow
+        from ..._files import open_nofollow
 
         fd = open_nofollow(self.path)
         if fresh:
@@ -121,7 +121,7 @@ class SampleLog(AppendedCsv):
 
     Columns: ``sample`` (row index), ``group`` (Morris trajectory or Sobol block), ``status`` (``ok`` or
     ``failed``), ``threshold_speed_kmh`` [km/h], ``limit`` (what failed above the threshold, or empty:
-    :meth:`~trikedyn.study.sample_runs.Search.outcome`), ``error``, then each factor's value [its unit].
+    :meth:`~trikedyn.study.designs.sample_runs.Search.outcome`), ``error``, then each factor's value [its unit].
     """
 
     def __init__(self, path: str | os.PathLike, factors: Iterable, group: int):

@@ -1,6 +1,6 @@
 """Which of a vehicle's values a sensitivity study varies, and over what range (the factors).
 
-See :mod:`trikedyn.study.sensitivity`, step 1. A factor's range is the one its vehicle file declares next to
+See :mod:`trikedyn.study.designs.sensitivity`, step 1. A factor's range is the one its vehicle file declares next to
 the value (``[ranges.mass] cg_x_m = [0.70, 0.95]``, or ``{ rel = 0.1 }``; see
 :mod:`trikedyn.params.schema` and :func:`declared_ranges`), else ``value * (1 -/+ fraction)`` with the stated
 default :data:`DEFAULT_FRACTION` (``--fraction``); each factor says which (``range_from``).
@@ -12,8 +12,8 @@ import math
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
 
-from ..errors import InputError, ParameterError, did_you_mean
-from ..params.io import ParameterSet
+from ...errors import InputError, ParameterError, did_you_mean
+from ...params.io import ParameterSet
 
 __all__ = ["DEFAULT_FRACTION", "EXCLUDED_GROUPS", "Factor", "apply_factors", "candidate_factors", "declared_ranges",
            "numeric_parameters", "problem", "select_factors"]
@@ -268,7 +268,7 @@ def _make(pset, name, value, paths, fraction, kind="value", centre=0.0, note_pat
 def _knobs():
     """:mod:`trikedyn.params.knobs` (design knobs that keep a vehicle consistent), if this trikedyn has it."""
     try:
-        from ..params import knobs
+        from ...params import knobs
     except ImportError:  # pragma: no cover - an older trikedyn: the pair's track is moved here
         return None
     return knobs if hasattr(knobs, "apply_knobs") else None
@@ -512,7 +512,7 @@ def apply_factors(pset: ParameterSet, factors: Iterable[Factor], x) -> Parameter
     ParameterError
         The values give an invalid vehicle.
     """
-    from ..params.ops import override
+    from ...params.ops import override
 
     values: dict[str, float] = {}
     for factor, value in zip(factors, x, strict=True):

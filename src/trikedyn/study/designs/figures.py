@@ -453,7 +453,7 @@ def study_figures(frame, out_dir: str | Path, title: str | None = None, dpi: int
     """
     from matplotlib.figure import Figure
 
-    from .._files import atomic_write
+    from ..._files import atomic_write
 
     out_dir = Path(out_dir)
     data = _long(frame)

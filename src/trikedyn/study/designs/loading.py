@@ -25,11 +25,11 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
-from ..errors import InputError, ParameterError, RunIncomplete
-from ..params.io import ParameterSet
+from ...errors import InputError, ParameterError, RunIncomplete
+from ...params.io import ParameterSet
+from ..engine.executors import worker_count
+from ..engine.pool import ResilientPool, SchedulerGone, WorkersKeptDying
 from .csv_log import AppendedCsv
-from .engine.executors import worker_count
-from .engine.pool import ResilientPool, SchedulerGone, WorkersKeptDying
 from .sample_runs import Search
 
 __all__ = ["DEFAULT_MARGIN_KMH", "DEFAULT_MASSES_KG", "DEFAULT_X_OFFSETS_M", "DEFAULT_Z_OFFSETS_M", "CellLog",
@@ -225,8 +225,8 @@ def evaluate_cell(pset: ParameterSet, mass_kg: float, x_m: float, z_m: float,
     error : str or None
         Why there is none.
     """
-    from ..params.knobs import apply_knobs
-    from ..params.ops import with_freight
+    from ...params.knobs import apply_knobs
+    from ...params.ops import with_freight
     try:
         vehicle = with_freight(apply_knobs(pset, {"freight.x_m": x_m, "freight.z_m": z_m}), mass_kg)
     except ParameterError as exc:
@@ -472,7 +472,7 @@ def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[fl
         raise InputError("must be >= 0 and < 1", where="--margin-fraction")
     if margin_fraction is None and (margin_kmh is None or not 0 <= margin_kmh < 1000):
         raise InputError("must be >= 0 km/h", where="--margin-kmh")
-    from ..analysis.threshold import manoeuvre_builder
+    from ...analysis.threshold import manoeuvre_builder
 
     search = search.on_course_of(pset)  # every cell meets the reference vehicle's course
     manoeuvre_builder(search.manoeuvre, dict(search.options))  # a bad manoeuvre fails before any process starts

@@ -10,7 +10,7 @@ arrangement:
   settings;
 
 * the objective of a layout is the **worst threshold velocity** [km/h] over the manoeuvres, each found by
-  the margin search every sampled study uses (:meth:`~trikedyn.study.sample_runs.Search.threshold`); a
+  the margin search every sampled study uses (:meth:`~trikedyn.study.designs.sample_runs.Search.threshold`); a
   layout that gives an invalid vehicle or no threshold counts as 0 km/h;
 * the optimiser is :func:`scipy.optimize.differential_evolution` (``best1bin``, Latin-hypercube start,
   seeded, no gradient polish: the threshold is piecewise constant in steps of the search's resolution;
@@ -24,7 +24,7 @@ arrangement:
 :func:`run_optimise` evaluates each generation on a process pool (:mod:`trikedyn.study.engine.executors`), logs
 every evaluation as it finishes (:class:`EvaluationLog`, a CSV; with ``resume`` the logged layouts are
 not searched again and, the optimiser being deterministic for its seed, an interrupted run replays to where
-it stopped and goes on; :mod:`trikedyn.study.optimise_log`), and returns an :class:`OptimiseResult` (``to_dict``, ``table``, ``plot``,
+it stopped and goes on; :mod:`trikedyn.study.designs.optimise_log`), and returns an :class:`OptimiseResult` (``to_dict``, ``table``, ``plot``,
 ``vehicle``: the optimised :class:`~trikedyn.params.parameter_set.ParameterSet`, to write with
 :func:`~trikedyn.params.io.save_vehicle`).
 """
@@ -37,12 +37,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, ParameterError, RunIncomplete, SimulationError
-from ..params.io import ParameterSet
-from .engine.executors import worker_count
-from .engine.pool import ExecutorLost, ResilientPool
-from .optimise_log import Evaluation, EvaluationLog, OptimiseResult, worst
-from .optimise_spec import (
+from ...errors import InputError, ParameterError, RunIncomplete, SimulationError
+from ...params.io import ParameterSet
+from ..engine.executors import worker_count
+from ..engine.pool import ExecutorLost, ResilientPool
+from ..optimise_spec import (
     MAX_EVALUATIONS,
     OptimiseSpec,
     list_optimise_specs,
@@ -50,6 +49,7 @@ from .optimise_spec import (
     parse_optimise_spec,
     population_size,
 )
+from .optimise_log import Evaluation, EvaluationLog, OptimiseResult, worst
 from .sample_runs import Search
 
 __all__ = ["MAX_EVALUATIONS", "Evaluation", "EvaluationLog", "OptimiseResult", "OptimiseSpec", "evaluate_layout",
@@ -85,8 +85,8 @@ def evaluate_layout(pset: ParameterSet, knobs: dict, searches: tuple[Search, ...
     error : str or None
         Why one is None.
     """
-    from ..params.knobs import apply_knobs
-    from ..params.ops import with_freight
+    from ...params.knobs import apply_knobs
+    from ...params.ops import with_freight
 
     try:
         vehicle = with_freight(apply_knobs(pset, knobs) if knobs else pset, payload_kg)
@@ -290,7 +290,7 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
     """
     from scipy.optimize import differential_evolution
 
-    from ..analysis.threshold import manoeuvre_builder
+    from ...analysis.threshold import manoeuvre_builder
 
     start = time.perf_counter()
     spec = load_optimise_spec(spec)
@@ -353,7 +353,7 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
     _check_found(layouts, log)
     top = max(e.worst for e in layouts)
     best = _least_move([e for e in layouts if e.worst == top], spec, ref_values)
-    from ..params.knobs import apply_knobs
+    from ...params.knobs import apply_knobs
 
     vehicle = apply_knobs(pset, dict(zip(spec.names, best.values, strict=True)))
     params = vehicle.params.model_copy(update={

@@ -10,9 +10,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..params.io import ParameterSet
+from ...params.io import ParameterSet
+from ..optimise_spec import OptimiseSpec, population_size
 from .csv_log import AppendedCsv
-from .optimise_spec import OptimiseSpec, population_size
 from .sample_runs import Search
 
 __all__ = ["Evaluation", "EvaluationLog", "OptimiseResult", "worst"]
@@ -124,7 +124,7 @@ class EvaluationLog(AppendedCsv):
         """
         import csv
 
-        from .._files import atomic_write
+        from ..._files import atomic_write
 
         def fill(fh):
             writer = csv.writer(fh)
@@ -334,7 +334,7 @@ def _kmh(value) -> str:
 
 
 def _units(names: Sequence[str]) -> list[str]:
-    from ..params.knobs import KNOBS
+    from ...params.knobs import KNOBS
 
     out = []
     for name in names:

@@ -24,7 +24,7 @@ TOML with seven ten-value axes (10^7 scenarios) are refused at once instead of f
 The main process keeps at most a few scenarios more in flight than there are workers, writes each result
 to the store as it completes (:mod:`trikedyn.study.engine.store`) and reports its progress to a reporter
 (:mod:`trikedyn.study.engine.progress`: a bar on a terminal, a plain line every few seconds otherwise). Once every
-scenario is stored it exports the table and draws the study's figures (:mod:`trikedyn.study.figures`).
+scenario is stored it exports the table and draws the study's figures (:mod:`trikedyn.study.designs.figures`).
 
 Interruption: the first SIGINT (Ctrl-C) stops submitting, lets the scenarios in flight finish and be
 stored, then raises :class:`StudyInterrupted` (the CLI exits with code 130 and says how many scenarios are
@@ -58,13 +58,13 @@ from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import InputError, RunIncomplete
-from .engine.executors import InlineExecutor, check_executor, make_executor, start_pool_server
-from .engine.executors import one_line as _one_line
-from .engine.loop import StopSignal, drive
-from .engine.store import RESULT_KEYS, StudyStore
-from .scenarios import SCENARIO_KEYS, count_scenarios, expand
-from .spec import StudySpec, load_spec
+from ...errors import InputError, RunIncomplete
+from ..engine.executors import InlineExecutor, check_executor, make_executor, start_pool_server
+from ..engine.executors import one_line as _one_line
+from ..engine.loop import StopSignal, drive
+from ..engine.store import RESULT_KEYS, StudyStore
+from ..scenarios import SCENARIO_KEYS, count_scenarios, expand
+from ..spec import StudySpec, load_spec
 
 __all__ = ["MAX_SCENARIOS", "STUDY_FILES", "StudyIncomplete", "StudyInterrupted", "StudyRun", "check_study_folder",
            "execute_study", "run_scenario", "run_study"]
@@ -133,8 +133,8 @@ def run_scenario(scenario: dict, vehicle=None, run_token: str | None = None) -> 
     row = {k: scenario.get(k) for k in SCENARIO_KEYS}
     name = scenario.get("metric") or "threshold"
     try:
-        from ..params import load_vehicle, override, scale_suspension, with_freight
-        from .metrics import get
+        from ...params import load_vehicle, override, scale_suspension, with_freight
+        from ..metrics import get
 
         metric = get(name)
         pset = vehicle if vehicle is not None else load_vehicle(scenario["vehicle"])
@@ -245,7 +245,7 @@ def check_study_folder(out_dir: str | Path, spec: StudySpec, force: bool = False
     InputError
         Naming the folder, or the output file that is an input.
     """
-    from .._files import check_not_inputs
+    from ..._files import check_not_inputs
 
     folder = Path(out_dir)
     tyres = [value for group in spec.groups for key, values in group.overrides if key.endswith(".tyre_file")
@@ -309,7 +309,7 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
     StudyRun
         The run: its table, summary and how it ended.
     """
-    from .engine.progress import reporter
+    from ..engine.progress import reporter
 
     started = time.perf_counter()
     check_executor(workers, dask_local, scheduler)
@@ -421,7 +421,7 @@ def run_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers: int
         A built-in study name (``"paper"``), a study TOML file, or a loaded spec.
     out_dir : path
         Output folder: ``study.sqlite`` (the store), and once every scenario is stored, ``results.csv``,
-        ``results.parquet`` and the figures (``fig_*.png``, :mod:`trikedyn.study.figures`). Re-running into
+        ``results.parquet`` and the figures (``fig_*.png``, :mod:`trikedyn.study.designs.figures`). Re-running into
         the same folder computes only the missing scenarios.
     workers : int, optional
         Processes of the local pool; ``os.cpu_count()`` by default; 0 runs in this process.

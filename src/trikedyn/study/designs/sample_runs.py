@@ -1,5 +1,5 @@
 """Evaluating a sensitivity study's samples: one threshold search per sample, on a process pool, logged as
-they finish so that an interrupted run resumes (see :mod:`trikedyn.study.sensitivity`, steps 3 and the log).
+they finish so that an interrupted run resumes (see :mod:`trikedyn.study.designs.sensitivity`, steps 3 and the log).
 """
 
 from __future__ import annotations
@@ -9,11 +9,11 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..errors import InputError, ParameterError, RunIncomplete, SimulationError
-from ..params.io import ParameterSet
-from ..simulate import DEFAULT_DT_S
+from ...errors import InputError, ParameterError, RunIncomplete, SimulationError
+from ...params.io import ParameterSet
+from ...simulate import DEFAULT_DT_S
+from ..engine.pool import MAX_RESTARTS, ExecutorLost, ResilientPool
 from .csv_log import SampleLog
-from .engine.pool import MAX_RESTARTS, ExecutorLost, ResilientPool
 from .factors import Factor, apply_factors
 from .limits import LIMITS, limit_counts, limits_line, regimes  # noqa: F401  (re-exported)
 
@@ -43,8 +43,8 @@ class Search:
     metric_options: dict = field(default_factory=dict)
 
     def __post_init__(self):
-        from ..analysis.threshold import CRITERIA
-        from ..simulate.closed_loop import SPEED_CONTROLS
+        from ...analysis.threshold import CRITERIA
+        from ...simulate.closed_loop import SPEED_CONTROLS
 
         if self.criterion not in CRITERIA:
             raise InputError(f"expected one of {', '.join(CRITERIA)}, got {self.criterion!r}", where="criterion")
@@ -52,7 +52,7 @@ class Search:
             raise InputError(f"expected one of {', '.join(SPEED_CONTROLS)}, got {self.speed_control!r}",
                              where="speed_control")
         if self.metric != "threshold" or self.metric_options:
-            from .metrics import parse_entry
+            from ..metrics import parse_entry
 
             try:  # the options complete (defaults filled in) and checked
                 _, options = parse_entry({"name": self.metric, **self.metric_options})
@@ -63,7 +63,7 @@ class Search:
     @property
     def unit(self) -> str:
         """The unit of what each sample measures (``km/h`` for the threshold)."""
-        from .metrics import get
+        from ..metrics import get
 
         return get(self.metric).unit
 
@@ -103,7 +103,7 @@ class Search:
         """
         if self.manoeuvre.lower().endswith(".csv") or "course_width_m" in self.options:
             return self
-        from ..manoeuvres.registry import get
+        from ...manoeuvres.registry import get
 
         if any(o.name == "course_width_m" for o in get(self.manoeuvre).options):
             return replace(self, options={**self.options, "course_width_m": float(pset.params.body.overall_width_m)})
@@ -141,7 +141,7 @@ class Search:
         ThresholdResult
             The search's result.
         """
-        from ..analysis.threshold import threshold_velocity
+        from ...analysis.threshold import threshold_velocity
 
         return threshold_velocity(pset, self.manoeuvre, options=dict(self.options), low_kmh=self.low_kmh,
                                   high_kmh=self.high_kmh, resolution_kmh=self.resolution_kmh,
@@ -189,7 +189,7 @@ class Search:
         limit : str
             What limits it.
         """
-        from .engine.executors import one_line
+        from ..engine.executors import one_line
 
         if self.metric != "threshold":
             return self._measure(pset)
@@ -210,8 +210,8 @@ class Search:
 
     def _measure(self, pset: ParameterSet) -> tuple[float | None, str | None, str]:
         """The search's study metric (not the threshold) of ``pset``, as :meth:`outcome` gives it."""
-        from .engine.executors import one_line
-        from .metrics import get
+        from ..engine.executors import one_line
+        from ..metrics import get
 
         scenario = {"manoeuvre": self.manoeuvre, "speed_control": self.speed_control, "criterion": self.criterion,
                     "course_width_m": self.options.get("course_width_m"), "low_kmh": self.low_kmh,

@@ -23,8 +23,8 @@ velocity on a manoeuvre depends on:
 4. :func:`analyse` computes the indices with SALib. A failed sample removes its Morris trajectory (or its
    Sobol block of ``k + 2`` rows) from the analysis; the number left out is reported.
 
-The factors are :mod:`trikedyn.study.factors`; the evaluation of the samples is
-:mod:`trikedyn.study.sample_runs`; both are re-exported here.
+The factors are :mod:`trikedyn.study.designs.factors`; the evaluation of the samples is
+:mod:`trikedyn.study.designs.sample_runs`; both are re-exported here.
 
 :class:`SampleLog` keeps the samples in a CSV file, a row appended as each finishes, so an interrupted run
 loses nothing and can resume. :func:`run_sensitivity` ties the steps together and returns a
@@ -45,8 +45,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError, did_you_mean
-from ..params.io import ParameterSet
+from ...errors import InputError, did_you_mean
+from ...params.io import ParameterSet
 from .factors import (  # noqa: F401  (re-exported: the module is the study's entry point)
     DEFAULT_FRACTION,
     EXCLUDED_GROUPS,

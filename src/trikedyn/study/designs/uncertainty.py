@@ -2,7 +2,7 @@
 
 Two kinds of input:
 
-- **assumed** values (the factors of :mod:`trikedyn.study.factors`): uniform over their range
+- **assumed** values (the factors of :mod:`trikedyn.study.designs.factors`): uniform over their range
   (``value * (1 -/+ fraction)`` or the range declared in the vehicle file), as the sensitivity study varies them;
 - **measured** values with a standard deviation (``mass.cg_z_m`` from a weighing, a suspension stiffness from an
   identification): normal about the vehicle's value, truncated at +/-3 sigma (:data:`TRUNCATION`). The sigmas
@@ -14,7 +14,7 @@ Two kinds of input:
 
 The samples are a seeded Latin hypercube (:class:`scipy.stats.qmc.LatinHypercube`) mapped through each input's
 inverse distribution function; each sample's threshold is searched as in a sensitivity run
-(:func:`~trikedyn.study.sample_runs.run_samples`, :class:`~trikedyn.study.sample_runs.Search`). A failed sample
+(:func:`~trikedyn.study.designs.sample_runs.run_samples`, :class:`~trikedyn.study.designs.sample_runs.Search`). A failed sample
 is reported, not an error. :func:`run_uncertainty` returns an :class:`UncertaintyResult` (median, 5 % and 95 %
 percentiles, mean, standard deviation [km/h]; ``to_dict``, ``plot``).
 """
@@ -30,8 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError, did_you_mean
-from ..params.io import ParameterSet
+from ...errors import InputError, did_you_mean
+from ...params.io import ParameterSet
 from .factors import DEFAULT_FRACTION, Factor, candidate_factors, select_factors
 from .sample_runs import SampleLog, Search, limit_counts, regimes, run_logged_samples
 
@@ -244,7 +244,7 @@ def weighing_stds(path: str | Path) -> list[Measured]:
         ``where=FILE``: the file cannot be read or reduced, or it gives no uncertainty (``reading_std_kg = 0``
         and no scatter).
     """
-    from ..measure.weighing import load_weighing, reduce_weighing
+    from ...measure.weighing import load_weighing, reduce_weighing
 
     where = str(path)
     result = reduce_weighing(load_weighing(path), where=where)
@@ -303,8 +303,8 @@ def identification_stds(path: str | Path, suspension: str) -> list[Measured]:
     InputError
         ``where=FILE``: not a readable JSON object, a key missing or not a finite number, no uncertainty.
     """
-    from ..measure.suspension import damping_coefficient, stiffness_from_frequency, suspension_from_body_mode
-    from ..params.tomlfile import is_file, read_text
+    from ...measure.suspension import damping_coefficient, stiffness_from_frequency, suspension_from_body_mode
+    from ...params.tomlfile import is_file, read_text
 
     file = _identification_file(Path(path))
     where = str(file)
@@ -576,7 +576,7 @@ def run_uncertainty(pset: ParameterSet, search: Search, inputs: list[Input], *, 
                     progress: Callable | None = None) -> UncertaintyResult:
     """Sample (Latin hypercube), evaluate (in parallel; logged, resumable) and summarise the threshold velocity.
 
-    Parameters are those of :func:`~trikedyn.study.sensitivity.run_sensitivity`; ``inputs`` from
+    Parameters are those of :func:`~trikedyn.study.designs.sensitivity.run_sensitivity`; ``inputs`` from
     :func:`build_inputs`; ``log`` a :class:`SampleLog` over ``[i.factor for i in inputs]`` (group 1).
 
     Parameters

@@ -1,6 +1,6 @@
 """How a study reports its progress: a bar on a terminal, a plain line otherwise (a log, CI, a pipe).
 
-A reporter is what :func:`trikedyn.study.runner.run_study` takes as ``progress``: a callable
+A reporter is what :func:`trikedyn.study.designs.runner.run_study` takes as ``progress``: a callable
 ``(done, total)`` called at the start, after each stored scenario and at the end, with optional ``note(text)``
 (e.g. "SIGINT: stopping after the scenarios in flight") and ``close()``. :func:`reporter` makes the default
 one; the runner itself never prints.

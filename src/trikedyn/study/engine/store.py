@@ -238,7 +238,7 @@ class StudyStore:
         Parameters
         ----------
         row : dict
-            As :func:`trikedyn.study.runner.run_scenario` returns it, flat: the scenario's fields,
+            As :func:`trikedyn.study.designs.runner.run_scenario` returns it, flat: the scenario's fields,
             ``status``, the threshold result's keys (kept as the ``result`` JSON when ``status`` is
             ``"ok"``), ``error``, ``traceback``, ``wall_time_s``, ``worker``, ``run_token``, ``finished_at``.
 
