@@ -13,7 +13,7 @@ import typer
 from .._json import finite, json_default
 from ..errors import InputError
 
-__all__ = ["INTERRUPT_NOTES", "WARNINGS", "BandKmhOpt", "BandPercentOpt", "CriterionOpt", "DaskLocalOpt", "ForceOpt",
+__all__ = ["INTERRUPT_NOTES", "WARNINGS", "absolute_csv", "BandKmhOpt", "BandPercentOpt", "CriterionOpt", "DaskLocalOpt", "ForceOpt",
            "FreightAliasOpt", "JsonOpt", "ManoeuvreOpt", "OptionOpt", "PayloadOpt", "SpeedControlOpt", "VehicleArg", "choice", "emit",
            "finite", "json_default", "judging", "key_values", "manoeuvre_options", "on_interrupt", "payload_kg",
            "readable", "round_text", "save_figure", "SchedulerOpt", "WorkersOpt", "within"]
@@ -182,9 +182,25 @@ def key_values(data: dict, indent: str = "") -> list[str]:
 OptionOpt = Annotated[
     list[str], typer.Option("--option", "-o", help="A manoeuvre option KEY=VALUE (see `trikedyn manoeuvres`); repeatable.")
 ]
+
+
+def absolute_csv(value):
+    """Typer callback: a path ``.csv`` given to ``--manoeuvre`` made absolute (against the working directory
+    where the command was typed), so that a worker process or a Dask worker on another machine, whose working
+    directory differs, opens the same file; a registered name, or a list of them, passes unchanged. Links are
+    kept (not resolved), so the checks that no output overwrites an input still see them."""
+    import os
+
+    if isinstance(value, list):
+        return [absolute_csv(item) for item in value]
+    if isinstance(value, str) and value.lower().endswith(".csv"):
+        return os.path.abspath(value)
+    return value
+
+
 ManoeuvreOpt = Annotated[
-    str, typer.Option("--manoeuvre", help="A registered manoeuvre (see `trikedyn manoeuvres`: dlc, slc, circle, step, "
-                      "fishhook, ...) or a path .csv file.")
+    str, typer.Option("--manoeuvre", callback=absolute_csv, help="A registered manoeuvre (see `trikedyn manoeuvres`: "
+                      "dlc, slc, circle, step, fishhook, ...) or a path .csv file.")
 ]
 
 
