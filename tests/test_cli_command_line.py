@@ -186,3 +186,26 @@ def test_vehicle_check_still_exits_2_on_a_bad_file(capsys, tmp_path):
     path.write_text('extends = "reference-etrike"\n[mass]\ncurb_kg = -1\n', encoding="utf-8")
     code, out, err = run(capsys, "vehicle", "check", str(path), "--json")
     assert code == 2 and strict_json(out)["error"] and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("command", [["threshold", "reference-etrike"], ["simulate", "reference-etrike", "--speed", "15"]])
+def test_a_relative_path_csv_reaches_the_analysis_absolute(tmp_path, monkeypatch, command):
+    """A worker (a pool's, or a Dask worker on another machine) may run in another working directory: the
+    command hands on the path CSV made absolute where it was typed, a registered name unchanged."""
+    import importlib
+
+    from trikedyn.commands._common import absolute_csv
+
+    module, function = STAND_INS[tuple(command[:1])]
+    seen = []
+
+    def stand_in(vehicle, manoeuvre=None, *args, **kwargs):
+        seen.append(kwargs.get("manoeuvre", manoeuvre))
+        raise _Stop
+
+    monkeypatch.setattr(importlib.import_module(module), function, stand_in)
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(_Stop):
+        main([*command, "--manoeuvre", "line.csv"])
+    assert str(seen[0]).endswith("line.csv") and str(seen[0]).startswith(str(tmp_path))
+    assert absolute_csv("dlc") == "dlc" and absolute_csv(["slc", "a.CSV"]) == ["slc", str(tmp_path / "a.CSV")]
