@@ -40,7 +40,8 @@ from typing import Any, Generic, TypeVar
 
 from .errors import InputError, did_you_mean
 
-__all__ = ["Option", "PluginWarning", "Registry", "did_you_mean", "find_option", "first_line", "import_submodules"]
+__all__ = ["Option", "PluginWarning", "Registry", "checked", "did_you_mean", "find_option", "first_line",
+           "import_submodules"]
 
 T = TypeVar("T")
 
@@ -189,6 +190,32 @@ def import_submodules(package: str, path) -> None:
     for info in sorted(pkgutil.iter_modules(path), key=lambda m: m.name):
         if not info.name.startswith("_"):
             importlib.import_module(f"{package}.{info.name}")
+
+
+def checked(opt: Option, value: Any) -> float | str:
+    """``value`` parsed by ``opt`` as a typed file gives it (a number as a number), the error naming the setting.
+
+    Parameters
+    ----------
+    opt : Option
+        The setting.
+    value : Any
+        The value given.
+
+    Returns
+    -------
+    float or str
+        The value, checked.
+
+    Raises
+    ------
+    InputError
+        ``where`` the setting's name: ``high_kmh: must be within [1, 400] km/h, got 500``.
+    """
+    try:
+        return opt.parse(value, where=opt.name, text=False)
+    except InputError as exc:
+        raise InputError(exc.reason.replace(f"option '{opt.name}' ", "", 1), where=opt.name) from None
 
 
 def find_option(options, name: str, owner: str, where: str) -> Option:

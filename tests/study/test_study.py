@@ -87,7 +87,7 @@ def test_group_overrides_are_grid_axes_and_duplicates_merge():
         ('name = "x"\n[[groups]]\nname = "g"\nstifness_scale = [1.0]\n',
          "unknown key 'stifness_scale' in groups[g]; did you mean 'stiffness_scale'?"),
         ('name = "x"\nmanoeuvres = ["dlc", "zigzag"]\n', "unknown manoeuvre 'zigzag'"),
-        ('name = "x"\nfreight_kg = [-5]\n', "freight masses must be >= 0 kg"),
+        ('name = "x"\nfreight_kg = [-5]\n', "freight_kg: must be within [0, 2000] kg, got -5"),
         ('name = "x"\n[[groups]]\nname = "g"\noverrides = { "mass.drivr_kg" = [80] }\n',
          "did you mean 'driver_kg'?"),
         ('name = "x"\nvehicle = "reference-etrik"\n', "did you mean 'reference-etrike'?"),

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass
 
 from ..errors import InputError
+from .search_settings import CRITERIA, DEFAULT_CRITERION
 from .verdict import CONE_STRIKE, LIFT_OFF, PATH_LOST, SPEED_NOT_HELD, SPIN, STOPPED, Judging, Verdict, judge
 
 __all__ = ["CRITERIA", "DEFAULT_CRITERION", "TRACKING", "RunVerdict", "check_criterion", "classify", "judge_run",
@@ -17,10 +18,6 @@ __all__ = ["CRITERIA", "DEFAULT_CRITERION", "TRACKING", "RunVerdict", "check_cri
 
 TRACKING = "tracking"
 """The limit of a lift-off run that had lost the path, struck a cone or spun before the lift."""
-CRITERIA = ("course", "lift-off", "both")
-"""What a search judges its runs by (see the module docstring)."""
-DEFAULT_CRITERION = "course"
-"""The default criterion: a threshold an engineer can sign is a speed at which the run is a valid test."""
 @dataclass(frozen=True)
 class RunVerdict:
     """How one run at one target speed went, under the search's criterion.

@@ -35,6 +35,8 @@ from ..errors import InputError
 from ..params.io import ParameterSet
 from ..params.layouts import DEFAULT_KEEP, KEEPS, check_keep
 from ..params.schema import VehicleParameters
+from .search_settings import SEARCH_DEFAULTS as _D
+from .search_settings import SearchSettings
 
 __all__ = ["KEEP_WORDS", "LayoutComparison", "LayoutRow", "compare_layouts", "static_tip_over_g"]
 
@@ -301,9 +303,10 @@ def _row(pset: ParameterSet, manoeuvres, options, tilt: bool, search: dict, keep
 
 
 def compare_layouts(vehicle: ParameterSet | VehicleParameters, manoeuvres=("dlc", "slc"), *,
-                    keep: str = DEFAULT_KEEP, options: dict | None = None, tilt: bool = True, low_kmh: float = 10.0,
-                    high_kmh: float = 90.0, step_kmh: float = 10.0, resolution_kmh: float = 0.1,
-                    criterion: str = "course", speed_control: str = "driver") -> LayoutComparison:
+                    keep: str = DEFAULT_KEEP, options: dict | None = None, tilt: bool = True,
+                    low_kmh: float = _D["low_kmh"], high_kmh: float = _D["high_kmh"], step_kmh: float = _D["step_kmh"],
+                    resolution_kmh: float = _D["resolution_kmh"], criterion: str = _D["criterion"],
+                    speed_control: str = _D["speed_control"]) -> LayoutComparison:
     """A vehicle and its mirror layout(s) side by side (see the module docstring).
 
     Parameters
@@ -321,7 +324,8 @@ def compare_layouts(vehicle: ParameterSet | VehicleParameters, manoeuvres=("dlc"
     tilt : bool
         Run the tilt-table test (about 0.3 s per vehicle once compiled).
     low_kmh, high_kmh, step_kmh, resolution_kmh : float
-        The threshold search [km/h] (:func:`trikedyn.analysis.threshold.threshold_velocity`).
+        The threshold search [km/h] (:func:`trikedyn.analysis.threshold.threshold_velocity`), defaults and
+        bounds those of :class:`~trikedyn.analysis.search_settings.SearchSettings`.
     criterion, speed_control : str
         The search's pass rule (``"course"``, ``"lift-off"``, ``"both"``) and speed control (``"driver"``,
         ``"ideal"``).
@@ -351,8 +355,8 @@ def compare_layouts(vehicle: ParameterSet | VehicleParameters, manoeuvres=("dlc"
     mirrors = {k: mirror_layout(vehicle, k) for k in keeps}
     sets = [(vehicle, None), *((ParameterSet(m, {}, f"mirror of {vehicle.origin or vehicle.name}"), k)
                                for k, m in mirrors.items())]
-    search = dict(low_kmh=low_kmh, high_kmh=high_kmh, step_kmh=step_kmh, resolution_kmh=resolution_kmh,
-                  criterion=criterion, speed_control=speed_control)
+    search = SearchSettings(low_kmh=low_kmh, high_kmh=high_kmh, step_kmh=step_kmh, resolution_kmh=resolution_kmh,
+                            criterion=criterion, speed_control=speed_control).threshold_kwargs()
     options = options or {}
     rows = tuple(_row(p, manoeuvres, options, tilt, search, k) for p, k in sets)
     mp = mass_properties(vehicle.params)

@@ -12,26 +12,27 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["MANOEUVRES", "THRESHOLD_SETTINGS", "HANDLING_SETTINGS", "handling", "run_metric", "state_metrics",
+from ..analysis.search_settings import SearchSettings
+
+__all__ = ["MANOEUVRES", "THRESHOLD_SEARCH", "THRESHOLD_SETTINGS", "HANDLING_SETTINGS", "handling", "run_metric", "state_metrics",
            "static_stability", "thresholds", "top_speed", "vehicle_sheet"]
 
 MANOEUVRES = ("dlc", "slc", "fishhook")
 """The manoeuvres whose thresholds the dossier finds (``trikedyn manoeuvres``)."""
 
-THRESHOLD_SETTINGS = {"low_kmh": 10.0, "high_kmh": 90.0, "resolution_kmh": 0.1, "criterion": "both",
-                      "speed_control": "driver", "speed_band_percent": 3.0, "speed_band_kmh": 1.0}
+THRESHOLD_SEARCH = SearchSettings(criterion="both")
 """The threshold search: ``trikedyn threshold``'s defaults, both criteria at once (the course threshold is
 the command's default answer, the lift-off threshold that of ``--criterion lift-off``)."""
+THRESHOLD_SETTINGS = {k: v for k, v in THRESHOLD_SEARCH.to_dict().items() if k not in ("step_kmh", "method")}
+""":data:`THRESHOLD_SEARCH` as the dossier records it: range and resolution [km/h], criterion, speed control,
+speed band [%, km/h]."""
 
 HANDLING_SETTINGS = {"radius_m": 20.0, "start_speed_kmh": 15.0}
 """ISO 4138 circle: ``trikedyn handling``'s defaults."""
 
 
 def _rules():
-    from ..analysis.verdict import Judging
-
-    return Judging(speed_band_percent=THRESHOLD_SETTINGS["speed_band_percent"],
-                   speed_band_kmh=THRESHOLD_SETTINGS["speed_band_kmh"])
+    return THRESHOLD_SEARCH.judging()
 
 
 def vehicle_sheet(pset, payload_kg: float) -> dict:
@@ -154,14 +155,11 @@ def thresholds(pset, manoeuvres=MANOEUVRES, say=None) -> dict:
     """
     from ..analysis.threshold import threshold_velocity
 
-    s = THRESHOLD_SETTINGS
     out = {}
     for name in manoeuvres:
         if say:
             say(f"threshold: {name}")
-        r = threshold_velocity(pset, name, options={}, low_kmh=s["low_kmh"], high_kmh=s["high_kmh"],
-                               resolution_kmh=s["resolution_kmh"], criterion=s["criterion"],
-                               speed_control=s["speed_control"], judging=_rules())
+        r = threshold_velocity(pset, name, options={}, **THRESHOLD_SEARCH.threshold_kwargs())
         lift = r.lift_off
         out[name] = {"course_kmh": r.course_speed_kmh, "lift_off_kmh": r.lift_off_speed_kmh, "limit": r.limit,
                      "detail": r.detail, "first_failure_kmh": r.first_failure_kmh,

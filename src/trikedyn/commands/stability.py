@@ -9,6 +9,7 @@ import numpy as np
 import typer
 
 from ..errors import InputError
+from ._bounds import SEARCH_DEFAULTS, search_bound, variant_bound
 from ._common import (
     BandKmhOpt,
     BandPercentOpt,
@@ -36,31 +37,37 @@ def threshold_cmd(
     payload: PayloadOpt = 0.0,
     freight: FreightAliasOpt = None,
     option: OptionOpt = [],  # noqa: B006
-    stiffness: Annotated[float, typer.Option("--stiffness-scale", callback=within(0, 100, above=True), help="Suspension stiffness factor (Table 2).")] = 1.0,
-    damping: Annotated[float, typer.Option("--damping-scale", callback=within(0, 100, above=True), help="Suspension damping factor (Table 2).")] = 1.0,
-    low: Annotated[float, typer.Option("--low", callback=within(0, 400, "km/h", above=True), help="Lowest speed searched [km/h].")] = 10.0,
-    high: Annotated[float, typer.Option("--high", callback=within(0, 400, "km/h", above=True), help="Highest speed searched [km/h].")] = 90.0,
-    resolution: Annotated[float, typer.Option("--resolution", callback=within(0.001, 50, "km/h"), help="Resolution [km/h].")] = 0.1,
-    criterion: CriterionOpt = "course",
-    speed_control: SpeedControlOpt = "driver",
-    band_percent: BandPercentOpt = 3.0,
-    band_kmh: BandKmhOpt = 1.0,
+    stiffness: Annotated[float, typer.Option("--stiffness-scale", callback=variant_bound("stiffness_scale"), help="Suspension stiffness factor (Table 2).")] = 1.0,
+    damping: Annotated[float, typer.Option("--damping-scale", callback=variant_bound("damping_scale"), help="Suspension damping factor (Table 2).")] = 1.0,
+    low: Annotated[float, typer.Option("--low", callback=search_bound("low_kmh"), help="Lowest speed searched [km/h].")] = SEARCH_DEFAULTS["low_kmh"],
+    high: Annotated[float, typer.Option("--high", callback=search_bound("high_kmh"), help="Highest speed searched [km/h].")] = SEARCH_DEFAULTS["high_kmh"],
+    resolution: Annotated[float, typer.Option("--resolution", callback=search_bound("resolution_kmh"), help="Resolution [km/h].")] = SEARCH_DEFAULTS["resolution_kmh"],
+    criterion: CriterionOpt = SEARCH_DEFAULTS["criterion"],
+    speed_control: SpeedControlOpt = SEARCH_DEFAULTS["speed_control"],
+    band_percent: BandPercentOpt = SEARCH_DEFAULTS["speed_band_percent"],
+    band_kmh: BandKmhOpt = SEARCH_DEFAULTS["speed_band_kmh"],
     as_json: JsonOpt = False,
 ):
     """Threshold velocity: the highest speed at which the vehicle passes the manoeuvre, under a criterion
     (course: a valid ISO run, the default; lift-off: no wheel lifts, the paper's), quoted with the speed the
     passing run actually drove. With the driver's own speed control the search stops at the top speed."""
     payload = payload_kg(payload, freight)
+    from ..analysis.search_settings import SearchSettings
     from ..analysis.threshold import threshold_velocity
-    from ..params import load_vehicle, scale_suspension, with_freight
+    from ..manoeuvres.spec import ManoeuvreSpec
+    from ..params import load_vehicle
+    from ..params.variant import Variant
 
     if low >= high:
         raise InputError(f"must be below --high ({high:g} km/h), got {low:g}", where="--low")
     options = manoeuvre_options(manoeuvre, option)
     rules = judging(band_percent, band_kmh)
-    pset = with_freight(scale_suspension(load_vehicle(vehicle), stiffness=stiffness, damping=damping), payload)
-    result = threshold_velocity(pset, manoeuvre, options=options, low_kmh=low, high_kmh=high, resolution_kmh=resolution,
-                                criterion=criterion, speed_control=speed_control, judging=rules)
+    settings = SearchSettings(low_kmh=low, high_kmh=high, resolution_kmh=resolution, criterion=criterion,
+                              speed_control=speed_control, speed_band_percent=rules.speed_band_percent,
+                              speed_band_kmh=rules.speed_band_kmh)
+    spec = ManoeuvreSpec(manoeuvre, options)
+    pset = Variant(stiffness_scale=stiffness, damping_scale=damping, freight_kg=payload).apply(load_vehicle(vehicle))
+    result = threshold_velocity(pset, spec.name, options=spec.options, **settings.threshold_kwargs())
     data = result.to_dict(runs=True) | {"vehicle": pset.name, "manoeuvre": manoeuvre, "options": options,
                                         "payload_kg": payload, "stiffness_scale": stiffness, "damping_scale": damping,
                                         "speed_band": rules.to_dict()}

@@ -236,7 +236,8 @@ def _threshold(pset, scenario):
 
 
 def course_options(scenario: dict) -> dict:
-    """The manoeuvre options a scenario sets: the base vehicle's width for a course laid out from it.
+    """The manoeuvre options a scenario sets: those its spec gives the manoeuvre, and the base vehicle's width
+    for a course laid out from it.
 
     Parameters
     ----------
@@ -246,10 +247,12 @@ def course_options(scenario: dict) -> dict:
     Returns
     -------
     dict
-        ``course_width_m`` [m] when the scenario sets it, else empty.
+        The spec's ``manoeuvre_options`` and ``course_width_m`` [m] when the scenario sets it; empty for a
+        manoeuvre at its defaults on its own course.
     """
+    options = dict(scenario.get("manoeuvre_options") or {})
     width = scenario.get("course_width_m")
-    return {} if width is None else {"course_width_m": width}
+    return options if width is None else {**options, "course_width_m": width}
 
 
 def table_fields(result) -> dict:

@@ -28,11 +28,11 @@ import math
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
-from typing import Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from .._validation import describe_validation_error
+from ..analysis.search_settings import SEARCH_DEFAULTS
 from ..errors import InputError
 from ..params.io import ParameterSet
 
@@ -65,12 +65,14 @@ class _Optimise(_Model):
     tol: float = Field(default=0.002, ge=0, le=1, description="stop when the population's spread of thresholds "
                        "is below tol x their mean")
     step: float = Field(default=0.001, gt=0, le=1, description="knob values are rounded to this [knob unit]")
-    resolution_kmh: float = Field(default=0.1, ge=0.01, le=10, description="threshold search resolution [km/h]")
-    high_kmh: float = Field(default=90.0, ge=11, le=400, description="highest speed searched [km/h]")
-    criterion: Literal["course", "lift-off", "both"] = Field(default="course", description="the threshold's "
-                                                              "pass rule (course: a valid ISO run; lift-off: the paper's)")
-    speed_control: Literal["driver", "ideal"] = Field(default="driver", description="the vehicle's own drive, or "
-                                                      "an unlimited one")
+    # the threshold search: defaults and bounds are SearchSettings' (checked in _parse, one line naming the key)
+    resolution_kmh: float = Field(default=SEARCH_DEFAULTS["resolution_kmh"],
+                                  description="threshold search resolution [km/h]")
+    high_kmh: float = Field(default=SEARCH_DEFAULTS["high_kmh"], description="highest speed searched [km/h]")
+    criterion: str = Field(default=SEARCH_DEFAULTS["criterion"], description="the threshold's pass rule (course: a "
+                           "valid ISO run; lift-off: the paper's; both)")
+    speed_control: str = Field(default=SEARCH_DEFAULTS["speed_control"], description="the vehicle's own drive "
+                               "(driver), or an unlimited one (ideal)")
 
     @field_validator("knobs")
     @classmethod
@@ -261,6 +263,9 @@ def _parse(source: str | dict, origin: str, base_dir: Path, place: str) -> Optim
     except ValidationError as exc:
         raise InputError(describe_validation_error(exc, raw, _File), where=origin) from None
     o = model.optimise
+    from ..analysis.search_settings import SearchSettings
+
+    SearchSettings.from_dict(o.model_dump(), where=f"{origin}: optimise")  # one set of bounds, as the commands'
     manoeuvres = tuple(_path_csv(m, base_dir, place, origin) if m.lower().endswith(".csv") else m
                        for m in o.manoeuvres)
     return OptimiseSpec(knobs=tuple((n, float(lo), float(hi)) for n, (lo, hi) in o.knobs.items()),

@@ -26,6 +26,7 @@ SCENARIO_KEYS = (
     "vehicle",
     "vehicle_digest",
     "manoeuvre",
+    "manoeuvre_options",
     "freight_kg",
     "stiffness_scale",
     "damping_scale",
@@ -71,6 +72,8 @@ def canonical_json(scenario: dict) -> str:
     data["overrides"] = dict(sorted(data["overrides"].items()))
     if data["metric"] in (None, "threshold") and not data["metric_options"]:  # the ids from before metrics
         del data["metric"], data["metric_options"]
+    if not data.get("manoeuvre_options"):  # a manoeuvre at its defaults keeps the id it had before options
+        data.pop("manoeuvre_options", None)
     for key in _JUDGING:  # a metric that neither searches nor drives keeps the id it had before them
         if data.get(key) is None:
             data.pop(key, None)
@@ -110,12 +113,13 @@ def expand(spec: StudySpec) -> list[dict]:
     -------
     list of dict
         Each with the keys of ``SCENARIO_KEYS``: ``scenario_id`` (str), ``groups`` (str), ``vehicle`` (str),
-        ``vehicle_digest`` (str), ``manoeuvre`` (str), ``freight_kg`` [kg], ``stiffness_scale`` and
+        ``vehicle_digest`` (str), ``manoeuvre`` (str), ``manoeuvre_options`` (dict: the options the spec gives
+        it, each in its unit; hashed into the id only when not empty), ``freight_kg`` [kg], ``stiffness_scale`` and
         ``damping_scale`` [-], ``overrides`` (dict: dotted path -> value), ``resolution_kmh``, ``low_kmh``,
         ``high_kmh``, ``step_kmh`` [km/h], ``criterion``, ``speed_band_percent`` [%], ``speed_band_kmh``
         [km/h] (None for a metric that does not search), ``speed_control`` (None for a metric not per
-        manoeuvre), ``course_width_m`` [m] (the base vehicle's width, for a course laid out from it; else
-        None), ``metric`` (name),
+        manoeuvre), ``course_width_m`` [m] (the base vehicle's width, for a course laid out from it unless
+        the manoeuvre's options give one; else None), ``metric`` (name),
         ``metric_options`` (dict) and ``metric_label`` (as the table shows it).
     """
     from .metrics import get, label
@@ -127,7 +131,11 @@ def expand(spec: StudySpec) -> list[dict]:
             else (None,) * 4
         judged = (spec.criterion, spec.speed_band_percent, spec.speed_band_kmh) if metric.uses_search else (None,) * 3
         driven = spec.speed_control if metric.per_manoeuvre else None
-        for manoeuvre, group in itertools.product(spec.manoeuvres if metric.per_manoeuvre else (None,), spec.groups):
+        manoeuvres = spec.manoeuvre_list if metric.per_manoeuvre else (None,)
+        for man, group in itertools.product(manoeuvres, spec.groups):
+            manoeuvre = None if man is None else man.name
+            man_options = {} if man is None else dict(man.options)
+            width = spec.course_width_m if _follows_width(manoeuvre) and "course_width_m" not in man_options else None
             paths = [p for p, _ in group.overrides]
             axes = [vals for _, vals in group.overrides]
             for k, c, combo, m in itertools.product(
@@ -139,6 +147,7 @@ def expand(spec: StudySpec) -> list[dict]:
                     "vehicle": spec.vehicle,
                     "vehicle_digest": spec.vehicle_digest,
                     "manoeuvre": manoeuvre,
+                    "manoeuvre_options": man_options,
                     "freight_kg": m,
                     "stiffness_scale": k,
                     "damping_scale": c,
@@ -151,7 +160,7 @@ def expand(spec: StudySpec) -> list[dict]:
                     "speed_control": driven,
                     "speed_band_percent": judged[1],
                     "speed_band_kmh": judged[2],
-                    "course_width_m": spec.course_width_m if _follows_width(manoeuvre) else None,
+                    "course_width_m": width,
                     "metric": metric_name,
                     "metric_options": dict(options),
                     "metric_label": label(metric_name, options),
@@ -210,7 +219,7 @@ def count_scenarios(spec: StudySpec) -> tuple[int, bool]:
         families.setdefault(paths, []).append(box)
     from .metrics import get
 
-    n_manoeuvres = len(_distinct(spec.manoeuvres))
+    n_manoeuvres = len({m.label for m in spec.manoeuvre_list})
     runs = sum(n_manoeuvres if get(name).per_manoeuvre else 1 for name, _ in spec.metrics)
     common = runs * len(_distinct(spec.freight_kg))
     exact = True

@@ -6,10 +6,12 @@ A study file::
     description = "..."
     vehicle = "reference-etrike"        # preset name, or a .toml file in this file's folder or below it
     manoeuvres = ["dlc", "slc"]         # registered manoeuvres (`trikedyn manoeuvres`), default options
+    # or with options, as `-o KEY=VALUE` gives them: manoeuvres = ["slc", { name = "dlc", run_in_m = 40 }]
     metrics = ["threshold"]             # optional (this is the default): what each variation measures
     freight_kg = [0, 50, 100, 150, 200]
     resolution_kmh = 0.1                # threshold search resolution [km/h]
-    # optional: low_kmh = 10, high_kmh = 90, step_kmh = 10 (search range and bracketing step [km/h])
+    # optional: low_kmh = 10, high_kmh = 90, step_kmh = 10 (search range and bracketing step [km/h];
+    #           the bounds are the search settings', trikedyn.analysis.search_settings, as on the command line)
     # optional: criterion = "course"    # or "lift-off" (the paper's) or "both" (the threshold's pass rule)
     # optional: speed_control = "driver"  # or "ideal" (unlimited drive: the speed imposed)
     # optional: speed_band_percent = 3, speed_band_kmh = 1  (the band the speed is held to)
@@ -23,6 +25,14 @@ A study file::
     [[groups]]
     name = "layout"
     overrides = { "track_m" = [1.0, 1.2], "component.battery.z_m" = [0.25, 0.45] }   # design knobs
+
+A manoeuvre entry is a name or a table ``{ name = "dlc", run_in_m = 40 }``: its options are checked
+against the manoeuvre's option table (:class:`~trikedyn.manoeuvres.spec.ManoeuvreSpec`), a bad one refused
+in one line naming it; the table, the figures and the scenario id show it as ``dlc(run_in_m=40)``. The
+search settings (range, step, resolution, criterion, speed control, speed band) are a
+:class:`~trikedyn.analysis.search_settings.SearchSettings`, the scale factors and freight a
+:class:`~trikedyn.params.variant.Variant`'s: one set of defaults and bounds for the spec, the optimise spec
+and the command line.
 
 Metrics (:mod:`trikedyn.study.metrics`): ``threshold`` (the default), ``tilt_angle``,
 ``understeer_gradient`` (option ``radius_m``), ``peak_ri`` and ``min_wheel_load`` (option ``speed_kmh``,
@@ -54,7 +64,8 @@ as an override is read and checked when the spec is loaded (so ``--dry-run`` ref
 carry its absolute path, so a run reads the file that was checked wherever it runs.
 
 :func:`load_spec` does the I/O (reads the file, loads the vehicle once to check override paths and to
-digest it); the expansion into scenarios (:func:`~trikedyn.study.scenarios.expand`,
+digest it; the vehicle, tyre files and override paths are checked by :mod:`trikedyn.study.spec_files`); the
+expansion into scenarios (:func:`~trikedyn.study.scenarios.expand`,
 :func:`~trikedyn.study.scenarios.count_scenarios`) is in
 :mod:`trikedyn.study.scenarios`.
 """
@@ -66,12 +77,13 @@ import math
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from .._validation import describe_validation_error
-from ..errors import InputError, did_you_mean
+from ..analysis.search_settings import SEARCH_DEFAULTS
+from ..errors import InputError
 
 __all__ = [
     "GroupSpec",
@@ -106,11 +118,8 @@ class _Group(_Model):
 
     @field_validator("stiffness_scale", "damping_scale")
     @classmethod
-    def _positive(cls, values):
-        for v in values:
-            if not math.isfinite(v) or v <= 0:
-                raise ValueError(f"scale factors must be finite and > 0, got {v!r}")
-        return values
+    def _scale(cls, values, info):
+        return _variant_values(info.field_name, values)
 
     @field_validator("overrides")
     @classmethod
@@ -128,48 +137,51 @@ class _Spec(_Model):
     name: str = Field(min_length=1)
     description: str = ""
     vehicle: str = "reference-etrike"
-    manoeuvres: list[str] = Field(default=["dlc", "slc"], min_length=1)
+    manoeuvres: list[str | dict[str, Scalar]] = Field(
+        default=["dlc", "slc"], min_length=1,
+        description="registered manoeuvres, each a name or a table { name = ..., option = value } (its options)")
     metrics: list[str | dict[str, Scalar]] = Field(
         default=["threshold"], min_length=1,
         description="what each vehicle variation measures: registered study metrics (threshold, tilt_angle, "
         "understeer_gradient, peak_ri, min_wheel_load, ...), each a name or a table { name = ..., option = value }",
     )
     freight_kg: list[float] = Field(default=[0.0], min_length=1)
-    resolution_kmh: float = Field(default=0.1, gt=0, le=10, description="threshold search resolution [km/h]")
-    low_kmh: float = Field(default=10.0, gt=0, description="lowest speed searched [km/h]")
-    high_kmh: float = Field(default=90.0, gt=0, le=300, description="highest speed searched [km/h] (the driver's "
-                            "searches stop at the top speed when lower)")
-    step_kmh: float = Field(default=10.0, gt=0, description="bracketing step [km/h]")
-    criterion: Literal["course", "lift-off", "both"] = Field(
-        default="course", description="what a run must do to pass: course (ISO 3888-1 validity), lift-off (the "
-        "paper's) or both")
-    speed_control: Literal["driver", "ideal"] = Field(
-        default="driver", description="the vehicle's own drive (stops at its top speed) or an unlimited one")
-    speed_band_percent: float = Field(default=3.0, ge=0, le=100, description="half-width of the band the speed is "
-                                      "held to through the window [% of the target]")
-    speed_band_kmh: float = Field(default=1.0, ge=0, le=100, description="smallest half-width of the speed band "
-                                  "[km/h] (the band is the larger of the two)")
+    # the search settings: defaults and bounds are SearchSettings' (checked in _parse, one line naming the key)
+    resolution_kmh: float = Field(default=SEARCH_DEFAULTS["resolution_kmh"],
+                                  description="threshold search resolution [km/h]")
+    low_kmh: float = Field(default=SEARCH_DEFAULTS["low_kmh"], description="lowest speed searched [km/h]")
+    high_kmh: float = Field(default=SEARCH_DEFAULTS["high_kmh"], description="highest speed searched [km/h] (the "
+                            "driver's searches stop at the top speed when lower)")
+    step_kmh: float = Field(default=SEARCH_DEFAULTS["step_kmh"], description="bracketing step [km/h]")
+    criterion: str = Field(
+        default=SEARCH_DEFAULTS["criterion"], description="what a run must do to pass: course (ISO 3888-1 "
+        "validity), lift-off (the paper's) or both")
+    speed_control: str = Field(
+        default=SEARCH_DEFAULTS["speed_control"], description="the vehicle's own drive (stops at its top speed) or "
+        "an unlimited one (ideal)")
+    speed_band_percent: float = Field(default=SEARCH_DEFAULTS["speed_band_percent"], description="half-width of the "
+                                      "band the speed is held to through the window [% of the target]")
+    speed_band_kmh: float = Field(default=SEARCH_DEFAULTS["speed_band_kmh"], description="smallest half-width of the "
+                                  "speed band [km/h] (the band is the larger of the two)")
     groups: list[_Group] = Field(default_factory=lambda: [_Group(name="base")], min_length=1)
-
-    @field_validator("manoeuvres")
-    @classmethod
-    def _registered(cls, values):
-        from ..manoeuvres.registry import get
-
-        for name in values:
-            try:
-                get(name)
-            except InputError as exc:
-                raise ValueError(exc.reason) from None
-        return values
 
     @field_validator("freight_kg")
     @classmethod
-    def _freight(cls, values):
-        for v in values:
-            if not math.isfinite(v) or v < 0:
-                raise ValueError(f"freight masses must be >= 0 kg, got {v!r}")
-        return values
+    def _freight(cls, values, info):
+        return _variant_values(info.field_name, values)
+
+
+def _variant_values(name: str, values: list) -> list:
+    """A grid axis of a variant's number (a scale factor, the freight [kg]) checked by its bounds
+    (:data:`~trikedyn.params.variant.VARIANT_OPTIONS`); a ValueError naming the value if one is out."""
+    from ..params.variant import variant_option
+    from ..registry import checked
+
+    opt = variant_option(name)
+    try:
+        return [checked(opt, v) for v in values]
+    except InputError as exc:
+        raise ValueError(exc.reason) from None
 
 
 def _describe(exc: ValidationError, raw: dict) -> str:
@@ -204,7 +216,8 @@ class StudySpec:
     vehicle_digest : str
         Short SHA-256 of the vehicle's validated values; part of every scenario id.
     manoeuvres : tuple of str
-        Registered manoeuvres, e.g. ``"dlc"`` (ISO 3888-1) and ``"slc"`` (ISO 14791).
+        The manoeuvres as the table shows them: a registered name, e.g. ``"dlc"`` (ISO 3888-1) and ``"slc"``
+        (ISO 14791), or with its options, ``"dlc(run_in_m=40)"`` (:attr:`manoeuvre_specs` has them).
     metrics : tuple of (str, dict)
         The study metrics (:mod:`trikedyn.study.metrics`): name and complete options; ``(("threshold", {}),)``
         by default.
@@ -224,6 +237,9 @@ class StudySpec:
     groups : tuple of GroupSpec
     origin : str
         Spec name or file path it was read from.
+    manoeuvre_specs : tuple of ManoeuvreSpec
+        Each manoeuvre with its options (:class:`~trikedyn.manoeuvres.spec.ManoeuvreSpec`); empty: the
+        :attr:`manoeuvres` by name with default options.
     """
 
     name: str
@@ -245,6 +261,26 @@ class StudySpec:
     speed_band_percent: float = 3.0
     speed_band_kmh: float = 1.0
     course_width_m: float | None = None
+    manoeuvre_specs: tuple = ()
+
+    @property
+    def manoeuvre_list(self) -> tuple:
+        """Each manoeuvre with its options (:class:`~trikedyn.manoeuvres.spec.ManoeuvreSpec`), in the spec's order."""
+        if self.manoeuvre_specs:
+            return self.manoeuvre_specs
+        from ..manoeuvres.spec import ManoeuvreSpec
+
+        return tuple(ManoeuvreSpec(m) for m in self.manoeuvres)
+
+    @property
+    def search(self):
+        """The threshold search's settings (:class:`~trikedyn.analysis.search_settings.SearchSettings`)."""
+        from ..analysis.search_settings import SearchSettings
+
+        return SearchSettings(low_kmh=self.low_kmh, high_kmh=self.high_kmh, step_kmh=self.step_kmh,
+                              resolution_kmh=self.resolution_kmh, criterion=self.criterion,
+                              speed_control=self.speed_control, speed_band_percent=self.speed_band_percent,
+                              speed_band_kmh=self.speed_band_kmh)
 
     def load_vehicle(self):
         """The study's base vehicle (:class:`~trikedyn.params.parameter_set.ParameterSet`), before any variation.
@@ -353,16 +389,20 @@ def _parse(source: str | dict, origin: str, base_dir: Path, place: str) -> Study
         model = _Spec.model_validate(raw)
     except ValidationError as exc:
         raise InputError(_describe(exc, raw), where=origin) from None
-    if model.speed_band_percent == 0 and model.speed_band_kmh == 0:
-        raise InputError("speed_band_percent and speed_band_kmh are both 0: no speed can be held", where=origin)
-    if model.low_kmh >= model.high_kmh:
-        raise InputError(f"low_kmh ({model.low_kmh:g}) must be below high_kmh ({model.high_kmh:g})", where=origin)
+    from ..analysis.search_settings import SearchSettings
+    from ..manoeuvres.spec import ManoeuvreSpec
+
+    search = SearchSettings.from_dict(model.model_dump(), where=origin)
+    manoeuvres = tuple(ManoeuvreSpec.from_entry(entry, where=f"{origin}: manoeuvres[{i}]")
+                       for i, entry in enumerate(model.manoeuvres))
     names = [g.name for g in model.groups]
     dup = next((n for n in names if names.count(n) > 1), None)
     if dup is not None:
         raise InputError(f"groups: the name '{dup}' is used twice; group names must be unique", where=origin)
 
-    vehicle_source = _resolve_vehicle(model.vehicle, base_dir, place, origin)
+    from .spec_files import override_problem, resolve_vehicle, tyre_files
+
+    vehicle_source = resolve_vehicle(model.vehicle, base_dir, place, origin)
     from ..errors import ParameterError
     from ..params import load_vehicle
 
@@ -371,10 +411,10 @@ def _parse(source: str | dict, origin: str, base_dir: Path, place: str) -> Study
     except ParameterError as exc:
         raise InputError(f"vehicle: {exc}", where=origin) from None
     plain = pset.params.model_dump(mode="json")
-    overrides = {g.name: _tyre_files(g.name, g.overrides, base_dir, place, origin) for g in model.groups}
+    overrides = {g.name: tyre_files(g.name, g.overrides, base_dir, place, origin) for g in model.groups}
     for group in model.groups:
         for dotted, values in overrides[group.name].items():
-            problem = _override_problem(pset.params, plain, dotted, values, overrides[group.name])
+            problem = override_problem(pset.params, plain, dotted, values, overrides[group.name])
             if problem:
                 raise InputError(f"groups[{group.name}].overrides: {problem}", where=origin)
     digest = hashlib.sha256(pset.params.model_dump_json().encode()).hexdigest()[:12]
@@ -395,20 +435,21 @@ def _parse(source: str | dict, origin: str, base_dir: Path, place: str) -> Study
         vehicle=model.vehicle,
         vehicle_source=vehicle_source,
         vehicle_digest=digest,
-        manoeuvres=tuple(model.manoeuvres),
+        manoeuvres=tuple(m.label for m in manoeuvres),
         freight_kg=tuple(float(v) for v in model.freight_kg),
-        resolution_kmh=float(model.resolution_kmh),
-        low_kmh=float(model.low_kmh),
-        high_kmh=float(model.high_kmh),
-        step_kmh=float(model.step_kmh),
+        resolution_kmh=search.resolution_kmh,
+        low_kmh=search.low_kmh,
+        high_kmh=search.high_kmh,
+        step_kmh=search.step_kmh,
         groups=groups,
         origin=origin,
         metrics=metrics,
-        criterion=model.criterion,
-        speed_control=model.speed_control,
-        speed_band_percent=float(model.speed_band_percent),
-        speed_band_kmh=float(model.speed_band_kmh),
+        criterion=search.criterion,
+        speed_control=search.speed_control,
+        speed_band_percent=search.speed_band_percent,
+        speed_band_kmh=search.speed_band_kmh,
         course_width_m=float(pset.params.body.overall_width_m),
+        manoeuvre_specs=manoeuvres,
     )
 
 
@@ -427,83 +468,3 @@ def _parse_metrics(entries, origin: str) -> tuple[tuple[str, dict], ...]:
             raise InputError(f"metrics: '{label(name, options)}' is listed twice", where=origin)
         parsed.append((name, options))
     return tuple(parsed)
-
-
-def _resolve_vehicle(vehicle: str, base_dir: Path, place: str, origin: str) -> str:
-    """A preset name stays a name; a path is a file the spec names (the rule of
-    :func:`trikedyn._reading.named_file`), made absolute in the spec's folder."""
-    from .._reading import named_file
-    from ..params import list_presets
-
-    if vehicle in list_presets() and not vehicle.endswith(".toml"):
-        return vehicle
-    if Path(vehicle).suffix == ".toml" or "/" in vehicle or "\\" in vehicle:
-        named = named_file(vehicle, base_dir, expected="a preset name or a .toml vehicle file", where=origin,
-                           key="vehicle", place=place)
-        return str(named.path)
-    return vehicle  # an unknown name: load_vehicle explains, with a close match
-
-
-def _tyre_files(group: str, overrides: dict, base_dir: Path, place: str, origin: str) -> dict:
-    """A group's overrides with each ``wheels.NAME.tyre_file`` value made the absolute path of a ``.tir`` file
-    the spec names (the rule of :func:`trikedyn._reading.named_file`), read and checked now."""
-    from .._reading import named_file
-    from ..tyre.tir import read_tir
-
-    out = dict(overrides)
-    for dotted, values in overrides.items():
-        keys = dotted.split(".")
-        if not (len(keys) == 3 and keys[0] == "wheels" and keys[2] == "tyre_file"):
-            continue
-        key = f"groups[{group}].overrides.{dotted}"
-        paths = []
-        for value in values:
-            named = named_file(value, base_dir, expected="a .tir file", where=origin, key=key, place=place,
-                               suffixes=(".tir",))
-            try:
-                read_tir(named.path)
-            except InputError as exc:
-                raise InputError(f"{key}: {exc}", where=origin) from None
-            paths.append(str(named.path))
-        out[dotted] = paths
-    return out
-
-
-def _override_problem(params, plain: dict, dotted: str, values, group: dict) -> str | None:
-    """Why an override axis of a group cannot be varied (None if it can): an unknown knob or path (with a
-    close match), a knob value that is not a number within the knob's bounds, or a path that moves one wheel
-    of the pair or one component's declared place without the rest (a pointer to the knob that does it
-    consistently; both wheels of the pair set in the group, one value each, are one deliberate layout)."""
-    from ..params.knobs import _unknown, inconsistent_override, is_knob, knob_problem
-
-    if is_knob(dotted):
-        return knob_problem(params, dotted, values)
-    if "." not in dotted and dotted not in plain:
-        return _unknown(params, dotted)
-    return _check_path(plain, dotted) or inconsistent_override(params, dotted, group)
-
-
-def _check_path(plain: dict, dotted: str) -> str | None:
-    """Why a dotted parameter path does not exist in a parameter set (None if it does)."""
-    node: Any = plain
-    keys = dotted.split(".")
-    for i, key in enumerate(keys):
-        if isinstance(node, list):
-            names = [w.get("name") for w in node if isinstance(w, dict)]
-            nxt = next((w for w in node if isinstance(w, dict) and w.get("name") == key), None)
-        elif isinstance(node, dict):
-            names = list(node)
-            nxt = node.get(key) if key in node else None
-            if key in node and i == len(keys) - 1:
-                return None
-        else:
-            return f"no parameter '{dotted}' ('{'.'.join(keys[:i])}' is a value)"
-        if nxt is None:
-            tip = did_you_mean(key, [str(n) for n in names])
-            return f"no parameter '{dotted}' (no '{key}'){tip}"
-        node = nxt
-    if isinstance(node, dict | list):
-        return f"'{dotted}' is a section, not a value"
-    return None
-
-

@@ -72,6 +72,10 @@ def results_table(stored: list[dict], order: list[str] | None = None, *, run_inf
     records = []
     for r in chosen:
         rec = {c: r.get(c) for c in columns if c not in paths}
+        if r.get("manoeuvre_options"):  # a manoeuvre with options shows them: dlc(run_in_m=40)
+            from ...manoeuvres.spec import manoeuvre_label
+
+            rec["manoeuvre"] = manoeuvre_label(r["manoeuvre"], r["manoeuvre_options"])
         if with_metrics:
             rec.update(metric=r["metric_label"], value=r.get("value"), unit=r.get("unit") or _unit(r["metric"]))
         rec.update({p: r["overrides"].get(p) for p in paths})
