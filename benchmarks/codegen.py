@@ -22,7 +22,7 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 from numba import njit  # noqa: E402
 
-from trikedyn.model import dynamics, rhs  # noqa: E402
+from trikedyn.model import cholesky, dynamics, rhs  # noqa: E402
 from trikedyn.model.codegen import kernels_for_tree  # noqa: E402
 from trikedyn.model.packing import WHEEL_OUT  # noqa: E402
 from trikedyn.model.statics import rolling_state, static_equilibrium  # noqa: E402
@@ -51,7 +51,7 @@ def generic_loop(qs, us, taus, fexts, gravity, parent, jtype, jaxis, tree_e, tre
             dynamics.crba_into(ws.e, ws.r, parent, jtype, jaxis, mass, h, ibar, ws)
             for i in range(n):
                 rhs[i] = taus[s, i] - ws.bias[i]
-            dynamics.cholesky_solve_into(ws.hmat, rhs, ws.low, ws.vec, out)
+            cholesky.cholesky_solve_into(ws.hmat, rhs, ws.low, ws.vec, out)
             for i in range(n):
                 acc += out[i]
     return acc

@@ -518,7 +518,8 @@ def api_flat() -> str:
 
 
 API_MODULES = (
-    ("Parameter sets", ("trikedyn.params.parameter_set", "trikedyn.params.io", "trikedyn.params.ops",
+    ("Parameter sets", ("trikedyn.params.parameter_set", "trikedyn.params.io", "trikedyn.params.save",
+                        "trikedyn.params.shipped", "trikedyn.params.extends", "trikedyn.params.ops",
                         "trikedyn.params.audit", "trikedyn.params.springs", "trikedyn.params.plausibility", "trikedyn.params.schema")),
     ("Measurements", ("trikedyn.measure.imu_log", "trikedyn.measure.logs", "trikedyn.measure.suspension",
                       "trikedyn.measure.signals", "trikedyn.measure.decay", "trikedyn.measure.weighing", "trikedyn.measure.cg",
@@ -534,7 +535,8 @@ API_MODULES = (
                  "trikedyn.analysis.alignment", "trikedyn.analysis.scoring", "trikedyn.analysis.tilt",
                  "trikedyn.analysis.handling_tests", "trikedyn.analysis.steady_state", "trikedyn.analysis.steer_shape",
                  "trikedyn.analysis.performance", "trikedyn.analysis.performance_results",
-                 "trikedyn.analysis.straight_line", "trikedyn.analysis.straight_balance")),
+                 "trikedyn.analysis.straight_line", "trikedyn.analysis.wheel_balance",
+                 "trikedyn.analysis.straight_balance")),
     ("Studies", ("trikedyn.study.spec", "trikedyn.study.scenarios", "trikedyn.study.designs.runner",
                  "trikedyn.study.engine.executors", "trikedyn.study.engine.dask", "trikedyn.study.engine.loop",
                  "trikedyn.study.engine.pool", "trikedyn.study.engine.store", "trikedyn.study.engine.table",
@@ -546,7 +548,7 @@ API_MODULES = (
                              "trikedyn.paper.report", "trikedyn.paper.html",
                              "trikedyn.paper.cells")),
     ("Tyres", ("trikedyn.tyre.magic_formula", "trikedyn.tyre.tir", "trikedyn.tyre.tir_properties", "trikedyn.tyre.pac2002",
-               "trikedyn.tyre.models")),
+               "trikedyn.tyre.pac2002_pack", "trikedyn.tyre.pac2002_arrays", "trikedyn.tyre.models")),
     ("Registries and plug-ins", ("trikedyn.registry",)),
     ("Errors and units", ("trikedyn.errors", "trikedyn.units")),
 )

@@ -11,7 +11,7 @@ import pytest
 
 from trikedyn.errors import InputError, ParameterError
 from trikedyn.params import load_vehicle, parse_vehicle
-from trikedyn.params.io import MAX_EXTENDS
+from trikedyn.params.extends import MAX_EXTENDS
 from trikedyn.params.tomlfile import MAX_FILE_BYTES
 
 SECRET_KEY = "api_token_9f8e7d"

@@ -6,7 +6,7 @@ import pytest
 
 from trikedyn.errors import ParameterError
 from trikedyn.params import list_presets, load_vehicle, parse_vehicle, save_vehicle
-from trikedyn.params.io import _to_toml
+from trikedyn.params.save import _to_toml
 
 
 def _reference_toml(reference) -> str:

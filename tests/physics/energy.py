@@ -2,7 +2,8 @@
 
 import numpy as np
 
-from trikedyn.model.dynamics import crba, joint_transforms, world_transforms
+from trikedyn.model.dynamics import crba
+from trikedyn.model.kinematics import joint_transforms, world_transforms
 from trikedyn.model.statics import state_derivative
 
 
@@ -49,7 +50,7 @@ def momenta(model, x):
     tree = model.tree
     e, r = joint_transforms(q, tree.parent, tree.jtype, tree.jaxis, tree.tree_e, tree.tree_r)
     ew, pw = world_transforms(tree.parent, e, r)
-    from trikedyn.model.dynamics import body_velocities_into
+    from trikedyn.model.kinematics import body_velocities_into
 
     v = np.empty((tree.n_bodies, 6))
     body_velocities_into(e, r, u, tree.parent, tree.jtype, tree.jaxis, v)

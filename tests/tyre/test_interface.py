@@ -7,7 +7,7 @@ import pytest
 
 from trikedyn import tyre as mf
 from trikedyn.model.packing import ROAD, VEHICLE, WHEEL, WHEEL_OUT
-from trikedyn.tyre import pac2002
+from trikedyn.tyre import pac2002, pac2002_pack
 from trikedyn.tyre.contact import slip_rates
 from trikedyn.tyre.interface import (
     COEFFS_WIDTH,
@@ -72,7 +72,7 @@ def test_similarity_forces_are_the_magic_formula_modules(similarity_row):
 
 def test_full_magic_formula_takes_the_iso_slip_angle(real_tir):
     c = np.zeros(COEFFS_WIDTH)
-    c[: pac2002.N_PACKED] = pac2002.pack(real_tir)
+    c[: pac2002.N_PACKED] = pac2002_pack.pack(real_tir)
     for kappa, alpha, gamma in [(0.0, 0.05, 0.0), (0.03, -0.04, 0.02), (-0.1, 0.1, -0.03)]:
         ours = tyre_forces(MAGIC_FORMULA, c, kappa, alpha, gamma, 3000.0, 15.0, 15.0, 50.0, 0.3, 1.0, 1.0)
         iso = pac2002.mf_forces(3000.0, kappa, -alpha, gamma, 15.0, c[: pac2002.N_PACKED])
@@ -99,7 +99,7 @@ def _upright_wheel(height, spin=0.0, vx=0.0, vy=0.0):
 def test_wheel_wrench_at_rest_is_the_vertical_spring(model, similarity_row, real_tir):
     c = similarity_row.copy()
     if model == MAGIC_FORMULA:
-        c[: pac2002.N_PACKED] = pac2002.pack(real_tir)
+        c[: pac2002.N_PACKED] = pac2002_pack.pack(real_tir)
     w = _wheel(model=model)
     road = np.zeros(1, ROAD)
     out = np.zeros(1, WHEEL_OUT)
@@ -115,7 +115,7 @@ def test_wheel_wrench_at_rest_is_the_vertical_spring(model, similarity_row, real
 def test_aligning_moment_reaches_the_wheel(real_tir):
     """A slip angle gives an aligning moment about the road normal on the wheel: the steering feels it."""
     c = np.zeros(COEFFS_WIDTH)
-    c[: pac2002.N_PACKED] = pac2002.pack(real_tir)
+    c[: pac2002.N_PACKED] = pac2002_pack.pack(real_tir)
     w = _wheel(model=MAGIC_FORMULA)
     out = np.zeros(1, WHEEL_OUT)
     e, cx, cy, cz, vb = _upright_wheel(0.29, spin=10.0 / 0.297, vx=10.0, vy=0.5)
@@ -133,7 +133,7 @@ def test_full_magic_formula_carries_no_zero_slip_force_at_rest(real_tir):
     """Its offsets (ply steer, conicity, residual torque) and camber thrust fade out below v_low: at rest a
     tyre carries only what slip causes, so that a vehicle can stand; from v_low on they are whole."""
     c = np.zeros(COEFFS_WIDTH)
-    c[: pac2002.N_PACKED] = pac2002.pack(real_tir)
+    c[: pac2002.N_PACKED] = pac2002_pack.pack(real_tir)
     at_rest = tyre_forces(MAGIC_FORMULA, c, 0.0, 0.0, 0.03, 3000.0, 0.0, 1.0, 0.0, 0.3, 1.0, 1.0)
     assert at_rest[:5] == (0.0, 0.0, 0.0, 0.0, 0.0)
     rolling = tyre_forces(MAGIC_FORMULA, c, 0.0, 0.0, 0.03, 3000.0, 1.0, 1.0, 3.3, 0.3, 1.0, 1.0)
@@ -153,7 +153,7 @@ def test_a_file_without_relaxation_data_falls_back_to_the_tyre_section(real_tir,
     path.write_text(text)
     from trikedyn.tyre.tir import read_tir
 
-    c = pac2002.pack(read_tir(path))
+    c = pac2002_pack.pack(read_tir(path))
     with np.errstate(all="raise"):
         sk, sa = pac2002.mf_relaxation_lengths(2000.0, 0.0, c)
     assert math.isnan(sk) and math.isnan(sa)

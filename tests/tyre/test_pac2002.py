@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from trikedyn.tyre import mf_figures, pac2002
+from trikedyn.tyre import mf_figures, pac2002, pac2002_arrays, pac2002_pack
 from trikedyn.tyre.tir import parse_tir, read_tir
 
 
@@ -19,11 +19,11 @@ def slope(f, x0, h):
 
 
 def fy_at(tir, fz, gamma=0.0, kappa=0.0):
-    return lambda a: float(pac2002.forces(tir, fz, kappa=kappa, alpha=a, gamma=gamma).fy)
+    return lambda a: float(pac2002_arrays.forces(tir, fz, kappa=kappa, alpha=a, gamma=gamma).fy)
 
 
 def fx_at(tir, fz, alpha=0.0):
-    return lambda k: float(pac2002.forces(tir, fz, kappa=k, alpha=alpha).fx)
+    return lambda k: float(pac2002_arrays.forces(tir, fz, kappa=k, alpha=alpha).fx)
 
 
 def hand_kya(c, fz):
@@ -109,7 +109,7 @@ def test_pure_slip_peaks_are_d_plus_sv(tir, symmetric_tir, scaled_tir, load):
         assert peaks.fx_max_N == pytest.approx(dx + svx, rel=1e-6)
         assert peaks.fx_min_N == pytest.approx(-dx + svx, rel=1e-6)
         assert peaks.alpha_at_fy_max_rad < 0.0 < peaks.kappa_at_fx_max  # ISO signs
-        grid = pac2002.pure_forces(t, fz, alpha=np.linspace(-1.0, 1.0, 20001)).fy  # an independent search
+        grid = pac2002_arrays.pure_forces(t, fz, alpha=np.linspace(-1.0, 1.0, 20001)).fy  # an independent search
         assert grid.max() <= peaks.fy_max_N * (1 + 1e-12) and grid.max() == pytest.approx(peaks.fy_max_N, rel=1e-5)
 
 
@@ -119,24 +119,24 @@ def test_combined_slip_reduces_to_pure_slip(write_tir):
     alpha = np.linspace(-0.6, 0.6, 121)
     for fz in (300.0, 2000.0, 5000.0):
         for gamma in (0.0, 0.05, -0.2):
-            comb, pure = pac2002.forces(t, fz, kappa=kappa, gamma=gamma), pac2002.pure_forces(t, fz, kappa=kappa,
+            comb, pure = pac2002_arrays.forces(t, fz, kappa=kappa, gamma=gamma), pac2002_arrays.pure_forces(t, fz, kappa=kappa,
                                                                                              gamma=gamma)
             np.testing.assert_allclose(comb.fx, pure.fx, rtol=1e-12, atol=0)
-            comb, pure = pac2002.forces(t, fz, alpha=alpha, gamma=gamma), pac2002.pure_forces(t, fz, alpha=alpha,
+            comb, pure = pac2002_arrays.forces(t, fz, alpha=alpha, gamma=gamma), pac2002_arrays.pure_forces(t, fz, alpha=alpha,
                                                                                              gamma=gamma)
             np.testing.assert_allclose(comb.fy, pure.fy, rtol=1e-12, atol=0)
             np.testing.assert_allclose(comb.mz, pure.mz, rtol=1e-12, atol=1e-12)
     # and the weighting functions do act once both slips are there
-    both = pac2002.forces(t, 2000.0, kappa=0.1, alpha=0.1)
-    alone = pac2002.pure_forces(t, 2000.0, kappa=0.1, alpha=0.1)
+    both = pac2002_arrays.forces(t, 2000.0, kappa=0.1, alpha=0.1)
+    alone = pac2002_arrays.pure_forces(t, 2000.0, kappa=0.1, alpha=0.1)
     assert abs(both.fx) < 0.9 * abs(alone.fx) and abs(both.fy) < 0.95 * abs(alone.fy)
 
 
 def test_odd_symmetry_without_shifts(symmetric_tir):
     k, a = np.meshgrid(np.linspace(-0.9, 0.9, 37), np.linspace(-0.9, 0.9, 41))
     for fz in (400.0, 2400.0, 5500.0):
-        f = pac2002.forces(symmetric_tir, fz, kappa=k, alpha=a)
-        fk, fa = pac2002.forces(symmetric_tir, fz, kappa=-k, alpha=a), pac2002.forces(symmetric_tir, fz, kappa=k,
+        f = pac2002_arrays.forces(symmetric_tir, fz, kappa=k, alpha=a)
+        fk, fa = pac2002_arrays.forces(symmetric_tir, fz, kappa=-k, alpha=a), pac2002_arrays.forces(symmetric_tir, fz, kappa=k,
                                                                                      alpha=-a)
         scale = fz * 1e-12
         np.testing.assert_allclose(fk.fx, -f.fx, rtol=1e-12, atol=scale)  # odd in kappa
@@ -145,7 +145,7 @@ def test_odd_symmetry_without_shifts(symmetric_tir):
         np.testing.assert_allclose(fk.fy, f.fy, rtol=1e-12, atol=scale)  # even in kappa
         np.testing.assert_allclose(fa.mz, -f.mz, rtol=1e-12, atol=scale)
         np.testing.assert_allclose(fa.mx, -f.mx, rtol=1e-12, atol=scale)
-    zero = pac2002.forces(symmetric_tir, 2000.0)
+    zero = pac2002_arrays.forces(symmetric_tir, 2000.0)
     assert (zero.fx, zero.fy, zero.mz) == (0.0, 0.0, 0.0)
 
 
@@ -155,21 +155,21 @@ def test_mirroring_flips_fy_mx_and_mz(write_tir):
     k, a, g = np.meshgrid(np.linspace(-0.5, 0.5, 11), np.linspace(-0.4, 0.4, 9), [-0.1, 0.0, 0.07])
     for side in ("left", "right"):
         same, other = (left, right) if side == "left" else (right, left)
-        f = pac2002.forces(same, 2500.0, kappa=k, alpha=a, gamma=g, side=side)  # as measured
-        m = pac2002.forces(other, 2500.0, kappa=k, alpha=-a, gamma=-g, side=side)  # mirrored
+        f = pac2002_arrays.forces(same, 2500.0, kappa=k, alpha=a, gamma=g, side=side)  # as measured
+        m = pac2002_arrays.forces(other, 2500.0, kappa=k, alpha=-a, gamma=-g, side=side)  # mirrored
         np.testing.assert_allclose(m.fx, f.fx, rtol=1e-13, atol=1e-9)
         np.testing.assert_allclose(m.my, f.my, rtol=1e-13, atol=1e-9)
         for name in ("fy", "mz", "mx"):
             np.testing.assert_allclose(getattr(m, name), -getattr(f, name), rtol=1e-13, atol=1e-9)
-    as_measured = pac2002.forces(right, 2500.0, alpha=0.0)
-    mirrored = pac2002.forces(right, 2500.0, alpha=0.0, side="left")
+    as_measured = pac2002_arrays.forces(right, 2500.0, alpha=0.0)
+    mirrored = pac2002_arrays.forces(right, 2500.0, alpha=0.0, side="left")
     assert as_measured.fy != 0.0 and mirrored.fy == pytest.approx(-as_measured.fy)  # the ply steer flips
     symmetric = read_tir(write_tir("sym.tir", side="SYMMETRIC"))
-    assert pac2002.forces(symmetric, 2500.0, side="right").fy == pac2002.forces(symmetric, 2500.0).fy
+    assert pac2002_arrays.forces(symmetric, 2500.0, side="right").fy == pac2002_arrays.forces(symmetric, 2500.0).fy
 
 
 def test_validity_ranges_clamp_and_report(tir):
-    c = pac2002.pack(tir)
+    c = pac2002_pack.pack(tir)
     at_edge = pac2002.mf_forces(2000.0, 1.0, 1.0, 0.3, 15.0, c)
     assert at_edge[5] == 0
     beyond = pac2002.mf_forces(2000.0, 2.0, 1.2, 0.5, 15.0, c)
@@ -177,7 +177,7 @@ def test_validity_ranges_clamp_and_report(tir):
     assert pac2002.clamped_names(beyond[5]) == ["kappa", "alpha", "gamma"]
     low, at_min = pac2002.mf_forces(50.0, 0.1, 0.1, 0.0, 15.0, c), pac2002.mf_forces(100.0, 0.1, 0.1, 0.0, 15.0, c)
     assert low[5] == pac2002.CLAMPED_FZ and np.allclose(low[:5], np.array(at_min[:5]) * 0.5, rtol=1e-14)
-    high = pac2002.forces(tir, 9000.0, kappa=0.1)
+    high = pac2002_arrays.forces(tir, 9000.0, kappa=0.1)
     assert pac2002.clamped_names(high.clamped) == ["fz"]
     assert pac2002.mf_forces(0.0, 0.1, 0.1, 0.0, 15.0, c) == (0.0, 0.0, 0.0, 0.0, 0.0, 0)
     assert pac2002.mf_forces(-5.0, 0.1, 0.1, 0.0, 15.0, c)[:5] == (0.0,) * 5
@@ -198,11 +198,11 @@ def test_relaxation_lengths_hand_values(tir):
 
 
 def test_iso_signs_and_rolling_resistance(tir):
-    f = pac2002.forces(tir, 2000.0, kappa=[0.1, -0.1, 0.0, 0.0], alpha=[0.0, 0.0, 0.05, -0.05])
+    f = pac2002_arrays.forces(tir, 2000.0, kappa=[0.1, -0.1, 0.0, 0.0], alpha=[0.0, 0.0, 0.05, -0.05])
     assert f.fx[0] > 0 > f.fx[1] and f.fy[2] < 0 < f.fy[3] and f.mz[2] > 0 > f.mz[3]
-    camber = pac2002.forces(tir, 2000.0, gamma=0.1)
-    assert camber.fy < pac2002.forces(tir, 2000.0).fy  # top leaning to -y pushes the tyre to -y
-    roll = pac2002.forces(tir, 2000.0, vcx=[15.0, 0.0, -15.0]).my
+    camber = pac2002_arrays.forces(tir, 2000.0, gamma=0.1)
+    assert camber.fy < pac2002_arrays.forces(tir, 2000.0).fy  # top leaning to -y pushes the tyre to -y
+    roll = pac2002_arrays.forces(tir, 2000.0, vcx=[15.0, 0.0, -15.0]).my
     c = tir.coefficients
     expected = c["UNLOADED_RADIUS"] * 2000.0 * (c["QSY1"] + c["QSY3"])  # Fx(0) is ~0 and QSY2 = 0
     assert roll[0] == pytest.approx(-expected, rel=1e-12) and roll[1] == 0.0 and roll[2] == pytest.approx(expected)
@@ -216,10 +216,10 @@ def test_mf61_equals_pac2002_at_zero_camber(make_tir_text):
                      "mf61.tir")
     k, a = np.meshgrid(np.linspace(-0.5, 0.5, 21), np.linspace(-0.5, 0.5, 21))
     for fz in (500.0, 2000.0, 4500.0):
-        fp, f6 = pac2002.forces(pac, fz, kappa=k, alpha=a), pac2002.forces(mf61, fz, kappa=k, alpha=a)
+        fp, f6 = pac2002_arrays.forces(pac, fz, kappa=k, alpha=a), pac2002_arrays.forces(mf61, fz, kappa=k, alpha=a)
         for name in ("fx", "fy", "mz", "mx", "my"):
             np.testing.assert_allclose(getattr(f6, name), getattr(fp, name), rtol=1e-12, atol=1e-9, err_msg=name)
-    thrust = pac2002.forces(mf61, 2000.0, gamma=[0.0, 0.1]).fy
+    thrust = pac2002_arrays.forces(mf61, 2000.0, gamma=[0.0, 0.1]).fy
     assert np.all(np.isfinite(thrust)) and thrust[1] < thrust[0]
     assert np.all(np.isnan(mf_figures.relaxation_lengths(mf61, 2000.0)))  # no carcass stiffnesses in the file
     stiff = parse_tir(make_tir_text(fmt="MF_61", header_extra="LONGITUDINAL_STIFFNESS = 3e5\nLATERAL_STIFFNESS = 1.5e5"),
@@ -242,12 +242,12 @@ def test_evaluation_at_the_real_file(real_tir):
     assert 0.8 < peaks.mu_y < 1.3 and 0.8 < peaks.mu_x < 1.3
     k, a, g = np.meshgrid(np.linspace(-1.5, 1.5, 31), np.radians(np.linspace(-30, 30, 13)), [-0.2, 0.0, 0.2])
     for fz in (190.0, 1000.0, 3800.0, 8550.0):
-        f = pac2002.forces(real_tir, fz, kappa=k, alpha=a, gamma=g)
+        f = pac2002_arrays.forces(real_tir, fz, kappa=k, alpha=a, gamma=g)
         for name in ("fx", "fy", "mz", "mx", "my"):
             assert np.all(np.isfinite(getattr(f, name))), name
         # bounded, sensible magnitudes (the fit's combined slip with camber thrust reaches |F| = 1.32 Fz at 190 N)
         assert np.all(np.hypot(f.fx, f.fy) < 1.5 * fz) and np.all(np.abs(f.mz) < 0.1 * fz)
-    f = pac2002.forces(real_tir, fz0, kappa=[0.1, 0.0], alpha=[0.0, math.radians(4)])
+    f = pac2002_arrays.forces(real_tir, fz0, kappa=[0.1, 0.0], alpha=[0.0, math.radians(4)])
     assert f.fx[0] > 0.8 * fz0 and f.fy[1] < -0.5 * fz0 and f.mz[1] > 0
 
 
@@ -296,6 +296,6 @@ def test_pure_slip_against_a_plain_rewrite_of_the_equations(which, request):
     t = request.getfixturevalue(which)
     for fz in (300.0, 2000.0, 4500.0):
         for kappa, alpha, gamma in ((0.05, 0.03, 0.0), (-0.3, -0.2, 0.1), (0.6, 0.5, -0.25), (-0.01, 0.001, 0.3)):
-            got = pac2002.pure_forces(t, fz, kappa=kappa, alpha=alpha, gamma=gamma)
+            got = pac2002_arrays.pure_forces(t, fz, kappa=kappa, alpha=alpha, gamma=gamma)
             want = reference_pure(t.coefficients, fz, kappa, alpha, gamma)
             assert [float(got.fx), float(got.fy), float(got.mz)] == pytest.approx(want, rel=1e-9, abs=1e-9)

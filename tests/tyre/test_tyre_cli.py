@@ -9,7 +9,7 @@ from typer.testing import CliRunner
 
 from trikedyn.commands.tyre import tyre_app
 from trikedyn.errors import InputError
-from trikedyn.tyre import mf_figures, pac2002
+from trikedyn.tyre import mf_figures, pac2002, pac2002_pack
 from trikedyn.tyre.tir import read_tir
 
 root = typer.Typer()
@@ -51,7 +51,7 @@ def test_forces_json_and_clamping(write_tir):
     code, out = run("forces", path, "--load", 2500, "--slip-angle-deg", 4, "--slip-ratio", 0.05, "--camber-deg", 1,
                     "--json")
     data = json.loads(out)
-    expected = pac2002.mf_forces(2500.0, 0.05, math.radians(4), math.radians(1), 15.0, pac2002.pack(read_tir(path)))
+    expected = pac2002.mf_forces(2500.0, 0.05, math.radians(4), math.radians(1), 15.0, pac2002_pack.pack(read_tir(path)))
     assert code == 0 and [data[k] for k in ("fx_N", "fy_N", "mz_Nm", "mx_Nm", "my_Nm")] == pytest.approx(expected[:5])
     assert data["clamped"] == [] and data["fy_N"] < 0 < data["fx_N"]
     code, out = run("forces", path, "--load", 2500, "--slip-angle-deg", 80, "--json")

@@ -6,7 +6,8 @@ one speed, with no simulation. :class:`StraightRunning` (one per model: :func:`s
 quasi-static :class:`State` at a speed under a drive command and a brake torque, on a grade;
 :func:`~trikedyn.analysis.straight_balance.full_drive_balance` finds the speed at which the full drive
 balances the resistances, and :func:`~trikedyn.analysis.straight_balance.power_takeover` the speed at which
-the power limit takes over from the torque limit. The straight-line
+the power limit takes over from the torque limit. Each wheel's spin balance, and the slip that balances it, is
+:mod:`~trikedyn.analysis.wheel_balance`'s. The straight-line
 performance (:mod:`trikedyn.analysis.performance`: top speed, acceleration, braking) is built on these.
 
 The model, as the simulation drives it
@@ -46,7 +47,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
 
 from ..errors import InputError
 from ..model.statics import static_equilibrium
@@ -54,32 +54,9 @@ from ..model.vehicle import VehicleModel, build_model
 from ..params.io import ParameterSet
 from ..params.ops import mass_properties
 from ..params.schema import VehicleParameters
-from ..tyre.interface import tyre_forces
+from .wheel_balance import Wheel, drive_capacity, solve_slip, spin_balance
 
 __all__ = ["State", "StraightRunning", "cache_key", "straight_running", "vehicle_model"]
-
-_DRIVING_SLIPS = (1e-5, 1e-4, 3e-4, 1e-3, 3e-3, 0.01, 0.02, 0.035, 0.05, 0.07, 0.1, 0.13, 0.17, 0.22, 0.3, 0.4,
-                  0.55, 0.75, 1.0)
-"""Slips scanned, from zero outwards, for the root of a wheel's spin balance [1]."""
-_LOCKED_SPINS = (0.0, 0.02, 0.05, 0.1, 0.2, 0.35, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 5.0, 8.0, 13.0, 20.0, 35.0, 60.0)
-"""Spin rates scanned, in ``w_low``, from a locked wheel upwards for its sliding root [1]."""
-
-
-@dataclass
-class _Wheel:
-    """One wheel's packed records: its tyre function and coefficients, radius [m], vertical stiffness [N/m],
-    spin inertia [kg m^2], whether it is driven and braked, and its static load [N]."""
-
-    name: str
-    model: int
-    coeffs: np.ndarray
-    radius: float
-    kz: float
-    inertia: float
-    driven: bool
-    braked: bool
-    static_load: float
-
 
 @dataclass
 class State:
@@ -141,8 +118,9 @@ class StraightRunning:
         Number of driven wheels.
     v_low, w_low : float
         The model's low-speed regularisation of the slip [m/s] and of the brake and rolling resistance [rad/s].
-    wheels : list
-        Per wheel (in the model's order) its name (``.name``) and packed records.
+    wheels : list of Wheel
+        Per wheel (in the model's order) its name (``.name``) and packed records
+        (:class:`~trikedyn.analysis.wheel_balance.Wheel`).
     static, x : numpy.ndarray
         Static load on the flat [N] and x position [m] per wheel.
     transfer : numpy.ndarray
@@ -173,10 +151,10 @@ class StraightRunning:
         for k, w in enumerate(model.tree.wheels):
             spec = params.wheel(w.name)
             rec = model.plant.wheels[k]
-            self.wheels.append(_Wheel(w.name, int(rec["tyre_model"]), np.ascontiguousarray(model.plant.tyres[k]),
-                                      float(rec["radius"]), float(rec["vertical_stiffness"]),
-                                      float(spec.spin_inertia_kgm2), bool(rec["driven"]), bool(rec["braked"]),
-                                      float(eq.wheel_loads_N[w.name])))
+            self.wheels.append(Wheel(w.name, int(rec["tyre_model"]), np.ascontiguousarray(model.plant.tyres[k]),
+                                     float(rec["radius"]), float(rec["vertical_stiffness"]),
+                                     float(spec.spin_inertia_kgm2), bool(rec["driven"]), bool(rec["braked"]),
+                                     float(eq.wheel_loads_N[w.name]), self.v_low, self.w_low))
             xs.append(spec.x_m)
             ys.append(spec.y_m)
         n = len(self.wheels)
@@ -189,108 +167,6 @@ class StraightRunning:
         self.radius = np.array([w.radius for w in self.wheels])
         self.kz = np.array([w.kz for w in self.wheels])
         self.inertia = np.array([w.inertia for w in self.wheels])
-
-    # -- one wheel ------------------------------------------------------------------------------------------
-    def _wheel(self, w: _Wheel, kappa, v, v_ref, fz, a, tau_drive, tau_brake):
-        """Residual of the spin balance ``I omega' - (...)`` with its sign flipped, and the tyre's values."""
-        r_eff = w.radius - fz / w.kz / 3.0
-        spin = (v + kappa * v_ref) / r_eff
-        if fz > 0.0:
-            fx, _, _, _, my, _ = tyre_forces(w.model, w.coeffs, kappa, 0.0, 0.0, fz, v, v_ref, spin, r_eff,
-                                             self.v_low, self.w_low)
-        else:
-            fx, my = 0.0, 0.0
-        spin_rate = a * (1.0 + kappa * (v / v_ref) ** 3) / r_eff
-        g = tau_drive - tau_brake * math.tanh(spin / self.w_low) - fx * w.radius + my - w.inertia * spin_rate
-        return g, fx, my, spin
-
-    def _root(self, w, lo, hi, args):
-        return brentq(lambda k: self._wheel(w, k, *args)[0], lo, hi, xtol=1e-13, rtol=1e-12)
-
-    def _solve_wheel(self, w, v, v_ref, fz, a, tau_drive, tau_brake, locked, guess):
-        """The wheel's slip: the root of its spin balance it reaches from rolling (or, locked, from lock).
-
-        Returns the slip and whether the wheel is locked; None when no root exists (a driven wheel whose
-        tyre cannot carry the torque).
-        """
-        args = (v, v_ref, fz, a, tau_drive, tau_brake)
-        lock = -v / v_ref  # slip of a wheel that does not turn
-        if locked:
-            prev, g_prev = lock, self._wheel(w, lock, *args)[0]
-            for s in _LOCKED_SPINS[1:]:
-                k = lock + s * self.w_low * (w.radius - fz / w.kz / 3.0) / v_ref
-                if k >= 0.0:
-                    k = 0.0
-                g = self._wheel(w, k, *args)[0]
-                if g_prev > 0.0 >= g:
-                    return self._root(w, prev, k, args), True
-                if k == 0.0:
-                    break
-                prev, g_prev = k, g
-            locked = False  # no sliding root: the wheel rolls again
-        # warm start: secant steps from the previous slip, kept when they settle on a stable root nearby
-        if guess is not None and guess != 0.0:
-            found = self._secant(w, guess, args)
-            if found is not None:
-                return found, False
-        g0 = self._wheel(w, 0.0, *args)[0]
-        if g0 == 0.0:
-            return 0.0, False
-        sign = 1.0 if g0 > 0.0 else -1.0  # the slip moves toward the side the balance pushes it
-        prev = 0.0
-        for s in _DRIVING_SLIPS:
-            k = sign * s
-            if sign < 0.0 and tau_brake > 0.0 and k <= lock:  # a braked wheel stops turning, it does not reverse
-                k = lock
-            g = self._wheel(w, k, *args)[0]
-            if g * g0 <= 0.0:
-                root = self._root(w, min(prev, k), max(prev, k), args)
-                return root, self._beyond_peak(w, root, args)
-            if k == lock:
-                break
-            prev = k
-        return None, False
-
-    def _secant(self, w, guess, args):
-        """The root of the spin balance near ``guess`` by secant steps, or None (not settled, too far, or an
-        unstable root: the balance must fall with the slip there)."""
-        k0, k1 = guess, guess * (1.0 + 1e-4)
-        g0, g1 = self._wheel(w, k0, *args)[0], self._wheel(w, k1, *args)[0]
-        reach = 0.2 * abs(guess) + 1e-6
-        for _ in range(10):
-            if g1 == g0:
-                return None
-            slope = (g1 - g0) / (k1 - k0)
-            if not slope < 0.0:
-                return None
-            k2 = k1 - g1 / slope
-            if abs(k2 - guess) > reach or k2 * guess <= 0.0:
-                return None
-            if abs(k2 - k1) <= 1e-13 + 1e-10 * abs(k2):
-                return k2
-            k0, g0, k1, g1 = k1, g1, k2, self._wheel(w, k2, *args)[0]
-        return None
-
-    def _beyond_peak(self, w, kappa, args):
-        """True when the tyre's force falls with more slip at ``kappa`` (the wheel slides: locked)."""
-        if kappa >= 0.0:
-            return False
-        d = max(1e-7, 1e-4 * abs(kappa))
-        return abs(self._wheel(w, kappa - d, *args)[1]) < abs(self._wheel(w, kappa, *args)[1])
-
-    def _capacity(self, w, v, v_ref, fz, a):
-        """Largest torque a driven wheel's tyre carries in rolling, and the slip there."""
-        def carried(k):
-            """Drive torque [N m] the wheel carries in rolling at slip ``k``: ``F_x R - M_y + I omega'``."""
-            return -self._wheel(w, k, v, v_ref, fz, a, 0.0, 0.0)[0]
-
-        values = [carried(s) for s in _DRIVING_SLIPS]
-        i = int(np.argmax(values))
-        lo = _DRIVING_SLIPS[max(i - 1, 0)]
-        hi = _DRIVING_SLIPS[min(i + 1, len(_DRIVING_SLIPS) - 1)]
-        best = minimize_scalar(lambda k: -carried(k), bounds=(lo, hi), method="bounded", options={"xatol": 1e-9})
-        k = float(best.x) if -best.fun > values[i] else _DRIVING_SLIPS[i]
-        return max(-best.fun, values[i]), k
 
     # -- the vehicle --------------------------------------------------------------------------------------
     def state(self, v, drive, brake, sin_t, cos_t, locked=None, start=None) -> State:
@@ -349,11 +225,11 @@ class StraightRunning:
             for k, w in enumerate(self.wheels):
                 tau_d = torque / self.n_driven if w.driven else 0.0
                 tau_b = brake if w.braked else 0.0
-                root, lock = self._solve_wheel(w, v, v_ref, fz[k], a, tau_d, tau_b, locked[k], kappa[k])
+                root, lock = solve_slip(w, v, v_ref, fz[k], a, tau_d, tau_b, locked[k], kappa[k])
                 if root is None:  # a driven wheel's tyre cannot carry the torque
                     if not tau_d > 0.0:
                         raise RuntimeError(f"no rolling balance for the {w.name} wheel at {v:g} m/s")  # a bug
-                    most, at = self._capacity(w, v, v_ref, fz[k], a)
+                    most, at = drive_capacity(w, v, v_ref, fz[k], a)
                     peak = most if peak is None else min(peak, most)
                     root = at
                 locked[k] = lock
@@ -365,14 +241,14 @@ class StraightRunning:
                 limit = "traction"
                 for k, w in enumerate(self.wheels):
                     if w.driven:
-                        root, _ = self._solve_wheel(w, v, v_ref, fz[k], a, torque / self.n_driven, 0.0, False,
+                        root, _ = solve_slip(w, v, v_ref, fz[k], a, torque / self.n_driven, 0.0, False,
                                                     kappa[k])
                         if root is not None:
                             new_kappa[k] = root
             for k, w in enumerate(self.wheels):
                 tau_d = torque / self.n_driven if w.driven else 0.0
                 tau_b = brake if w.braked else 0.0
-                _, fx[k], my[k], spin[k] = self._wheel(w, new_kappa[k], v, v_ref, fz[k], a, tau_d, tau_b)
+                _, fx[k], my[k], spin[k] = spin_balance(w, new_kappa[k], v, v_ref, fz[k], a, tau_d, tau_b)
             a_new = (fx.sum() - aero - self.mass * self.g * sin_t) / self.mass
             done = abs(a_new - a) < 1e-9 * (1.0 + abs(a_new)) and np.allclose(new_kappa, kappa, rtol=1e-8,
                                                                            atol=1e-11)

@@ -51,7 +51,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..errors import InputError, SimulationError
-from ..model.dynamics import crba, joint_transforms, rnea, world_transforms
+from ..model.dynamics import crba, rnea
+from ..model.kinematics import joint_transforms, world_transforms
 from ..model.statics import state_derivative, static_equilibrium
 from ..model.vehicle import VehicleModel, build_model
 from ..params.audit import tip_over_thresholds

@@ -56,12 +56,13 @@ def show_cmd(
 ):
     """Dimensions, format, nominal load, slip stiffnesses, peak friction and forces at a load."""
     from ..tyre import mf_figures, pac2002
+    from ..tyre.pac2002_pack import pack
     from ..tyre.tir import read_tir
 
     tir = read_tir(file)
     side = _side(side)
     fz = tir.fnomin if load is None else float(load)
-    packed = pac2002.pack(tir, side)
+    packed = pack(tir, side)
     clamped = pac2002.clamped_names(pac2002.mf_forces(fz, 0.0, 0.0, 0.0, 1.0, packed)[5])
     peaks = mf_figures.peak_forces(tir, fz, side=side)
     sigma_k, sigma_a = mf_figures.relaxation_lengths(tir, fz, side=side)
@@ -140,11 +141,12 @@ def forces_cmd(
 ):
     """Forces and moments of the Magic Formula at one operating point (combined slip, ISO signs)."""
     from ..tyre import pac2002
+    from ..tyre.pac2002_pack import pack
     from ..tyre.tir import read_tir
 
     tir = read_tir(file)
     side = _side(side)
-    packed = pac2002.pack(tir, side)
+    packed = pack(tir, side)
     vcx = packed[pac2002.LONGVL] if speed is None else float(speed)
     fx, fy, mz, mx, my, mask = pac2002.mf_forces(float(load), float(slip_ratio), math.radians(slip_angle_deg),
                                                  math.radians(camber_deg), vcx, packed)

@@ -28,16 +28,9 @@ import numpy as np
 
 from .._jit import jit
 from ..tyre.interface import wheel_wrench
-from .dynamics import (
-    body_velocities_into,
-    cholesky_solve_into,
-    crba_into,
-    euler_rates_into,
-    joint_transforms_into,
-    rnea_into,
-    workspace,
-    world_transforms_into,
-)
+from .cholesky import cholesky_solve_into
+from .dynamics import crba_into, joint_transforms_into, rnea_into, workspace
+from .kinematics import body_velocities_into, euler_rates_into, world_transforms_into
 from .packing import WHEEL_OUT
 
 __all__ = ["evaluate_into", "f", "f_with_outputs", "interpolate_inputs", "linkage_angle", "workspace"]

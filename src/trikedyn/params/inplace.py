@@ -2,7 +2,7 @@
 
 ``trikedyn identify LOG --into FILE --suspension NAME`` is the one command that writes onto a file it reads:
 it puts the identified K, C, f_n and xi, each with its provenance, into ``[suspension.NAME]`` of the user's
-vehicle file. Why not :func:`~trikedyn.params.io.save_vehicle`: it writes the whole merged set, so a file that
+vehicle file. Why not :func:`~trikedyn.params.save.save_vehicle`: it writes the whole merged set, so a file that
 ``extends`` a preset would become a full copy of it, and the file's comments, its layout and its order would
 be lost. Here only the lines of the keys set change: an existing ``key = ...`` line of the table is replaced
 (a comment after it kept), a missing key is added at the end of the table, a missing table at the end of the
@@ -32,7 +32,8 @@ import tomli_w
 
 from .._files import atomic_write, describe_os_error
 from ..errors import InputError, ParameterError
-from .io import ParameterSet, list_presets, parse_vehicle
+from .io import ParameterSet, parse_vehicle
+from .shipped import list_presets
 from .tomlfile import is_file, parse_toml, read_text
 
 __all__ = ["check_vehicle_target", "read_vehicle_target", "set_table_lines", "update_vehicle_file"]

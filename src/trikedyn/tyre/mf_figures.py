@@ -14,6 +14,8 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from . import pac2002
+from .pac2002_arrays import forces
+from .pac2002_pack import pack
 from .tir_properties import TyreProperties
 
 __all__ = ["PeakForces", "cornering_stiffness", "longitudinal_slip_stiffness", "peak_forces", "plot_characteristics",
@@ -24,7 +26,7 @@ _OPEN_KAPPA = 1.0  #: |kappa| searched when the file's slip range is open [1]
 
 
 def _packed(tir, side):
-    return tir if isinstance(tir, np.ndarray) else pac2002.pack(tir, side)
+    return tir if isinstance(tir, np.ndarray) else pack(tir, side)
 
 
 def cornering_stiffness(tir: TyreProperties, fz, gamma=0.0, *, side=None):
@@ -39,7 +41,7 @@ def cornering_stiffness(tir: TyreProperties, fz, gamma=0.0, *, side=None):
     gamma : float or array_like
         Inclination [rad].
     side : {'left', 'right', None}
-        Mounting side (:func:`~trikedyn.tyre.pac2002.pack`).
+        Mounting side (:func:`~trikedyn.tyre.pac2002_pack.pack`).
 
     Returns
     -------
@@ -66,7 +68,7 @@ def longitudinal_slip_stiffness(tir: TyreProperties, fz, *, side=None):
     fz : float or array_like
         Vertical load [N].
     side : {'left', 'right', None}
-        Mounting side (see :func:`~trikedyn.tyre.pac2002.pack`).
+        Mounting side (see :func:`~trikedyn.tyre.pac2002_pack.pack`).
 
     Returns
     -------
@@ -91,7 +93,7 @@ def relaxation_lengths(tir: TyreProperties, fz, gamma=0.0, *, side=None):
     gamma : float or array_like
         Inclination angle [rad].
     side : {'left', 'right', None}
-        Mounting side (see :func:`~trikedyn.tyre.pac2002.pack`).
+        Mounting side (see :func:`~trikedyn.tyre.pac2002_pack.pack`).
 
     Returns
     -------
@@ -197,10 +199,10 @@ def peak_forces(tir: TyreProperties, fz: float, gamma: float = 0.0, *, side=None
         alo, ahi = -ahi, -alo
 
     def fx(k):
-        return pac2002.forces(c, fz, kappa=k, gamma=gamma, combined=False).fx
+        return forces(c, fz, kappa=k, gamma=gamma, combined=False).fx
 
     def fy(a):
-        return pac2002.forces(c, fz, alpha=a, gamma=gamma, combined=False).fy
+        return forces(c, fz, alpha=a, gamma=gamma, combined=False).fy
 
     kx_max, fx_max, kx_min, fx_min = _extremes(fx, klo, khi)
     ay_max, fy_max, ay_min, fy_min = _extremes(fy, alo, ahi)
@@ -227,7 +229,7 @@ def plot_characteristics(tir: TyreProperties, loads=None, *, side=None):
     """
     from matplotlib.figure import Figure
 
-    c = pac2002.pack(tir, side)
+    c = pack(tir, side)
     fz0 = tir.fnomin
     lo, hi = c[pac2002.FZMIN], c[pac2002.FZMAX]
     if loads is None:
@@ -239,8 +241,8 @@ def plot_characteristics(tir: TyreProperties, loads=None, *, side=None):
     fig = Figure(figsize=(11, 8.5), layout="constrained")
     ax_fy, ax_fx, ax_mz, ax_el = fig.subplots(2, 2).ravel()
     for fz in loads:
-        pure_a = pac2002.forces(c, fz, alpha=alpha, combined=False)
-        pure_k = pac2002.forces(c, fz, kappa=kappa, combined=False)
+        pure_a = forces(c, fz, alpha=alpha, combined=False)
+        pure_k = forces(c, fz, kappa=kappa, combined=False)
         label = f"Fz = {fz:.0f} N"
         ax_fy.plot(np.degrees(alpha), pure_a.fy, label=label)
         ax_mz.plot(np.degrees(alpha), pure_a.mz, label=label)
@@ -248,7 +250,7 @@ def plot_characteristics(tir: TyreProperties, loads=None, *, side=None):
     fz_e = min(max(fz0, lo), hi)
     for deg in (1.0, 2.0, 4.0, 8.0):
         a = min(max(math.radians(deg), alo), ahi)
-        comb = pac2002.forces(c, fz_e, kappa=kappa, alpha=a)
+        comb = forces(c, fz_e, kappa=kappa, alpha=a)
         ax_el.plot(comb.fx, comb.fy, label=f"alpha = {math.degrees(a):g} deg")
     for ax, title, xlabel, ylabel in (
         (ax_fy, "Lateral force, pure side slip", "slip angle alpha [deg]", "Fy [N]"),

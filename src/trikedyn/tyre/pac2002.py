@@ -35,26 +35,25 @@ CLAMPED_GAMMA``). A tyre used on the other side than its ``TYRESIDE`` is mirrore
 Not modelled: turn slip, the low-speed model of MF-Tyre (``VXLOW``; trikedyn regularises slips itself,
 :func:`~trikedyn.tyre.magic_formula.slip_quantities`), transient (relaxation) dynamics beyond the lengths,
 reversed rolling beyond ``alpha* = tan(alpha) sgn(Vcx)`` (4.E3) and the sign of ``My``, pressure changes.
+
+A tyre file is packed into the vector these kernels read by :func:`~trikedyn.tyre.pac2002_pack.pack`; forces over
+arrays of inputs are :func:`~trikedyn.tyre.pac2002_arrays.forces` and :func:`~trikedyn.tyre.pac2002_arrays.pure_forces`.
 """
 
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
-
-import numpy as np
 
 from .._jit import jit
-from .tir import TyreProperties
 
 __all__ = [
-    "ALPHA_LIMIT", "CLAMPED_ALPHA", "CLAMPED_FZ", "CLAMPED_GAMMA", "CLAMPED_KAPPA", "N_PACKED", "TyreForces",
-    "clamped_names", "forces", "mf_forces", "mf_pure_forces", "mf_relaxation_lengths", "mf_stiffness",
-    "mf_vertical_force", "pack", "pure_forces",
+    "ALPHA_LIMIT", "CLAMPED_ALPHA", "CLAMPED_FZ", "CLAMPED_GAMMA", "CLAMPED_KAPPA", "LAYOUT", "N_PACKED",
+    "clamped_names", "mf_forces", "mf_forces_into", "mf_pure_forces", "mf_relaxation_lengths", "mf_stiffness",
+    "mf_vertical_force",
 ]
 
 # ---- the packed coefficient vector: its layout (names as in the .tir file; the last five derived) ----------
-_LAYOUT = (
+LAYOUT = (
     "FNOMIN UNLOADED_RADIUS LFZO LONGVL VERTICAL_STIFFNESS VERTICAL_DAMPING FZMIN FZMAX KPUMIN KPUMAX "
     "ALPMIN ALPMAX CAMMIN CAMMAX LCX LMUX LEX LKX LHX LVX LGAX LCY LMUY LEY LKY LHY LVY LGAY LTR LRES LGAZ "
     "LXAL LYKA LVYKA LS LSGKP LSGAL LMX LVMX LMY LKYC LKZC "
@@ -67,6 +66,7 @@ _LAYOUT = (
     "LONGITUDINAL_STIFFNESS LATERAL_STIFFNESS PCFX1 PCFX2 PCFY1 PCFY2 "
     "FZ0P MIRROR MF6 ALO AHI"
 ).split()
+"""Names of the packed vector's entries, in order (:func:`~trikedyn.tyre.pac2002_pack.pack` writes it)."""
 # fmt: off
 (FNOMIN, UNLOADED_RADIUS, LFZO, LONGVL, VERTICAL_STIFFNESS, VERTICAL_DAMPING, FZMIN, FZMAX, KPUMIN, KPUMAX,
  ALPMIN, ALPMAX, CAMMIN, CAMMAX, LCX, LMUX, LEX, LKX, LHX, LVX, LGAX, LCY, LMUY, LEY, LKY, LHY, LVY, LGAY, LTR,
@@ -78,51 +78,14 @@ _LAYOUT = (
  RVY2, RVY3, RVY4, RVY5, RVY6, PTY1, PTY2, QSY1, QSY2, QSY3, QSY4, QSY5, QSY6, QSY7, QBZ1, QBZ2, QBZ3, QBZ4,
  QBZ5, QBZ9, QBZ10, QCZ1, QDZ1, QDZ2, QDZ3, QDZ4, QDZ6, QDZ7, QDZ8, QDZ9, QDZ10, QDZ11, QEZ1, QEZ2, QEZ3, QEZ4,
  QEZ5, QHZ1, QHZ2, QHZ3, QHZ4, SSZ1, SSZ2, SSZ3, SSZ4, LONGITUDINAL_STIFFNESS, LATERAL_STIFFNESS, PCFX1, PCFX2,
- PCFY1, PCFY2, FZ0P, MIRROR, MF6, ALO, AHI) = range(len(_LAYOUT))
+ PCFY1, PCFY2, FZ0P, MIRROR, MF6, ALO, AHI) = range(len(LAYOUT))
 # fmt: on
-N_PACKED = len(_LAYOUT)  #: length of the packed vector
-assert all(globals()[name] == i for i, name in enumerate(_LAYOUT))  # the names above match the layout
+N_PACKED = len(LAYOUT)  #: length of the packed vector
+assert all(globals()[name] == i for i, name in enumerate(LAYOUT))  # the names above match the layout
 
 ALPHA_LIMIT = 1.5707  #: largest |slip angle| evaluated [rad] (89.99 deg; tan(alpha) ~ 1e4)
 CLAMPED_FZ, CLAMPED_KAPPA, CLAMPED_ALPHA, CLAMPED_GAMMA = 1, 2, 4, 8  #: bits of the clamp mask
 _EPS = 1e-9  #: keeps B = K / (C D) finite when D = 0 [N]
-_MF6_NEUTRAL = {"LKYC": 1.0, "LKZC": 1.0, "PKY4": 2.0, "LONGITUDINAL_STIFFNESS": 0.0, "LATERAL_STIFFNESS": 0.0}
-
-
-def pack(tir: TyreProperties, side: str | None = None) -> np.ndarray:
-    """The one packing of a tyre's coefficients into the float64 vector the compiled kernels read.
-
-    Parameters
-    ----------
-    tir : TyreProperties
-        The tyre (:func:`~trikedyn.tyre.tir.read_tir`).
-    side : {'left', 'right', None}
-        The vehicle side the tyre is mounted on; mirrored when it differs from ``tir.tyre_side`` (never for
-        ``SYMMETRIC``). None: as measured.
-
-    Returns
-    -------
-    numpy.ndarray
-        float64 vector of length ``N_PACKED``; the module constants (``FNOMIN``, ``PKY1``, ...) index it.
-        Keys of the other family are neutral (PAC2002: no MF 6.1 terms; MF 6.1: ``LGAX = LGAY = LGAZ = 1``,
-        no ``PHY3``, no ``PTX``/``PTY`` lengths).
-    """
-    c = np.zeros(N_PACKED, dtype=np.float64)
-    coefficients = dict(_MF6_NEUTRAL) | {"LGAX": 1.0, "LGAY": 1.0, "LGAZ": 1.0, "LSGKP": 1.0, "LSGAL": 1.0}
-    coefficients |= {k: v for k, v in tir.coefficients.items() if k in _LAYOUT}
-    if not tir.mf6:
-        coefficients |= _MF6_NEUTRAL | {"PEY5": 0.0, "PKY5": 0.0, "PKY6": 0.0, "PKY7": 0.0}
-    for i, name in enumerate(_LAYOUT[:FZ0P]):
-        c[i] = coefficients.get(name, 0.0)
-    c[FZ0P] = c[FNOMIN] * c[LFZO]  # F'z0 (4.E1)
-    if side is not None:
-        side = side.strip().upper()
-        if side not in ("LEFT", "RIGHT"):
-            raise ValueError(f"side must be 'left', 'right' or None, got {side!r}")
-        c[MIRROR] = float(tir.tyre_side != "SYMMETRIC" and side != tir.tyre_side)
-    c[MF6] = float(tir.mf6)
-    c[ALO], c[AHI] = max(c[ALPMIN], -ALPHA_LIMIT), min(c[ALPMAX], ALPHA_LIMIT)
-    return c
 
 
 # ---- compiled kernels ----------------------------------------------------------------------------------
@@ -294,7 +257,7 @@ def mf_forces(fz, kappa, alpha, gamma, vcx, c):
     vcx : float
         Forward speed of the wheel centre [m/s]: the sign of ``alpha*`` (4.E3), rolling resistance.
     c : numpy.ndarray
-        Packed coefficients (:func:`pack`).
+        Packed coefficients (:func:`~trikedyn.tyre.pac2002_pack.pack`).
 
     Returns
     -------
@@ -323,7 +286,7 @@ def mf_pure_forces(fz, kappa, alpha, gamma, vcx, c):
     vcx : float
         Forward speed of the wheel centre [m/s].
     c : numpy.ndarray
-        Packed coefficients (:func:`pack`).
+        Packed coefficients (:func:`~trikedyn.tyre.pac2002_pack.pack`).
 
     Returns
     -------
@@ -346,7 +309,7 @@ def mf_stiffness(fz, gamma, c):
     gamma : float
         Inclination angle [rad].
     c : numpy.ndarray
-        Packed coefficients (:func:`pack`).
+        Packed coefficients (:func:`~trikedyn.tyre.pac2002_pack.pack`).
 
     Returns
     -------
@@ -383,7 +346,7 @@ def mf_relaxation_lengths(fz, gamma, c):
     gamma : float
         Inclination angle [rad].
     c : numpy.ndarray
-        Packed coefficients (:func:`pack`).
+        Packed coefficients (:func:`~trikedyn.tyre.pac2002_pack.pack`).
 
     Returns
     -------
@@ -423,7 +386,7 @@ def mf_vertical_force(deflection, rate, c):
     rate : float
         Deflection rate [m/s].
     c : numpy.ndarray
-        Packed coefficients (:func:`pack`).
+        Packed coefficients (:func:`~trikedyn.tyre.pac2002_pack.pack`).
 
     Returns
     -------
@@ -436,24 +399,28 @@ def mf_vertical_force(deflection, rate, c):
 
 
 @jit
-def _many(fz, kappa, alpha, gamma, vcx, c, combined, out, mask):
+def mf_forces_into(fz, kappa, alpha, gamma, vcx, c, combined, out, mask):
+    """Forces and moments over flat arrays of inputs, into ``out`` and ``mask`` (for :mod:`~trikedyn.tyre.pac2002_arrays`).
+
+    Parameters
+    ----------
+    fz, kappa, alpha, gamma, vcx : numpy.ndarray, shape (n,)
+        Vertical load [N], longitudinal slip [1], slip angle [rad], inclination [rad], forward speed [m/s].
+    c : numpy.ndarray
+        Packed coefficients (:func:`~trikedyn.tyre.pac2002_pack.pack`).
+    combined : bool
+        Combined slip (:func:`mf_forces`) or pure slip (:func:`mf_pure_forces`).
+    out : numpy.ndarray, shape (5, n)
+        Written with ``Fx, Fy, Mz, Mx, My`` [N, N, N m, N m, N m].
+    mask : numpy.ndarray of int64, shape (n,)
+        Written with the clamp masks.
+    """
     for i in range(fz.size):
         fx, fy, mz, mx, my, m = _evaluate(fz[i], kappa[i], alpha[i], gamma[i], vcx[i], c, combined)
         out[0, i], out[1, i], out[2, i], out[3, i], out[4, i], mask[i] = fx, fy, mz, mx, my, m
 
 
-# ---- vectorised Python wrappers ----------------------------------------------------------------------------
-class TyreForces(NamedTuple):
-    """Forces [N] and moments [N m] (ISO axes), arrays of the broadcast input shape, and the clamp mask."""
-
-    fx: np.ndarray
-    fy: np.ndarray
-    mz: np.ndarray
-    mx: np.ndarray
-    my: np.ndarray
-    clamped: np.ndarray
-
-
+# ---- the clamp mask in words -------------------------------------------------------------------------------
 def clamped_names(mask: int) -> list[str]:
     """Names (``fz``, ``kappa``, ``alpha``, ``gamma``) of the bits set in a clamp mask.
 
@@ -469,61 +436,3 @@ def clamped_names(mask: int) -> list[str]:
     """
     bits = ((CLAMPED_FZ, "fz"), (CLAMPED_KAPPA, "kappa"), (CLAMPED_ALPHA, "alpha"), (CLAMPED_GAMMA, "gamma"))
     return [name for bit, name in bits if int(mask) & bit]
-
-
-def forces(tir, fz, kappa=0.0, alpha=0.0, gamma=0.0, vcx=None, *, side=None, combined=True) -> TyreForces:
-    """Tyre forces and moments over arrays of inputs (for users and plots; ISO signs, see the module).
-
-    Parameters
-    ----------
-    tir : TyreProperties or numpy.ndarray
-        The tyre, or its packed vector (:func:`pack`; ``side`` is then ignored).
-    fz : array_like
-        Vertical load [N].
-    kappa, alpha, gamma : array_like
-        Longitudinal slip [1], slip angle [rad], inclination [rad]; broadcast together with ``fz``.
-    vcx : array_like, optional
-        Forward speed [m/s]; default the file's ``LONGVL``.
-    side : {'left', 'right', None}
-        Mounting side (see :func:`pack`).
-    combined : bool
-        Combined slip (default) or pure slip (each force of its own slip only).
-
-    Returns
-    -------
-    TyreForces
-    """
-    c = tir if isinstance(tir, np.ndarray) else pack(tir, side)
-    if vcx is None:
-        vcx = c[LONGVL]
-    arrays = np.broadcast_arrays(*(np.asarray(v, dtype=np.float64) for v in (fz, kappa, alpha, gamma, vcx)))
-    shape = arrays[0].shape
-    flat = [np.ascontiguousarray(v).ravel() for v in arrays]
-    out = np.empty((5, flat[0].size))
-    mask = np.empty(flat[0].size, dtype=np.int64)
-    _many(*flat, c, bool(combined), out, mask)
-    return TyreForces(*(row.reshape(shape) for row in out), mask.reshape(shape))
-
-
-def pure_forces(tir, fz, kappa=0.0, alpha=0.0, gamma=0.0, vcx=None, *, side=None) -> TyreForces:
-    """:func:`forces` in pure slip: ``Fx0(kappa)``, ``Fy0(alpha)``, ``Mz0(alpha)`` (4.E9), (4.E19), (4.E31).
-
-    Parameters
-    ----------
-    tir : TyreProperties or numpy.ndarray
-        The tyre, or its packed vector (``side`` is then ignored).
-    fz : array_like
-        Vertical load [N].
-    kappa, alpha, gamma : array_like
-        Longitudinal slip (dimensionless), slip angle [rad], inclination [rad].
-    vcx : array_like, optional
-        Forward speed [m/s]; default the file's ``LONGVL``.
-    side : {'left', 'right', None}
-        Mounting side (see :func:`~trikedyn.tyre.pac2002.pack`).
-
-    Returns
-    -------
-    TyreForces
-        Forces [N], moments [N m] and clamp masks, shaped as the broadcast inputs.
-    """
-    return forces(tir, fz, kappa, alpha, gamma, vcx, side=side, combined=False)

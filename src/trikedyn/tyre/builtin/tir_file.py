@@ -15,8 +15,8 @@ from ..pac2002 import (
     clamped_names,
     mf_relaxation_lengths,
     mf_stiffness,
-    pack,
 )
+from ..pac2002_pack import pack
 from ..tir_once import read_tir_once
 
 
