@@ -42,7 +42,7 @@ def forces(tir, fz, kappa=0.0, alpha=0.0, gamma=0.0, vcx=None, *, side=None, com
     vcx : array_like, optional
         Forward speed [m/s]; default the file's ``LONGVL``.
     side : {'left', 'right', None}
-        Mounting side (see :func:`pack`).
+        Mounting side (see :func:`~trikedyn.tyre.pac2002_pack.pack`).
     combined : bool
         Combined slip (default) or pure slip (each force of its own slip only).
 
@@ -76,7 +76,7 @@ def pure_forces(tir, fz, kappa=0.0, alpha=0.0, gamma=0.0, vcx=None, *, side=None
     vcx : array_like, optional
         Forward speed [m/s]; default the file's ``LONGVL``.
     side : {'left', 'right', None}
-        Mounting side (see :func:`~trikedyn.tyre.pac2002.pack`).
+        Mounting side (see :func:`~trikedyn.tyre.pac2002_pack.pack`).
 
     Returns
     -------
