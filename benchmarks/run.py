@@ -16,6 +16,8 @@ from pathlib import Path
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
+from cluster import bench_cluster  # noqa: E402  (benchmarks/cluster.py, issue 23)
+from cluster import report as report_cluster  # noqa: E402
 from codegen import bench_generated_kernels  # noqa: E402  (benchmarks/codegen.py, issue 25)
 
 from trikedyn import __version__  # noqa: E402
@@ -216,6 +218,7 @@ def main() -> int:
     results.update(bench_startup())
     results.update(bench_threshold())
     results.update(bench_study_and_reproduce())
+    results.update(bench_cluster())
     out = Path(__file__).with_name("results.json")
     out.write_text(json.dumps(results, indent=2))
     s = results["sine_steer_10s_30kmh"]
@@ -257,6 +260,7 @@ def main() -> int:
     aq = results["assess_quick"]
     print(f"trikedyn assess reference-etrike --quick: median {aq['wall_s']:.1f} s of {aq['runs']} ({aq['min_s']:.1f}-"
           f"{aq['max_s']:.1f} s; target {aq['target_s']:g} s)")
+    report_cluster(results)
     print(f"wrote {out}")
     return 0
 
