@@ -6,10 +6,47 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Annotated
+
+import typer
 
 from ..errors import InputError
 from ..study.engine.executors import check_executor  # noqa: F401  (--workers, --dask-local, --scheduler: one)
 from ..study.engine.progress import ProgressLine  # noqa: F401  (the sampled commands' progress line)
+
+MetricOpt = Annotated[str, typer.Option("--metric", help="What each evaluation measures: a registered study metric (threshold, tilt_angle, understeer_gradient, peak_ri, min_wheel_load ...; see the study spec reference). Default: the threshold velocity.")]
+MetricOptionOpt = Annotated[list[str], typer.Option("--metric-option", help="An option of the metric, KEY=VALUE (e.g. speed_kmh=40 for peak_ri); repeatable.")]
+
+
+def metric_options(pairs: list[str]) -> dict:
+    """``--metric-option KEY=VALUE`` pairs as a dict (numbers as numbers; checked by the metric).
+
+    Parameters
+    ----------
+    pairs : list of str
+        ``KEY=VALUE`` each.
+
+    Returns
+    -------
+    dict
+        Key -> value (a float when it reads as one, else the text).
+
+    Raises
+    ------
+    InputError
+        A pair without ``=`` or without a key (``where="--metric-option"``).
+    """
+    options = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key.strip():
+            raise InputError(f"expected KEY=VALUE, got {pair!r}", where="--metric-option")
+        try:
+            options[key.strip()] = float(value)
+        except ValueError:
+            options[key.strip()] = value.strip()
+    return options
+
 
 MAX_PLAN_BYTES = 1 << 20
 """Largest plan file a resumed run reads [bytes] (a plan is a few KiB)."""

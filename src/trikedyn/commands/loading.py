@@ -1,4 +1,5 @@
-"""``trikedyn loading-chart``: the safe speed for operators over freight mass and freight position.
+"""``trikedyn loading-chart``: the safe speed for operators over freight mass and freight position (or any study
+metric over them, ``--metric``: then there is no safe speed).
 
 With ``--out``, each cell is logged (``loading-chart-cells.csv``) as it finishes, beside the run's plan
 (``loading-chart-plan.json``); ``--resume`` continues a run that was killed or interrupted: the cells logged
@@ -30,7 +31,16 @@ from ._common import (
     manoeuvre_options,
     within,
 )
-from ._sampled import ProgressLine, check_executor, check_resume, start_output, write_results
+from ._sampled import (
+    MetricOpt,
+    MetricOptionOpt,
+    ProgressLine,
+    check_executor,
+    check_resume,
+    metric_options,
+    start_output,
+    write_results,
+)
 
 JSON_FILE, CSV_FILE, FIGURE_FILE = "loading-chart.json", "loading-chart.csv", "loading-chart.png"
 CELLS_FILE, PLAN_FILE = "loading-chart-cells.csv", "loading-chart-plan.json"
@@ -65,6 +75,8 @@ def loading_chart_cmd(
     high: Annotated[float, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h] (raise it for slc).")] = 90.0,
     criterion: CriterionOpt = "course",
     speed_control: SpeedControlOpt = "driver",
+    metric: MetricOpt = "threshold",
+    metric_option: MetricOptionOpt = [],  # noqa: B006
     workers: WorkersOpt = None,
     dask_local: DaskLocalOpt = None,
     scheduler: SchedulerOpt = None,
@@ -73,10 +85,10 @@ def loading_chart_cmd(
     force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
-    """The safe speed (threshold velocity less a stated margin) over freight mass and freight position."""
+    """The safe speed (threshold velocity less a stated margin) over freight mass and freight position; with --metric, that metric in each cell and no safe speed."""
     from ..params import load_vehicle
     from ..study.designs import loading as lc
-    from ..study.designs.sample_runs import Search
+    from ..study.designs.search import Search
 
     if margin_kmh is not None and margin_fraction is not None:
         raise InputError("give --margin-kmh or --margin-fraction, not both", where="--margin-fraction")
@@ -87,8 +99,11 @@ def loading_chart_cmd(
     check_resume(out, resume, force)
     options = manoeuvre_options(manoeuvre, option)
     pset = load_vehicle(vehicle)
-    search = Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion,
-                    speed_control=speed_control).on_course_of(pset)
+    search = Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion, speed_control=speed_control,
+                    metric=metric, metric_options=metric_options(metric_option)).on_course_of(pset)
+    if search.metric != "threshold" and (margin_kmh is not None or margin_fraction is not None):
+        raise InputError("a margin applies to the threshold only: a chart of another metric has no safe speed",
+                         where="--margin-kmh" if margin_kmh is not None else "--margin-fraction")
     log = None
     if out is not None:
         masses_kg, x_m, z_m = lc.grid_cells(pset, *grid)

@@ -1,4 +1,5 @@
-"""``trikedyn optimise``: move components (and the track or wheelbase) within bounds to raise the threshold velocity."""
+"""``trikedyn optimise``: move components (and the track or wheelbase) within bounds to raise the threshold velocity
+(or to maximise, or with ``--minimise`` minimise, any study metric: ``--metric``)."""
 
 from __future__ import annotations
 
@@ -26,7 +27,15 @@ from ._common import (
     manoeuvre_options,
     within,
 )
-from ._sampled import ProgressLine, check_executor, check_resume, start_output, write_results
+from ._sampled import (
+    MetricOptionOpt,
+    ProgressLine,
+    check_executor,
+    check_resume,
+    metric_options,
+    start_output,
+    write_results,
+)
 
 JSON_FILE, LOG_FILE, FIGURE_FILE, PLAN_FILE = ("optimise.json", "optimise-evaluations.csv", "optimise.png",
                                                "optimise-plan.json")
@@ -38,13 +47,13 @@ def _file_name(name: str) -> str:
     return f"{stem[:80]}-optimised.toml"
 
 
-def _plan(pset, spec, searches) -> dict:
+def _plan(pset, spec, searches, minimise: bool = False) -> dict:
     """What makes a run's evaluations: a resumed run must have the same."""
     digest = hashlib.sha256(pset.params.model_dump_json().encode()).hexdigest()[:16]
     return json.loads(json.dumps({
         "vehicle": pset.name, "vehicle_digest": digest,
         "spec": {k: v for k, v in spec.to_dict().items() if k not in ("origin", "description")},
-        "searches": [s.to_dict() for s in searches]}))
+        "searches": [s.to_dict() for s in searches], **({"minimise": True} if minimise else {})}))
 
 
 def _check_command(file: Path, manoeuvre: str, options: dict, payload_kg: float) -> str:
@@ -70,6 +79,9 @@ def optimise_cmd(
     high: Annotated[float | None, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h] (default: the spec's, 90; raise it for slc).")] = None,
     criterion: Annotated[str | None, CriterionOpt.__metadata__[0]] = None,
     speed_control: Annotated[str | None, SpeedControlOpt.__metadata__[0]] = None,
+    metric: Annotated[str, typer.Option("--metric", help="The objective: a registered study metric (threshold, tilt_angle, understeer_gradient, peak_ri, min_wheel_load ...), maximised (its worst over the manoeuvres), or minimised with --minimise. Default: the threshold velocity.")] = "threshold",
+    metric_option: MetricOptionOpt = [],  # noqa: B006
+    minimise: Annotated[bool, typer.Option("--minimise", help="Minimise the --metric instead of maximising it (a metric where smaller is better, such as peak_ri); the worst over several manoeuvres is then the highest. Not for the threshold.")] = False,
     workers: WorkersOpt = None,
     dask_local: DaskLocalOpt = None,
     scheduler: SchedulerOpt = None,
@@ -79,8 +91,8 @@ def optimise_cmd(
     as_json: JsonOpt = False,
 ):
     """Layout optimiser: move the spec's components (and track or wheelbase) within its bounds to maximise the
-    threshold velocity (the worst over several manoeuvres), by differential evolution; writes the optimised
-    vehicle file."""
+    threshold velocity (the worst over several manoeuvres), or another --metric (maximised, or with --minimise
+    minimised), by differential evolution; writes the optimised vehicle file."""
     import time
 
     from ..params import load_vehicle, save_vehicle
@@ -101,18 +113,21 @@ def optimise_cmd(
     if option and len(the_spec.manoeuvres) > 1:
         raise InputError("options (-o) apply to one manoeuvre; give a single --manoeuvre", where="--option")
     searches = tuple(opt.Search(m, manoeuvre_options(m, option), the_spec.resolution_kmh, high_kmh=the_spec.high_kmh,
-                                criterion=the_spec.criterion, speed_control=the_spec.speed_control)
+                                criterion=the_spec.criterion, speed_control=the_spec.speed_control, metric=metric,
+                                metric_options=metric_options(metric_option))
                      for m in the_spec.manoeuvres)
+    if minimise and metric == "threshold":
+        raise InputError("the threshold velocity is maximised; --minimise needs another --metric", where="--minimise")
     pset = load_vehicle(vehicle)
     the_spec.check(pset)
     searches = tuple(s.on_course_of(pset) for s in searches)  # every layout meets the reference's course
     vehicle_file = out / _file_name(pset.name)
     reads = [vehicle, spec, *the_spec.manoeuvres, *(s.options.get("file") for s in searches)]
-    start_output(out, _plan(pset, the_spec, searches), PLAN_FILE, kind="an optimise", resume=resume, force=force,
+    start_output(out, _plan(pset, the_spec, searches, minimise), PLAN_FILE, kind="an optimise", resume=resume, force=force,
                  reads=reads, writes=[JSON_FILE, LOG_FILE, FIGURE_FILE, vehicle_file.name])
     log = opt.EvaluationLog(out / LOG_FILE, the_spec.names, the_spec.manoeuvres)
     result = opt.run_optimise(pset, the_spec, searches, workers=workers, dask_local=dask_local, scheduler=scheduler, log=log, resume=resume,
-                              progress=ProgressLine("optimise", "evaluations", every_s=5.0))
+                              progress=ProgressLine("optimise", "evaluations", every_s=5.0), minimise=minimise)
     save_vehicle(result.vehicle, vehicle_file)
     # the file as written, searched on its own: what `trikedyn threshold FILE` gives
     written, error = opt.evaluate_layout(load_vehicle(vehicle_file), {}, searches, the_spec.payload_kg)

@@ -8,7 +8,6 @@ from typing import Annotated
 
 import typer
 
-from ..errors import InputError
 from ._common import (
     CriterionOpt,
     DaskLocalOpt,
@@ -25,7 +24,16 @@ from ._common import (
     readable,
     within,
 )
-from ._sampled import ProgressLine, check_executor, check_resume, start_output, write_results
+from ._sampled import (
+    MetricOpt,
+    MetricOptionOpt,
+    ProgressLine,
+    check_executor,
+    check_resume,
+    metric_options,
+    start_output,
+    write_results,
+)
 
 JSON_FILE, SAMPLES_FILE, FIGURE_FILE, PLAN_FILE = ("sensitivity.json", "sensitivity-samples.csv", "sensitivity.png",
                                                    "sensitivity-plan.json")
@@ -36,20 +44,6 @@ def _plan(pset, search, factors, method, samples, seed, fraction) -> dict:
             "speed_control": search.speed_control, "method": method, "samples": samples, "seed": seed,
             "fraction": fraction, "factors": [[f.name, f.low, f.high] for f in factors],
             **({"metric": search.metric, "metric_options": search.metric_options} if search.metric != "threshold" else {})}
-
-
-def _metric_options(pairs: list[str]) -> dict:
-    """``--metric-option KEY=VALUE`` pairs as a dict (numbers as numbers; checked by the metric)."""
-    options = {}
-    for pair in pairs:
-        key, sep, value = pair.partition("=")
-        if not sep or not key.strip():
-            raise InputError(f"expected KEY=VALUE, got {pair!r}", where="--metric-option")
-        try:
-            options[key.strip()] = float(value)
-        except ValueError:
-            options[key.strip()] = value.strip()
-    return options
 
 
 def _table(result) -> str:
@@ -125,8 +119,8 @@ def sensitivity_cmd(
     seed: Annotated[int, typer.Option("--seed", callback=within(0, 2**32 - 1), help="Seed of the sampling and of the confidence intervals.")] = 1,
     criterion: CriterionOpt = "course",
     speed_control: SpeedControlOpt = "driver",
-    metric: Annotated[str, typer.Option("--metric", help="What each sample measures: a registered study metric (threshold, tilt_angle, understeer_gradient, peak_ri, min_wheel_load ...; see the study spec reference).")] = "threshold",
-    metric_option: Annotated[list[str], typer.Option("--metric-option", help="An option of the metric, KEY=VALUE (e.g. speed_kmh=40 for peak_ri); repeatable.")] = [],  # noqa: B006
+    metric: MetricOpt = "threshold",
+    metric_option: MetricOptionOpt = [],  # noqa: B006
     workers: WorkersOpt = None,
     dask_local: DaskLocalOpt = None,
     scheduler: SchedulerOpt = None,
@@ -150,7 +144,7 @@ def sensitivity_cmd(
         factors, excluded = sa.candidate_factors(pset, fraction)
     n = sa.DEFAULT_SAMPLES[method] if samples is None else int(samples)
     search = sa.Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion,
-                       speed_control=speed_control, metric=metric, metric_options=_metric_options(metric_option))
+                       speed_control=speed_control, metric=metric, metric_options=metric_options(metric_option))
     sa.sample(sa.problem(factors), method, n, seed)  # a bad --samples fails before anything is written
     plan = json.loads(json.dumps(_plan(pset, search, factors, method, n, seed, fraction)))
     log = None

@@ -1,4 +1,5 @@
-"""``trikedyn uncertainty``: the threshold velocity as a distribution (median, 5-95 %) from the uncertain inputs."""
+"""``trikedyn uncertainty``: the threshold velocity (or any study metric, ``--metric``) as a distribution
+(median, 5-95 %) from the uncertain inputs."""
 
 from __future__ import annotations
 
@@ -24,7 +25,16 @@ from ._common import (
     readable,
     within,
 )
-from ._sampled import ProgressLine, check_executor, check_resume, start_output, write_results
+from ._sampled import (
+    MetricOpt,
+    MetricOptionOpt,
+    ProgressLine,
+    check_executor,
+    check_resume,
+    metric_options,
+    start_output,
+    write_results,
+)
 
 JSON_FILE, SAMPLES_FILE, FIGURE_FILE, PLAN_FILE = ("uncertainty.json", "uncertainty-samples.csv", "uncertainty.png",
                                                    "uncertainty-plan.json")
@@ -36,11 +46,12 @@ def _plan(pset, search, inputs, samples, seed, fraction) -> dict:
             "resolution_kmh": search.resolution_kmh, "high_kmh": search.high_kmh, "criterion": search.criterion,
             "speed_control": search.speed_control, "sampling": "latin-hypercube",
             "samples": samples, "seed": seed, "fraction": fraction,
-            "inputs": [[i.name, i.distribution, i.factor.low, i.factor.high, i.std] for i in inputs]}
+            "inputs": [[i.name, i.distribution, i.factor.low, i.factor.high, i.std] for i in inputs],
+            **({"metric": search.metric, "metric_options": search.metric_options} if search.metric != "threshold" else {})}
 
 
-def _fmt(value) -> str:
-    return "-" if value is None else f"{value:.1f}"
+def _fmt(value, shown: str = ".1f") -> str:
+    return "-" if value is None else format(value, shown)
 
 
 def _text(result) -> str:
@@ -49,15 +60,19 @@ def _text(result) -> str:
     normal = [i for i in result.inputs if i.distribution == "normal"]
     uniform = [i for i in result.inputs if i.distribution != "normal"]
     origins = {k: sum(i.factor.range_from == k for i in uniform) for k in ("declared", "fraction", "narrowed")}
+    what, unit = d["metric"].replace("_", " "), d["unit"]
+    shown = ".1f" if d["metric"] == "threshold" else ".4g"
     lines = [
-        f"{result.vehicle} on {result.manoeuvre}: threshold {'none' if ref is None else f'{ref:.1f} km/h'} as given",
+        f"{result.vehicle} on {result.manoeuvre}: {what} {'none' if ref is None else f'{ref:{shown}} {unit}'} as given",
         f"{len(result.inputs)} uncertain inputs ({len(uniform)} uniform over their range, "
         f"{len(normal)} normal from measured sigmas, truncated at +/-3 sigma); Latin hypercube, {result.samples} "
         f"samples, {d['failed']} failed",
-        f"  median {_fmt(d['median_kmh'])} km/h, 5-95 % {_fmt(d['p05_kmh'])} .. {_fmt(d['p95_kmh'])} km/h, "
-        f"mean {_fmt(d['mean_kmh'])}, std {_fmt(d['std_kmh'])} km/h (n={d['n']})",
+        f"  median {_fmt(d['median_kmh'], shown)} {unit}, 5-95 % {_fmt(d['p05_kmh'], shown)} .. "
+        f"{_fmt(d['p95_kmh'], shown)} {unit}, mean {_fmt(d['mean_kmh'], shown)}, std {_fmt(d['std_kmh'], shown)} "
+        f"{unit} (n={d['n']})",
     ]
-    lines.append(f"  threshold: the {result.search.criterion} criterion, {result.search.speed_control} speed control")
+    if d["metric"] == "threshold":
+        lines.append(f"  threshold: the {result.search.criterion} criterion, {result.search.speed_control} speed control")
     if d["at_search_limit"]:
         lines.append(f"  {d['at_search_limit']} samples reached the top of the search ({result.search.high_kmh:g} km/h; "
                      "raise it with --high)")
@@ -124,6 +139,8 @@ def uncertainty_cmd(
     seed: Annotated[int, typer.Option("--seed", callback=within(0, 2**32 - 1), help="Seed of the sampling.")] = 1,
     criterion: CriterionOpt = "course",
     speed_control: SpeedControlOpt = "driver",
+    metric: MetricOpt = "threshold",
+    metric_option: MetricOptionOpt = [],  # noqa: B006
     workers: WorkersOpt = None,
     dask_local: DaskLocalOpt = None,
     scheduler: SchedulerOpt = None,
@@ -132,7 +149,7 @@ def uncertainty_cmd(
     force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
-    """Uncertainty of the threshold velocity: median and 5-95 % interval over the assumed and measured values."""
+    """Uncertainty of the threshold velocity (or of any study metric, --metric): median and 5-95 % interval over the assumed and measured values."""
     from ..params import load_vehicle
     from ..study.designs import uncertainty as ua
 
@@ -146,7 +163,7 @@ def uncertainty_cmd(
     sources = {m.path: m.source for m in measured} | dict.fromkeys(stds, "--std")
     inputs, excluded = ua.build_inputs(pset, parameter, sigmas, fraction, sources)
     search = ua.Search(manoeuvre, options, resolution, high_kmh=high, criterion=criterion,
-                       speed_control=speed_control)
+                       speed_control=speed_control, metric=metric, metric_options=metric_options(metric_option))
     plan = json.loads(json.dumps(_plan(pset, search, inputs, int(samples), seed, fraction)))
     log = None
     if out is not None:

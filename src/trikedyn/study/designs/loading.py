@@ -9,6 +9,10 @@ The **safe speed** is the threshold less a stated margin, never below 0:
 * ``margin_kmh`` (default 5 km/h): ``safe = max(threshold - margin_kmh, 0)``;
 * ``margin_fraction`` F: ``safe = max(threshold * (1 - F), 0)``.
 
+With a search of another registered study metric (``search.metric``: ``tilt_angle``, ``peak_ri`` ...), each cell
+holds that metric's value in its unit instead of the threshold, and there is **no safe speed** (a margin is a
+speed below a threshold): the chart shows the metric itself.
+
 A cell whose vehicle is invalid, or whose search fails or finds no threshold, is null with the reason. The
 cells run on a process pool (:mod:`trikedyn.study.engine.executors`). :func:`run_loading_chart` returns a
 :class:`LoadingChart` (``to_dict``, ``rows`` for a CSV, ``plot``; matplotlib is imported only to plot).
@@ -25,214 +29,25 @@ import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
-from ...errors import InputError, ParameterError, RunIncomplete
+from ...errors import InputError, RunIncomplete
 from ...params.io import ParameterSet
 from ..engine.executors import worker_count
 from ..engine.pool import ResilientPool, SchedulerGone, WorkersKeptDying
-from .csv_log import AppendedCsv
-from .sample_runs import Search
+from .loading_grid import (  # noqa: F401  (re-exported: the module is the design's entry point)
+    DEFAULT_MARGIN_KMH,
+    DEFAULT_MASSES_KG,
+    DEFAULT_X_OFFSETS_M,
+    DEFAULT_Z_OFFSETS_M,
+    CellLog,
+    default_grid,
+    evaluate_cell,
+    grid_cells,
+    safe_speed,
+)
+from .search import Search
 
 __all__ = ["DEFAULT_MARGIN_KMH", "DEFAULT_MASSES_KG", "DEFAULT_X_OFFSETS_M", "DEFAULT_Z_OFFSETS_M", "CellLog",
            "LoadingChart", "default_grid", "evaluate_cell", "grid_cells", "run_loading_chart", "safe_speed"]
-
-DEFAULT_MASSES_KG = (0.0, 50.0, 100.0, 150.0, 200.0)
-DEFAULT_X_OFFSETS_M = (-0.2, 0.0, 0.2)
-"""Fore-aft positions of the default grid, from the vehicle's freight site [m]."""
-DEFAULT_Z_OFFSETS_M = (0.0, 0.2, 0.4)
-"""Heights of the default grid, above the vehicle's freight site (a trunk) [m]."""
-DEFAULT_MARGIN_KMH = 5.0
-MAX_CELLS = 5000
-
-
-def default_grid(pset: ParameterSet) -> tuple[list[float], list[float], list[float]]:
-    """Masses [kg], x [m] and z [m] of the default grid (45 cells) around the vehicle's freight site.
-
-    Parameters
-    ----------
-    pset : ParameterSet
-        The vehicle.
-
-    Returns
-    -------
-    masses : list of float
-        [kg].
-    x : list of float
-        [m].
-    z : list of float
-        [m].
-    """
-    site = pset.params.freight
-    return (list(DEFAULT_MASSES_KG), [round(site.x_m + d, 9) for d in DEFAULT_X_OFFSETS_M],
-            [round(site.z_m + d, 9) for d in DEFAULT_Z_OFFSETS_M])
-
-
-def grid_cells(pset: ParameterSet, masses_kg: Sequence[float] | None = None, x_m: Sequence[float] | None = None,
-               z_m: Sequence[float] | None = None) -> tuple[list[float], list[float], list[float]]:
-    """The chart's grid: masses [kg], x [m] and z [m], each as given (None: :func:`default_grid`'s) with
-    repeats dropped; the cells run in the order ``z``, mass, ``x`` (:meth:`LoadingChart.keys`).
-
-    Parameters
-    ----------
-    pset : ParameterSet
-        The vehicle.
-    masses_kg : sequence of float, optional
-        Freight masses [kg].
-    x_m : sequence of float, optional
-        Fore-aft positions [m].
-    z_m : sequence of float, optional
-        Heights [m].
-
-    Returns
-    -------
-    masses : list of float
-        [kg].
-    x : list of float
-        [m].
-    z : list of float
-        [m].
-
-    Raises
-    ------
-    InputError
-        A value that is not finite, a negative mass, or more than :data:`MAX_CELLS` cells.
-    """
-    masses, xs, zs = default_grid(pset)
-    masses = list(dict.fromkeys(float(v) for v in (masses if masses_kg is None else masses_kg)))
-    xs = list(dict.fromkeys(float(v) for v in (xs if x_m is None else x_m)))
-    zs = list(dict.fromkeys(float(v) for v in (zs if z_m is None else z_m)))
-    for name, values in (("masses", masses), ("x", xs), ("z", zs)):
-        if not values or not all(math.isfinite(v) for v in values):
-            raise InputError("needs finite numbers", where=f"--{name}")
-    if any(m < 0 for m in masses):
-        raise InputError("freight masses must be >= 0 kg", where="--masses")
-    if len(masses) * len(xs) * len(zs) > MAX_CELLS:
-        raise InputError(f"{len(masses) * len(xs) * len(zs)} cells; at most {MAX_CELLS}", where="grid")
-    return masses, xs, zs
-
-
-class CellLog(AppendedCsv):
-    """The cells of a chart as a CSV file, one row appended (and flushed) as each cell finishes.
-
-    Columns: ``cell`` (its index in :meth:`LoadingChart.keys` order), ``freight_kg`` [kg], ``status`` (``ok``
-    or ``failed``), ``threshold_speed_kmh`` [km/h], ``x_m`` and ``z_m`` [m] (the freight's position) and
-    ``error``.
-    """
-
-    COLUMNS = ["cell", "freight_kg", "status", "threshold_speed_kmh", "x_m", "z_m", "error"]
-
-    def __init__(self, path):
-        super().__init__(path, self.COLUMNS)
-
-    def read(self, keys: list[tuple[float, float, float]]) -> dict:
-        """The cells logged already: ``(mass, x, z)`` -> ``(threshold [km/h] or None, error or None)``.
-
-        A row cut short by a kill is skipped (run again).
-
-        Parameters
-        ----------
-        keys : list of tuple of float
-            The chart's cells (mass [kg], x [m], z [m]).
-
-        Returns
-        -------
-        dict
-            ``(mass [kg], x [m], z [m])`` -> ``(threshold [km/h] or None, error or None)``.
-
-        Raises
-        ------
-        InputError
-            The file's columns, or a row's cell, are not this chart's.
-        """
-        known = {}
-        for row in self.logged_rows("use another --out or --force (another grid?)"):
-            try:
-                i, key = int(row[0]), (float(row[1]), float(row[4]), float(row[5]))
-                value = float(row[3]) if row[2] == "ok" else None
-            except ValueError:
-                continue
-            if not 0 <= i < len(keys) or keys[i] != key:
-                raise InputError(f"cell {i} is not this chart's (another grid?); use another --out or --force",
-                                 where=str(self.path))
-            known[key] = (value, row[6] or None)
-        return known
-
-    def append(self, index: int, key: tuple[float, float, float], threshold: float | None,
-               error: str | None) -> None:
-        """Log one finished cell (flushed at once).
-
-        Parameters
-        ----------
-        index : int
-            The cell's place.
-        key : tuple of float
-            (mass [kg], x [m], z [m]).
-        threshold : float or None
-            Threshold [km/h].
-        error : str or None
-            Why it has none.
-        """
-        mass, x, z = key
-        self.write([index, repr(mass), "ok" if threshold is not None else "failed",
-                    "" if threshold is None else repr(float(threshold)), repr(x), repr(z), error or ""])
-
-
-def safe_speed(threshold_kmh: float | None, margin_kmh: float | None = DEFAULT_MARGIN_KMH,
-               margin_fraction: float | None = None) -> float | None:
-    """The threshold [km/h] less the margin (``margin_kmh`` or a fraction of it), floored at 0.
-
-    Parameters
-    ----------
-    threshold_kmh : float or None
-        Threshold [km/h].
-    margin_kmh : float, optional
-        Margin [km/h].
-    margin_fraction : float, optional
-        Margin as a fraction, dimensionless.
-
-    Returns
-    -------
-    float or None
-        Speed [km/h].
-    """
-    if threshold_kmh is None:
-        return None
-    if margin_fraction is not None:
-        return round(max(threshold_kmh * (1.0 - margin_fraction), 0.0), 6)
-    return round(max(threshold_kmh - (margin_kmh or 0.0), 0.0), 6)
-
-
-def evaluate_cell(pset: ParameterSet, mass_kg: float, x_m: float, z_m: float,
-                  search: Search) -> tuple[float | None, str | None]:
-    """The threshold velocity [km/h] with ``mass_kg`` of freight at ``(x_m, z_m)``, or None and why not.
-
-    Runs in a worker process; an invalid vehicle or a failed search is a null cell, not an error.
-
-    Parameters
-    ----------
-    pset : ParameterSet
-        The vehicle.
-    mass_kg : float
-        Freight mass [kg].
-    x_m, z_m : float
-        Freight position [m].
-    search : Search
-        The threshold search (manoeuvre, options, speed range [km/h], criterion).
-
-    Returns
-    -------
-    threshold : float or None
-        [km/h].
-    error : str or None
-        Why there is none.
-    """
-    from ...params.knobs import apply_knobs
-    from ...params.ops import with_freight
-    try:
-        vehicle = with_freight(apply_knobs(pset, {"freight.x_m": x_m, "freight.z_m": z_m}), mass_kg)
-    except ParameterError as exc:
-        return None, f"invalid vehicle: {' '.join(str(exc).split())}"
-    return search.threshold(vehicle)
-
 
 @dataclass
 class LoadingChart:
@@ -271,8 +86,15 @@ class LoadingChart:
     """Cells run by this call."""
 
     @property
+    def of_threshold(self) -> bool:
+        """The cells hold the threshold (else another study metric, and there is no safe speed)."""
+        return self.search.metric == "threshold"
+
+    @property
     def margin_text(self) -> str:
         """The margin in words (``'10% below the threshold'`` or ``'5 km/h below the threshold'``)."""
+        if not self.of_threshold:
+            return f"none: a chart of {self.search.metric} has no safe speed"
         if self.margin_fraction is not None:
             return f"{self.margin_fraction:.0%} below the threshold"
         return f"{self.margin_kmh:g} km/h below the threshold"
@@ -288,8 +110,10 @@ class LoadingChart:
         Returns
         -------
         float or None
-            Speed [km/h], None without a threshold.
+            Speed [km/h], None without a threshold (or in a chart of another metric).
         """
+        if not self.of_threshold:
+            return None
         return safe_speed(self.threshold[key], self.margin_kmh, self.margin_fraction)
 
     def keys(self):
@@ -326,12 +150,14 @@ class LoadingChart:
         dict
             The chart (masses [kg], positions [m], speeds [km/h]).
         """
-        at_limit = sum(t is not None and t >= self.search.high_kmh - 1e-9 for t in self.threshold.values())
+        at_limit = sum(t is not None and t >= self.search.high_kmh - 1e-9 for t in self.threshold.values()
+                       if self.of_threshold)
         return {
             "vehicle": self.vehicle, "manoeuvre": self.manoeuvre, "options": dict(self.search.options),
             "margin_kmh": self.margin_kmh, "margin_fraction": self.margin_fraction, "margin": self.margin_text,
             "resolution_kmh": self.search.resolution_kmh, "high_kmh": self.search.high_kmh,
             "criterion": self.search.criterion, "speed_control": self.search.speed_control,
+            "metric": self.search.metric, "unit": self.search.unit, "metric_options": dict(self.search.metric_options),
             "freight_site_m": list(self.site_m), "masses_kg": list(self.masses_kg), "x_m": list(self.x_m),
             "z_m": list(self.z_m), "cells": self.cells(), "failed": self.failed, "at_search_limit": at_limit,
             "workers": self.workers, "wall_time_s": self.wall_time_s, "cells_resumed": self.resumed,
@@ -360,9 +186,13 @@ class LoadingChart:
         str
             The table.
         """
-        lines = [f"{self.vehicle} on {self.manoeuvre}: safe speed [km/h] = threshold - margin "
-                 f"({self.margin_text}, not below 0); cells: safe (threshold); the threshold under the "
-                 f"{self.search.criterion} criterion, {self.search.speed_control} speed control"]
+        if self.of_threshold:
+            lines = [f"{self.vehicle} on {self.manoeuvre}: safe speed [km/h] = threshold - margin "
+                     f"({self.margin_text}, not below 0); cells: safe (threshold); the threshold under the "
+                     f"{self.search.criterion} criterion, {self.search.speed_control} speed control"]
+        else:
+            lines = [f"{self.vehicle}: {self.search.metric} [{self.search.unit}] per cell (no safe speed: "
+                     "a margin applies to the threshold only)"]
         if self.search.course_note():
             lines.append(self.search.course_note())
         width = 15
@@ -373,6 +203,9 @@ class LoadingChart:
                 cells = []
                 for x in self.x_m:
                     t = self.threshold[(m, x, z)]
+                    if not self.of_threshold:
+                        cells.append("-" if t is None else f"{t:.4g}")
+                        continue
                     cells.append("-" if t is None else f"{self.safe((m, x, z)):.1f} ({t:.1f})")
                 lines.append(f"{m:>12g}" + "".join(f"{c:>{width}}" for c in cells))
         reasons = {}
@@ -382,7 +215,7 @@ class LoadingChart:
         if reasons:
             lines += ["", f"{self.failed} cells null (-):"]
             lines += [f"  {len(keys)} x {err}" for err, keys in reasons.items()]
-        if any(t is not None and t >= self.search.high_kmh - 1e-9 for t in self.threshold.values()):
+        if self.of_threshold and any(t is not None and t >= self.search.high_kmh - 1e-9 for t in self.threshold.values()):
             lines.append(f"cells at {self.search.high_kmh:g} km/h passed the whole search (raise --high)")
         return "\n".join(lines)
 
@@ -401,16 +234,22 @@ class LoadingChart:
         axes = fig.subplots(1, n, sharey=True, squeeze=False)[0]
         for ax, z in zip(axes, self.z_m, strict=True):
             for x in self.x_m:
-                ys = [self.safe((m, x, z)) for m in self.masses_kg]
+                ys = [self.safe((m, x, z)) if self.of_threshold else self.threshold[(m, x, z)] for m in self.masses_kg]
                 ax.plot(self.masses_kg, [math.nan if y is None else y for y in ys], "o-", label=f"x = {x:.2f} m")
             ax.set_title(f"freight height z = {z:.2f} m", fontsize=9)
             ax.set_xlabel("freight mass [kg]")
             ax.grid(alpha=0.3)
-            ax.set_ylim(bottom=0)
-        axes[0].set_ylabel("safe speed [km/h]")
+            if self.of_threshold:
+                ax.set_ylim(bottom=0)
         axes[-1].legend(fontsize=8, loc="best")
-        fig.suptitle(f"Loading chart: {self.vehicle}, {self.manoeuvre}; safe speed = threshold velocity less "
-                     f"{self.margin_text.replace(' below the threshold', '')}", fontsize=10)
+        if self.of_threshold:
+            axes[0].set_ylabel("safe speed [km/h]")
+            fig.suptitle(f"Loading chart: {self.vehicle}, {self.manoeuvre}; safe speed = threshold velocity less "
+                         f"{self.margin_text.replace(' below the threshold', '')}", fontsize=10)
+        else:
+            what = self.search.metric.replace("_", " ")
+            axes[0].set_ylabel(f"{what} [{self.search.unit}]")
+            fig.suptitle(f"Loading chart: {self.vehicle}; {what} over the freight's mass and position", fontsize=10)
         fig.tight_layout()
         return fig
 
@@ -470,10 +309,12 @@ def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[fl
     masses, xs, zs = grid_cells(pset, masses_kg, x_m, z_m)
     if margin_fraction is not None and not 0 <= margin_fraction < 1:
         raise InputError("must be >= 0 and < 1", where="--margin-fraction")
-    if margin_fraction is None and (margin_kmh is None or not 0 <= margin_kmh < 1000):
-        raise InputError("must be >= 0 km/h", where="--margin-kmh")
     from ...analysis.threshold import manoeuvre_builder
 
+    if search.metric != "threshold":  # no safe speed: no margin
+        margin_kmh, margin_fraction = None, None
+    elif margin_fraction is None and (margin_kmh is None or not 0 <= margin_kmh < 1000):
+        raise InputError("must be >= 0 km/h", where="--margin-kmh")
     search = search.on_course_of(pset)  # every cell meets the reference vehicle's course
     manoeuvre_builder(search.manoeuvre, dict(search.options))  # a bad manoeuvre fails before any process starts
     keys = [(m, x, z) for z in zs for m in masses for x in xs]

@@ -10,8 +10,12 @@ arrangement:
   settings;
 
 * the objective of a layout is the **worst threshold velocity** [km/h] over the manoeuvres, each found by
-  the margin search every sampled study uses (:meth:`~trikedyn.study.designs.sample_runs.Search.threshold`); a
-  layout that gives an invalid vehicle or no threshold counts as 0 km/h;
+  the margin search every sampled study uses (:meth:`~trikedyn.study.designs.search.Search.threshold`); a
+  layout that gives an invalid vehicle or no threshold counts as 0 km/h. With searches of another registered
+  study metric (``Search.metric``), that metric is the objective: **maximised**, or minimised with
+  ``minimise=True`` (a metric says nothing of which way is better: the caller does); the worst over several
+  manoeuvres is then the lowest (the highest when minimising), and a layout that cannot be measured counts as
+  the worst possible value;
 * the optimiser is :func:`scipy.optimize.differential_evolution` (``best1bin``, Latin-hypercube start,
   seeded, no gradient polish: the threshold is piecewise constant in steps of the search's resolution;
   ``updating="deferred"``, so the run is the same on one process or many). The reference layout is a member
@@ -50,7 +54,7 @@ from ..optimise_spec import (
     population_size,
 )
 from .optimise_log import Evaluation, EvaluationLog, OptimiseResult, worst
-from .sample_runs import Search
+from .search import Search
 
 __all__ = ["MAX_EVALUATIONS", "Evaluation", "EvaluationLog", "OptimiseResult", "OptimiseSpec", "evaluate_layout",
            "list_optimise_specs", "load_optimise_spec", "parse_optimise_spec", "population_size", "run_optimise",
@@ -145,8 +149,10 @@ class _Evaluator:
     """The map-like callable differential evolution evaluates a generation with: the layouts not yet known
     run on its pool (one for the whole run), each logged as it finishes."""
 
-    def __init__(self, pset, spec, searches, workers, log, known, progress, total, dask_local=None, scheduler=None):
+    def __init__(self, pset, spec, searches, workers, log, known, progress, total, dask_local=None, scheduler=None,
+                 minimise=False):
         self.pset, self.spec, self.searches, self.workers = pset, spec, searches, workers
+        self.minimise, self.metric = bool(minimise), searches[0].metric
         self.log, self.progress, self.total = log, progress, total
         self.cache: dict[tuple, Evaluation] = {}
         self.evaluations: list[Evaluation] = []
@@ -156,6 +162,10 @@ class _Evaluator:
         self.done = 0
         self.known = {e.values: e for e in known if e.values is not None}
         self.next_index = 0  # the reference is evaluation 0; then each generation's new layouts in its order
+
+    def make(self, index: int, generation: int, values, thresholds, error) -> Evaluation:
+        """An :class:`Evaluation` of this run (its metric, and which way is better)."""
+        return Evaluation(index, generation, values, tuple(thresholds), error, self.minimise, self.metric)
 
     def close(self, abandon: bool = False):
         """Shut the pool down; ``abandon``: now, the calls in flight lost (Ctrl-C)."""
@@ -186,14 +196,14 @@ class _Evaluator:
             if values in self.known:
                 old = self.known.pop(values)
                 self.resumed += 1
-                self.record(Evaluation(index[values], self.generation, values, old.thresholds, old.error),
+                self.record(self.make(index[values], self.generation, values, old.thresholds, old.error),
                             logged=True)
             else:
                 todo.append(values)
 
         def finished(values, result):
             thresholds, error = result
-            self.record(Evaluation(index[values], self.generation, values, thresholds, error))
+            self.record(self.make(index[values], self.generation, values, thresholds, error))
 
         def died(values):
             finished(values, (tuple(None for _ in self.searches), "a worker process died on this layout (twice)"))
@@ -212,9 +222,10 @@ class _Evaluator:
         return [func(x) for x in xs]
 
     def objective(self, x) -> float:
-        """What differential evolution minimises: minus the worst threshold of the (rounded) layout."""
+        """What differential evolution minimises: minus the worst threshold of the (rounded) layout (the worst
+        value itself when minimising; a failed layout's infinity as a large finite number)."""
         ev = self.cache[_rounded(x, self.spec)]
-        return -ev.worst
+        return min(-ev.score, 1e300)
 
 
 def _check_found(layouts: list[Evaluation], log: EvaluationLog | None) -> None:
@@ -240,7 +251,7 @@ def _least_move(candidates: list[Evaluation], spec: OptimiseSpec, ref: tuple[flo
 def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: Sequence[Search] | None = None, *,
                  workers: int | None = 2, log: EvaluationLog | None = None, resume: bool = False,
                  progress: Callable | None = None, dask_local: int | None = None,
-                 scheduler: str | None = None) -> OptimiseResult:
+                 scheduler: str | None = None, minimise: bool = False) -> OptimiseResult:
     """Optimise the layout of ``pset`` as ``spec`` says (see the module docstring).
 
     Parameters
@@ -250,7 +261,7 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
     spec : OptimiseSpec, or a built-in name or file
     searches : sequence of Search, optional
         One threshold search per manoeuvre (default: the spec's manoeuvres with its resolution and highest
-        speed, default options).
+        speed, default options); all of one study metric (``Search.metric``: the threshold, or another).
     workers : int or None
         Processes (0: in this process; None: all cores). The result does not depend on it (nor on the executor).
     dask_local : int, optional
@@ -265,6 +276,8 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
     progress : callable, optional
         ``progress(done, most)``: evaluations done (the reference vehicle's included), and the most the run may
         make.
+    minimise : bool
+        Minimise the searches' metric (default: maximise it).
 
     Returns
     -------
@@ -301,6 +314,10 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
     searches = tuple(s.on_course_of(pset) for s in searches)  # every layout meets the reference's course
     if not searches:
         raise InputError("needs at least one manoeuvre", where="--manoeuvre")
+    if len({(s.metric, tuple(sorted(s.metric_options.items()))) for s in searches}) > 1:
+        raise InputError("the searches measure different metrics: one objective needs one", where="--metric")
+    if minimise and searches[0].metric == "threshold":
+        raise InputError("the threshold velocity is maximised; --minimise needs another --metric", where="--minimise")
     for s in searches:
         manoeuvre_builder(s.manoeuvre, dict(s.options))  # a bad manoeuvre fails before any process starts
     population = population_size(spec.popsize, len(spec.knobs))
@@ -313,17 +330,17 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
     if log is not None:
         log.open(fresh=not resume)
     most = total + 1  # the layouts, and the reference vehicle first
-    evaluator = _Evaluator(pset, spec, searches, workers, log, known, progress, most, dask_local, scheduler)
+    evaluator = _Evaluator(pset, spec, searches, workers, log, known, progress, most, dask_local, scheduler, minimise)
     try:
         if progress is not None:
             progress(0, most)
         old_ref = next((e for e in known if e.generation < 0), None)
         if old_ref is not None:
             evaluator.resumed += 1
-            evaluator.record(Evaluation(0, -1, None, old_ref.thresholds, old_ref.error), logged=True)
+            evaluator.record(evaluator.make(0, -1, None, old_ref.thresholds, old_ref.error), logged=True)
         else:
             thresholds, error = evaluate_layout(pset, {}, searches, spec.payload_kg)
-            evaluator.record(Evaluation(0, -1, None, thresholds, error))
+            evaluator.record(evaluator.make(0, -1, None, thresholds, error))
         evaluator.next_index = 1
         reference = evaluator.evaluations[0]
         bounds = [(lo, hi) for _, lo, hi in spec.knobs]
@@ -351,8 +368,8 @@ def run_optimise(pset: ParameterSet, spec: OptimiseSpec | str | Path, searches: 
         progress(evaluator.done, evaluator.done)  # the last line: every evaluation made (repeats are made once)
     layouts = [e for e in evaluations if e.generation >= 0]
     _check_found(layouts, log)
-    top = max(e.worst for e in layouts)
-    best = _least_move([e for e in layouts if e.worst == top], spec, ref_values)
+    top = max(e.score for e in layouts)
+    best = _least_move([e for e in layouts if e.score == top], spec, ref_values)
     from ...params.knobs import apply_knobs
 
     vehicle = apply_knobs(pset, dict(zip(spec.names, best.values, strict=True)))

@@ -3,6 +3,7 @@ to resume), and the result (:class:`OptimiseResult`: ``to_dict``, ``table``, ``p
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -13,25 +14,34 @@ import numpy as np
 from ...params.io import ParameterSet
 from ..optimise_spec import OptimiseSpec, population_size
 from .csv_log import AppendedCsv
-from .sample_runs import Search
+from .search import Search
 
 __all__ = ["Evaluation", "EvaluationLog", "OptimiseResult", "worst"]
 
 
-def worst(thresholds: Sequence[float | None]) -> float:
-    """The objective of a layout: its lowest threshold [km/h] over the manoeuvres, a None counting as 0.
+def worst(thresholds: Sequence[float | None], minimise: bool = False, metric: str = "threshold") -> float:
+    """The objective of a layout: its worst value over the manoeuvres, the lowest (the highest when the metric
+    is minimised). A None (a failed search) counts as 0 km/h for the threshold, as the worst possible value
+    (-inf, or +inf when minimised) for another metric.
 
     Parameters
     ----------
     thresholds : sequence of float or None
-        Thresholds [km/h].
+        Thresholds [km/h] (or the metric's values [its unit]).
+    minimise : bool
+        Smaller is better.
+    metric : str
+        What the values are (``"threshold"``: a failure counts as 0 km/h).
 
     Returns
     -------
     float
-        [km/h].
+        [km/h] (or the metric's unit).
     """
-    return min((0.0 if t is None else float(t)) for t in thresholds)
+    if minimise:
+        return max((math.inf if t is None else float(t)) for t in thresholds)
+    failed = 0.0 if metric == "threshold" else -math.inf
+    return min((failed if t is None else float(t)) for t in thresholds)
 
 
 @dataclass(frozen=True)
@@ -44,11 +54,20 @@ class Evaluation:
     values: tuple[float, ...] | None
     thresholds: tuple[float | None, ...]
     error: str | None = None
+    minimise: bool = False
+    """Smaller values are better (``--minimise``)."""
+    metric: str = "threshold"
+    """What :attr:`thresholds` hold: the threshold [km/h] or another study metric [its unit]."""
 
     @property
     def worst(self) -> float:
-        """The layout's objective, its lowest threshold [km/h] (:func:`worst`)."""
-        return worst(self.thresholds)
+        """The layout's objective, its worst value (:func:`worst`): the lowest threshold [km/h] by default."""
+        return worst(self.thresholds, self.minimise, self.metric)
+
+    @property
+    def score(self) -> float:
+        """The objective with larger better: :attr:`worst`, negated when minimising."""
+        return -self.worst if self.minimise else self.worst
 
 
 # ------------------------------------------------------------------------------------------------
@@ -173,13 +192,23 @@ class OptimiseResult:
         return [s.manoeuvre for s in self.searches]
 
     @property
+    def metric(self) -> str:
+        """What is optimised: ``"threshold"`` or another study metric (:attr:`Search.metric`)."""
+        return self.searches[0].metric
+
+    @property
+    def minimise(self) -> bool:
+        """The metric is minimised (else maximised)."""
+        return self.best.minimise
+
+    @property
     def best_threshold_speed_kmh(self) -> float:
-        """The best layout's worst threshold [km/h]."""
+        """The best layout's worst threshold [km/h] (or metric value)."""
         return self.best.worst
 
     @property
     def reference_threshold_speed_kmh(self) -> float:
-        """The reference vehicle's worst threshold [km/h]."""
+        """The reference vehicle's worst threshold [km/h] (or metric value)."""
         return self.reference.worst
 
     def moves(self) -> list[dict]:
@@ -205,14 +234,17 @@ class OptimiseResult:
             The result.
         """
         failed = sum(e.error is not None for e in self.evaluations)
+        best, ref = _finite(self.best_threshold_speed_kmh), _finite(self.reference_threshold_speed_kmh)
         return {
             "vehicle": self.vehicle_name, "spec": self.spec.origin, "description": self.spec.description,
             "manoeuvres": self.manoeuvres, "options": {s.manoeuvre: dict(s.options) for s in self.searches},
             "payload_kg": self.spec.payload_kg,
-            "objective": "worst threshold velocity over the manoeuvres" if len(self.searches) > 1 else "threshold velocity",
-            "best_threshold_speed_kmh": self.best_threshold_speed_kmh,
-            "reference_threshold_speed_kmh": self.reference_threshold_speed_kmh,
-            "gain_kmh": round(self.best_threshold_speed_kmh - self.reference_threshold_speed_kmh, 9),
+            "objective": self._objective_words(),
+            "metric": self.metric, "unit": self.searches[0].unit, "metric_options": dict(self.searches[0].metric_options),
+            "minimise": self.minimise,
+            "best_threshold_speed_kmh": best,
+            "reference_threshold_speed_kmh": ref,
+            "gain_kmh": None if best is None or ref is None else round(best - ref, 9),
             "thresholds": {m: {"reference": r, "best": b} for m, r, b in
                            zip(self.manoeuvres, self.reference.thresholds, self.best.thresholds, strict=True)},
             "vehicle_file": None,
@@ -225,9 +257,16 @@ class OptimiseResult:
                 "step": self.spec.step, "message": self.message},
             "resolution_kmh": self.searches[0].resolution_kmh, "high_kmh": self.searches[0].high_kmh,
             "criterion": self.searches[0].criterion, "speed_control": self.searches[0].speed_control,
-            "at_search_limit": self.best_threshold_speed_kmh >= self.searches[0].high_kmh - 1e-9,
+            "at_search_limit": self.metric == "threshold" and self.best_threshold_speed_kmh >= self.searches[0].high_kmh - 1e-9,
             "workers": self.workers, "wall_time_s": self.wall_time_s,
         }
+
+    def _objective_words(self) -> str:
+        what = "threshold velocity" if self.metric == "threshold" else self.metric.replace("_", " ")
+        how = "minimised" if self.minimise else "maximised"
+        if len(self.searches) > 1:
+            return f"worst {what} over the manoeuvres ({'highest' if self.minimise else 'lowest'}), {how}"
+        return f"{what}, {how}"
 
     def table(self) -> str:
         """The result for reading.
@@ -238,14 +277,18 @@ class OptimiseResult:
             The text.
         """
         ref, best = self.reference_threshold_speed_kmh, self.best_threshold_speed_kmh
-        what = "worst threshold over " + ", ".join(self.manoeuvres) if len(self.searches) > 1 else \
-            f"threshold on {self.manoeuvres[0]}"
+        name = "threshold" if self.metric == "threshold" else self.metric.replace("_", " ")
+        unit, shown = self.searches[0].unit, (".1f" if self.metric == "threshold" else ".4g")
+        what = f"worst {name} over " + ", ".join(self.manoeuvres) if len(self.searches) > 1 else \
+            f"{name} on {self.manoeuvres[0]}"
+        what += " (minimised)" if self.minimise else ""
         load = f", {self.spec.payload_kg:g} kg freight" if self.spec.payload_kg else ""
-        lines = [f"{self.vehicle_name}, spec {self.spec.origin}{load}: {what} {ref:.1f} -> {best:.1f} km/h "
-                 f"({best - ref:+.1f} km/h)"]
+        gain = f"{best - ref:+{shown}} {unit}" if math.isfinite(best - ref) else "the reference has none"
+        lines = [f"{self.vehicle_name}, spec {self.spec.origin}{load}: {what} {ref:{shown}} -> {best:{shown}} {unit} "
+                 f"({gain})"]
         if len(self.searches) > 1:
             for m, r, b in zip(self.manoeuvres, self.reference.thresholds, self.best.thresholds, strict=True):
-                lines.append(f"  {m}: {_kmh(r)} -> {_kmh(b)} km/h")
+                lines.append(f"  {m}: {_kmh(r, shown)} -> {_kmh(b, shown)} {unit}")
         lines.append(f"  {self.searches[0].criterion} criterion, {self.searches[0].speed_control} speed control")
         lines += [f"  {m}: {note}" for m, note in ((s.manoeuvre, s.course_note()) for s in self.searches) if note]
         width = max(len(n) for n in self.spec.names) + 2
@@ -260,7 +303,7 @@ class OptimiseResult:
                      + (f", {failed} failed" if failed else "")
                      + f", {_workers(self.workers)}, {self.wall_time_s:.0f} s); "
                      f"{self.message}")
-        if best >= self.searches[0].high_kmh - 1e-9:
+        if self.metric == "threshold" and best >= self.searches[0].high_kmh - 1e-9:
             lines.append(f"  the best layout passed the whole search ({self.searches[0].high_kmh:g} km/h): raise --high")
         return "\n".join(lines)
 
@@ -280,26 +323,30 @@ class OptimiseResult:
         evs = [e for e in self.evaluations if e.generation >= 0]
         n = np.arange(1, len(evs) + 1)
         y = np.array([e.worst for e in evs])
-        ok = np.array([e.error is None for e in evs], dtype=bool)
+        ok = np.array([e.error is None for e in evs], dtype=bool) & np.isfinite(y)
+        ref = self.reference_threshold_speed_kmh
+        name = "threshold velocity" if self.metric == "threshold" else self.metric.replace("_", " ")
+        unit, shown = self.searches[0].unit, (".1f" if self.metric == "threshold" else ".4g")
         ax.plot(n[ok], y[ok], "o", ms=3, color="tab:blue", alpha=0.6, label="a layout")
-        if (~ok).any():
+        if (~ok).any() and self.metric == "threshold":
             ax.plot(n[~ok], y[~ok], "x", ms=4, color="tab:red", label="failed (counted as 0)")
-        if len(y):
-            ax.step(n, np.maximum.accumulate(y), where="post", color="k", lw=1.2, label="best so far")
-        ax.axhline(self.reference_threshold_speed_kmh, color="tab:orange", ls="--", lw=1.2,
-                   label=f"reference {self.reference_threshold_speed_kmh:.1f} km/h")
-        finite = y[ok] if ok.any() else np.array([self.reference_threshold_speed_kmh])
-        low = min(finite.min(), self.reference_threshold_speed_kmh)
-        high = max(finite.max(), self.reference_threshold_speed_kmh)
-        pad = max(0.5, 0.1 * (high - low))
-        ax.set_ylim(low - pad, high + pad)
+        if ok.any():
+            best_so_far = (np.fmin if self.minimise else np.fmax).accumulate(np.where(ok, y, np.nan))
+            ax.step(n, best_so_far, where="post", color="k", lw=1.2, label="best so far")
+        if math.isfinite(ref):
+            ax.axhline(ref, color="tab:orange", ls="--", lw=1.2, label=f"reference {ref:{shown}} {unit}")
+        finite = np.concatenate([y[ok], [ref] if math.isfinite(ref) else []])
+        if finite.size:
+            pad = max(0.5 if self.metric == "threshold" else 1e-9, 0.1 * (finite.max() - finite.min()))
+            ax.set_ylim(finite.min() - pad, finite.max() + pad)
         ax.set_xlabel("evaluation")
-        label = "worst threshold velocity" if len(self.searches) > 1 else "threshold velocity"
-        ax.set_ylabel(f"{label} [km/h]")
+        label = f"worst {name}" if len(self.searches) > 1 else name
+        ax.set_ylabel(f"{label} [{unit}]")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=8, loc="lower right")
-        ax.set_title(f"{', '.join(self.manoeuvres)}: {self.reference_threshold_speed_kmh:.1f} -> "
-                     f"{self.best_threshold_speed_kmh:.1f} km/h", fontsize=9)
+        ax.legend(fontsize=8, loc="upper right" if self.minimise else "lower right")
+        ax.set_title(f"{', '.join(self.manoeuvres)}: {ref:{shown}} -> "
+                     f"{self.best_threshold_speed_kmh:{shown}} {unit}" + (" (minimised)" if self.minimise else ""),
+                     fontsize=9)
         moves = self.moves()
         rows = np.arange(len(moves))[::-1]
         for row, mv in zip(rows, moves, strict=True):
@@ -329,8 +376,13 @@ def _workers(n: int) -> str:
     return "in this process" if n == 0 else f"{n} worker{'s' if n != 1 else ''}"
 
 
-def _kmh(value) -> str:
-    return "none" if value is None else f"{value:.1f}"
+def _kmh(value, shown: str = ".1f") -> str:
+    return "none" if value is None else format(value, shown)
+
+
+def _finite(value: float) -> float | None:
+    """A value for JSON: None for the infinity a failed layout counts as."""
+    return float(value) if math.isfinite(value) else None
 
 
 def _units(names: Sequence[str]) -> list[str]:

@@ -55,48 +55,30 @@ import traceback
 import uuid
 import warnings
 from collections import deque
-from dataclasses import dataclass, field
 from pathlib import Path
 
-from ...errors import InputError, RunIncomplete
+from ...errors import InputError
 from ..engine.executors import InlineExecutor, check_executor, make_executor, start_pool_server
 from ..engine.executors import one_line as _one_line
 from ..engine.loop import StopSignal, drive
 from ..engine.store import RESULT_KEYS, StudyStore
-from ..scenarios import SCENARIO_KEYS, count_scenarios, expand
+from ..scenarios import SCENARIO_KEYS, expand
 from ..spec import StudySpec, load_spec
+from .study_run import (  # noqa: F401  (re-exported: the module is the grid study's entry point)
+    STUDY_FILES,
+    StudyIncomplete,
+    StudyInterrupted,
+    StudyRun,
+    _check_limit,
+    _check_size,
+    check_study_folder,
+)
 
 __all__ = ["MAX_SCENARIOS", "STUDY_FILES", "StudyIncomplete", "StudyInterrupted", "StudyRun", "check_study_folder",
            "execute_study", "run_scenario", "run_study"]
 
 MAX_SCENARIOS = 10_000
 """Default limit on a study's scenarios (:func:`run_study`'s ``max_scenarios``)."""
-
-
-class StudyInterrupted(KeyboardInterrupt):
-    """A study run stopped by SIGINT/SIGTERM; what finished is stored and a re-run resumes.
-
-    Attributes
-    ----------
-    summary : dict
-        As :attr:`StudyRun.summary` (``out``, ``scenarios`` counts, ``wall_time_s``, ...).
-    signal : str or None
-        The signal that stopped it (``"SIGINT"``, ``"SIGTERM"``).
-    """
-
-    def __init__(self, message: str, summary: dict, signal: str | None = None):
-        super().__init__(message)
-        self.summary = summary
-        self.signal = signal
-
-
-class StudyIncomplete(RunIncomplete):
-    """Some scenarios were lost to dead workers or a lost scheduler (not to their own errors); a re-run retries
-    them (the study's :class:`~trikedyn.errors.RunIncomplete`, with its summary)."""
-
-    def __init__(self, message: str, summary: dict):
-        super().__init__(message)
-        self.summary = summary
 
 
 # ------------------------------------------------------------------------------------------------
@@ -154,114 +136,6 @@ def run_scenario(scenario: dict, vehicle=None, run_token: str | None = None) -> 
     row.update(wall_time_s=time.perf_counter() - start, worker=f"{socket.gethostname()}:{os.getpid()}",
                run_token=run_token, finished_at=time.time())
     return row
-
-
-# ------------------------------------------------------------------------------------------------
-# the loop
-# ------------------------------------------------------------------------------------------------
-@dataclass
-class StudyRun:
-    """What a run of a study gives (:func:`execute_study`).
-
-    Attributes
-    ----------
-    summary : dict
-        ``study``, ``out``, ``database``, ``executor``, ``outcome`` (``completed``, ``interrupted``,
-        ``incomplete``), ``scenarios`` {``total``, ``done``, ``failed``, ``computed``, ``skipped``, ``lost``},
-        ``wall_time_s`` [s], ``table`` and ``parquet`` (paths once every scenario is stored, else None),
-        ``figures`` (PNG paths), ``run_token``.
-    table : pandas.DataFrame
-        The stored scenarios in spec order (see :meth:`StudyStore.to_pandas`).
-    lost : list of (scenario_id, why)
-        Scenarios lost to dead workers in this run.
-    signal : str or None
-        The signal that interrupted the run (``"SIGINT"``, ``"SIGTERM"``), or None.
-    """
-
-    summary: dict
-    table: object = None
-    lost: list = field(default_factory=list)
-    signal: str | None = None
-
-    def raise_unfinished(self) -> None:
-        """Raise :class:`StudyInterrupted` or :class:`StudyIncomplete` if the run did not complete."""
-        s = self.summary
-        n = s["scenarios"]
-        if s["outcome"] == "interrupted":
-            raise StudyInterrupted(
-                f"interrupted: {n['done']} of {n['total']} scenarios stored in {s['database']}; run the same "
-                f"command again to resume (stored scenarios are not recomputed)", s, self.signal)
-        if s["outcome"] == "incomplete":
-            first = self.lost[0][1] if self.lost else "unknown"
-            raise StudyIncomplete(
-                f"{n['lost']} scenario(s) not finished ({first}); {n['done']} of {n['total']} stored in "
-                f"{s['database']}; run the same command again to resume (stored scenarios are not recomputed)", s)
-
-
-def _check_limit(max_scenarios) -> None:
-    if max_scenarios is None:
-        return
-    if isinstance(max_scenarios, bool) or not isinstance(max_scenarios, int | float) or max_scenarios < 1 \
-            or int(max_scenarios) != max_scenarios:
-        raise InputError(f"expected a whole number of scenarios >= 1, got {max_scenarios!r}", where="max_scenarios")
-
-
-def _check_size(spec: StudySpec, max_scenarios) -> None:
-    """Refuse a spec with more than ``max_scenarios`` scenarios, counted without expanding it."""
-    if max_scenarios is None:
-        return
-    n, exact = count_scenarios(spec)
-    if n > max_scenarios:
-        size = f"{n:,} scenarios" if exact else f"up to {n:,} scenarios"
-        raise InputError(f"the spec expands to {size}, more than the limit {int(max_scenarios):,}; "
-                         f"pass --max-scenarios {n} to run it", where=spec.origin)
-
-
-STUDY_FILES = ("study.sqlite", "study.sqlite-wal", "study.sqlite-shm", "study.sqlite-journal", "study.lock",
-               "results.csv", "results.parquet", "fig_*.png")
-"""What a study writes in its folder (``fig_*.png``: a pattern); none may be a file the study reads."""
-
-
-def check_study_folder(out_dir: str | Path, spec: StudySpec, force: bool = False) -> None:
-    """``out_dir`` checked as a study's folder before anything is written in it.
-
-    A missing or empty folder, or a study's (one with its ``study.sqlite``: a re-run resumes it), is fine.
-    An existing folder that holds other files is not a study: its ``results.csv``, ``results.parquet`` and
-    ``fig_*.png`` would be replaced, so it is refused unless ``force``. Whatever ``force``, no file the study
-    writes there may be one it reads (the spec, its vehicle with the files that one reads, a path CSV, a
-    ``tyre_file`` override: :func:`trikedyn._files.check_not_inputs`).
-
-    Parameters
-    ----------
-    out_dir : str or Path
-        The folder.
-    spec : StudySpec
-        The study.
-    force : bool
-        Accept a folder holding other files.
-
-    Raises
-    ------
-    InputError
-        Naming the folder, or the output file that is an input.
-    """
-    from ..._files import check_not_inputs
-
-    folder = Path(out_dir)
-    tyres = [value for group in spec.groups for key, values in group.overrides if key.endswith(".tyre_file")
-             for value in values if isinstance(value, str)]
-    check_not_inputs(folder, STUDY_FILES, [spec.origin, spec.vehicle_source, *spec.manoeuvres, *tyres])
-    if force or not folder.is_dir() or (folder / "study.sqlite").exists():
-        return
-    try:
-        others = sorted(p.name for p in folder.iterdir() if p.name not in STUDY_FILES)
-    except OSError:  # not readable: the store says why
-        return
-    if others:
-        shown = ", ".join(others[:3]) + (f" and {len(others) - 3} more" if len(others) > 3 else "")
-        raise InputError(f"holds files ({shown}) but no study (no study.sqlite): its results.csv, results.parquet "
-                         "and fig_*.png would be replaced; use another --out, or pass --force to write into it",
-                         where=str(folder))
 
 
 def _warm_imports(figures: bool) -> None:
