@@ -12,6 +12,7 @@ import typer
 
 from .._json import finite, json_default
 from ..errors import InputError
+from ._bounds import search_bound, variant_bound
 
 __all__ = ["INTERRUPT_NOTES", "WARNINGS", "absolute_csv", "BandKmhOpt", "BandPercentOpt", "CriterionOpt", "DaskLocalOpt", "ForceOpt",
            "FreightAliasOpt", "JsonOpt", "ManoeuvreOpt", "OptionOpt", "PayloadOpt", "SpeedControlOpt", "VehicleArg", "choice", "emit",
@@ -52,8 +53,9 @@ SchedulerOpt = Annotated[str | None, typer.Option("--scheduler", help="Dask sche
 # both parameters, named so: ``payload: PayloadOpt = 0.0, freight: FreightAliasOpt = None``, and reads
 # ``payload_kg(payload, freight)``; giving both options is a user error.
 def _one_of(other: str):
-    """Typer callback: the option's value in range (:func:`within`), and ``other`` not given as well."""
-    check = within(0, 2000, "kg")
+    """Typer callback: the option's value in range (the variant's ``freight_kg``:
+    :data:`~trikedyn.params.variant.VARIANT_OPTIONS`), and ``other`` not given as well."""
+    check = variant_bound("freight_kg")
 
     def callback(ctx: typer.Context, param: typer.CallbackParam, value):
         value = check(ctx, param, value)
@@ -219,20 +221,22 @@ def choice(*allowed: str):
     return check
 
 
+# the search settings' options: their words and bounds are trikedyn.analysis.search_settings' (one set for the
+# command line and the specs)
 CriterionOpt = Annotated[str, typer.Option(
-    "--criterion", callback=choice("course", "lift-off", "both"),
+    "--criterion", callback=search_bound("criterion"),
     help="What a run must do to pass: course (ISO 3888-1 validity: every wheel down, no cone struck, path kept, "
          "speed held; the default), lift-off (the paper's: no wheel lifts) or both (each threshold).")]
 SpeedControlOpt = Annotated[str, typer.Option(
-    "--speed-control", callback=choice("driver", "ideal"),
+    "--speed-control", callback=search_bound("speed_control"),
     help="driver: the vehicle's own drive and brakes hold the speed, within their limits (a search stops at the "
          "top speed); ideal: unlimited drive and brakes, the speed imposed as a multibody package's kinematic "
          "drive would.")]
 BandPercentOpt = Annotated[float, typer.Option(
-    "--speed-band-percent", callback=within(0, 100, "%"),
+    "--speed-band-percent", callback=search_bound("speed_band_percent"),
     help="Half-width of the band the speed must stay in through the judged window [% of the target].")]
 BandKmhOpt = Annotated[float, typer.Option(
-    "--speed-band-kmh", callback=within(0, 100, "km/h"),
+    "--speed-band-kmh", callback=search_bound("speed_band_kmh"),
     help="Smallest half-width of the speed band [km/h]; the band is the larger of the two.")]
 
 
