@@ -353,6 +353,20 @@ def study_spec() -> str:
     return model_reference(spec._Spec)
 
 
+def search_settings() -> str:
+    """The threshold search's settings with their defaults and bounds (one set for the command line, the study
+    spec and the optimise spec: trikedyn.analysis.search_settings), and the variant's numbers."""
+    from trikedyn.analysis.search_settings import search_options
+    from trikedyn.params.variant import VARIANT_OPTIONS
+
+    rows = ["| key | default | unit | allowed | what |", "| --- | --- | --- | --- | --- |"]
+    for o in (*search_options(), *VARIANT_OPTIONS):
+        allowed = (", ".join(f"`{c}`" for c in o.choices) if o.choices
+                   else f"{o.minimum:g} to {o.maximum:g}" if o.minimum is not None else "")
+        rows.append(f"| `{o.name}` | `{o.default}` | {o.unit} | {allowed} | {cell(o.help)} |")
+    return "\n".join(rows)
+
+
 def presets() -> str:
     from trikedyn.params import list_presets, load_vehicle
 
@@ -520,16 +534,19 @@ def api_flat() -> str:
 API_MODULES = (
     ("Parameter sets", ("trikedyn.params.parameter_set", "trikedyn.params.io", "trikedyn.params.save",
                         "trikedyn.params.shipped", "trikedyn.params.extends", "trikedyn.params.ops",
+                        "trikedyn.params.variant",
                         "trikedyn.params.audit", "trikedyn.params.springs", "trikedyn.params.plausibility", "trikedyn.params.schema")),
     ("Measurements", ("trikedyn.measure.imu_log", "trikedyn.measure.logs", "trikedyn.measure.suspension",
                       "trikedyn.measure.signals", "trikedyn.measure.decay", "trikedyn.measure.weighing", "trikedyn.measure.cg",
                       "trikedyn.mechanics.mass")),
     ("The model", ("trikedyn.model.vehicle", "trikedyn.model.statics", "trikedyn.model.linear")),
-    ("Manoeuvres", ("trikedyn.manoeuvres.registry", "trikedyn.manoeuvres.base", "trikedyn.manoeuvres.csv_path")),
+    ("Manoeuvres", ("trikedyn.manoeuvres.registry", "trikedyn.manoeuvres.spec", "trikedyn.manoeuvres.base",
+                    "trikedyn.manoeuvres.csv_path")),
     ("Simulation", ("trikedyn.simulate.run", "trikedyn.simulate.closed_loop", "trikedyn.simulate.result",
                     "trikedyn.simulate.channels", "trikedyn.simulate.exponential", "trikedyn.simulate.runfile")),
     ("Judging", ("trikedyn.analysis.window", "trikedyn.analysis.metrics", "trikedyn.analysis.verdict",
-                 "trikedyn.analysis.threshold", "trikedyn.analysis.criteria", "trikedyn.analysis.search",
+                 "trikedyn.analysis.threshold", "trikedyn.analysis.search_settings", "trikedyn.analysis.criteria",
+                 "trikedyn.analysis.search",
                  "trikedyn.analysis.margins",
                  "trikedyn.analysis.compare",
                  "trikedyn.analysis.alignment", "trikedyn.analysis.scoring", "trikedyn.analysis.tilt",
@@ -590,6 +607,7 @@ GENERATORS = {
     "vehicle-file": vehicle_file,
     "weighing-file": weighing_file,
     "study-spec": study_spec,
+    "search-settings": search_settings,
     "presets": presets,
     "log-formats": log_formats,
     "channels": channels,

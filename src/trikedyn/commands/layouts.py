@@ -8,6 +8,7 @@ from typing import Annotated
 
 import typer
 
+from ._bounds import SEARCH_DEFAULTS, search_bound
 from ._common import (
     CriterionOpt,
     ForceOpt,
@@ -22,7 +23,6 @@ from ._common import (
     manoeuvre_options,
     payload_kg,
     save_figure,
-    within,
 )
 
 DEFAULT_MANOEUVRES = ("dlc", "slc")
@@ -45,11 +45,11 @@ def compare_layouts_cmd(
     payload: PayloadOpt = 0.0,
     freight: FreightAliasOpt = None,
     no_tilt: Annotated[bool, typer.Option("--no-tilt", help="Skip the tilt-table test.")] = False,
-    low: Annotated[float, typer.Option("--low", callback=within(0, 400, "km/h", above=True), help="Lowest speed searched [km/h].")] = 10.0,
-    high: Annotated[float, typer.Option("--high", callback=within(0, 400, "km/h", above=True), help="Highest speed searched [km/h].")] = 90.0,
-    resolution: Annotated[float, typer.Option("--resolution", callback=within(0.001, 50, "km/h"), help="Threshold resolution [km/h].")] = 0.1,
-    criterion: CriterionOpt = "course",
-    speed_control: SpeedControlOpt = "driver",
+    low: Annotated[float, typer.Option("--low", callback=search_bound("low_kmh"), help="Lowest speed searched [km/h].")] = SEARCH_DEFAULTS["low_kmh"],
+    high: Annotated[float, typer.Option("--high", callback=search_bound("high_kmh"), help="Highest speed searched [km/h].")] = SEARCH_DEFAULTS["high_kmh"],
+    resolution: Annotated[float, typer.Option("--resolution", callback=search_bound("resolution_kmh"), help="Threshold resolution [km/h].")] = SEARCH_DEFAULTS["resolution_kmh"],
+    criterion: CriterionOpt = SEARCH_DEFAULTS["criterion"],
+    speed_control: SpeedControlOpt = SEARCH_DEFAULTS["speed_control"],
     out: Annotated[Path | None, typer.Option("--out", help="Folder to write comparison.json, each mirror vehicle "
                                              "(LAYOUT-mirror-KEEP.toml) and a figure into (created; a non-empty one "
                                              "needs --force).")] = None,

@@ -16,6 +16,7 @@ from typing import Annotated
 import typer
 
 from ..errors import InputError
+from ._bounds import SEARCH_DEFAULTS, search_bound
 from ._common import (
     CriterionOpt,
     DaskLocalOpt,
@@ -71,10 +72,10 @@ def loading_chart_cmd(
     z: Annotated[str | None, typer.Option("--z", help="Heights of the freight [m], comma-separated (default: the freight site and +0.2, +0.4 m).")] = None,
     margin_kmh: Annotated[float | None, typer.Option("--margin-kmh", callback=within(0, 200, "km/h"), help="Safe speed = threshold - this [km/h], not below 0 (default 5).")] = None,
     margin_fraction: Annotated[float | None, typer.Option("--margin-fraction", callback=within(0, 0.99), help="Or: safe speed = threshold x (1 - this) [-].")] = None,
-    resolution: Annotated[float, typer.Option("--resolution", callback=within(0.01, 10, "km/h"), help="Resolution of each threshold search [km/h].")] = 0.1,
-    high: Annotated[float, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h] (raise it for slc).")] = 90.0,
-    criterion: CriterionOpt = "course",
-    speed_control: SpeedControlOpt = "driver",
+    resolution: Annotated[float, typer.Option("--resolution", callback=search_bound("resolution_kmh"), help="Resolution of each threshold search [km/h].")] = SEARCH_DEFAULTS["resolution_kmh"],
+    high: Annotated[float, typer.Option("--high", callback=search_bound("high_kmh"), help="Highest speed searched [km/h] (raise it for slc).")] = SEARCH_DEFAULTS["high_kmh"],
+    criterion: CriterionOpt = SEARCH_DEFAULTS["criterion"],
+    speed_control: SpeedControlOpt = SEARCH_DEFAULTS["speed_control"],
     metric: MetricOpt = "threshold",
     metric_option: MetricOptionOpt = [],  # noqa: B006
     workers: WorkersOpt = None,

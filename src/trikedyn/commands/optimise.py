@@ -13,6 +13,7 @@ from typing import Annotated
 import typer
 
 from ..errors import InputError
+from ._bounds import search_bound
 from ._common import (
     CriterionOpt,
     DaskLocalOpt,
@@ -75,8 +76,8 @@ def optimise_cmd(
     maxiter: Annotated[int | None, typer.Option("--maxiter", callback=within(0, 1000), help="Generations after the first (default: the spec's).")] = None,
     popsize: Annotated[int | None, typer.Option("--popsize", callback=within(1, 100), help="Population = popsize x number of knobs, at least 5 (default: the spec's).")] = None,
     seed: Annotated[int | None, typer.Option("--seed", callback=within(0, 2**32 - 1), help="Seed of differential evolution (default: the spec's).")] = None,
-    resolution: Annotated[float | None, typer.Option("--resolution", callback=within(0.01, 10, "km/h"), help="Resolution of each threshold search [km/h] (default: the spec's, 0.1).")] = None,
-    high: Annotated[float | None, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h] (default: the spec's, 90; raise it for slc).")] = None,
+    resolution: Annotated[float | None, typer.Option("--resolution", callback=search_bound("resolution_kmh"), help="Resolution of each threshold search [km/h] (default: the spec's, 0.1).")] = None,
+    high: Annotated[float | None, typer.Option("--high", callback=search_bound("high_kmh"), help="Highest speed searched [km/h] (default: the spec's, 90; raise it for slc).")] = None,
     criterion: Annotated[str | None, CriterionOpt.__metadata__[0]] = None,
     speed_control: Annotated[str | None, SpeedControlOpt.__metadata__[0]] = None,
     metric: Annotated[str, typer.Option("--metric", help="The objective: a registered study metric (threshold, tilt_angle, understeer_gradient, peak_ri, min_wheel_load ...), maximised (its worst over the manoeuvres), or minimised with --minimise. Default: the threshold velocity.")] = "threshold",

@@ -8,6 +8,7 @@ from typing import Annotated
 
 import typer
 
+from ._bounds import SEARCH_DEFAULTS, search_bound
 from ._common import (
     CriterionOpt,
     DaskLocalOpt,
@@ -114,11 +115,11 @@ def sensitivity_cmd(
     samples: Annotated[int | None, typer.Option("--samples", callback=within(2, 100_000), help="Morris trajectories (default 10) or Sobol base samples, a power of 2 (default 64); runs: N x (k+1) or N x (k+2) for k factors.")] = None,
     parameter: Annotated[list[str], typer.Option("--parameter", "-p", help="Vary only these: dotted paths as in `trikedyn vehicle show` (measured ones too) or design knobs (track_m, wheelbase_m, cg_height_m, component.battery.z_m ...); repeatable or comma-separated. Default: every assumed value that can vary.")] = [],  # noqa: B006
     fraction: Annotated[float, typer.Option("--fraction", callback=within(0, 0.9, above=True), help="Each factor varies over value x (1 -/+ fraction) unless the vehicle file declares its range [-].")] = 0.2,
-    resolution: Annotated[float, typer.Option("--resolution", callback=within(0.01, 10, "km/h"), help="Resolution of each threshold search [km/h].")] = 0.1,
-    high: Annotated[float, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h]; a sample that passes it counts as this speed (raise it for slc).")] = 90.0,
+    resolution: Annotated[float, typer.Option("--resolution", callback=search_bound("resolution_kmh"), help="Resolution of each threshold search [km/h].")] = SEARCH_DEFAULTS["resolution_kmh"],
+    high: Annotated[float, typer.Option("--high", callback=search_bound("high_kmh"), help="Highest speed searched [km/h]; a sample that passes it counts as this speed (raise it for slc).")] = SEARCH_DEFAULTS["high_kmh"],
     seed: Annotated[int, typer.Option("--seed", callback=within(0, 2**32 - 1), help="Seed of the sampling and of the confidence intervals.")] = 1,
-    criterion: CriterionOpt = "course",
-    speed_control: SpeedControlOpt = "driver",
+    criterion: CriterionOpt = SEARCH_DEFAULTS["criterion"],
+    speed_control: SpeedControlOpt = SEARCH_DEFAULTS["speed_control"],
     metric: MetricOpt = "threshold",
     metric_option: MetricOptionOpt = [],  # noqa: B006
     workers: WorkersOpt = None,

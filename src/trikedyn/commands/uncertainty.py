@@ -9,6 +9,7 @@ from typing import Annotated
 
 import typer
 
+from ._bounds import SEARCH_DEFAULTS, search_bound
 from ._common import (
     CriterionOpt,
     DaskLocalOpt,
@@ -134,11 +135,11 @@ def uncertainty_cmd(
     weighing: Annotated[Path | None, typer.Option("--weighing", help="A weighing file (as `trikedyn cg weigh` reads): the sigmas of the CG's x and y (level weighing) and z (tilted weighings), normal about the vehicle's CG.")] = None,
     identification: Annotated[list[str], typer.Option("--identification", help="[SUSPENSION=]FILE: the JSON of `trikedyn identify --json` (or a folder holding it): the sigmas of that suspension's stiffness and damping, propagated from those of f_n and xi; the name is needed when the vehicle has more than one suspension (front=id.json); repeatable.")] = [],  # noqa: B006
     fraction: Annotated[float, typer.Option("--fraction", callback=within(0, 0.9, above=True), help="Each assumed value varies over value x (1 -/+ fraction) unless the vehicle file declares its range [-].")] = 0.2,
-    resolution: Annotated[float, typer.Option("--resolution", callback=within(0.01, 10, "km/h"), help="Resolution of each threshold search [km/h].")] = 0.1,
-    high: Annotated[float, typer.Option("--high", callback=within(11, 400, "km/h"), help="Highest speed searched [km/h]; a sample that passes it counts as this speed.")] = 90.0,
+    resolution: Annotated[float, typer.Option("--resolution", callback=search_bound("resolution_kmh"), help="Resolution of each threshold search [km/h].")] = SEARCH_DEFAULTS["resolution_kmh"],
+    high: Annotated[float, typer.Option("--high", callback=search_bound("high_kmh"), help="Highest speed searched [km/h]; a sample that passes it counts as this speed.")] = SEARCH_DEFAULTS["high_kmh"],
     seed: Annotated[int, typer.Option("--seed", callback=within(0, 2**32 - 1), help="Seed of the sampling.")] = 1,
-    criterion: CriterionOpt = "course",
-    speed_control: SpeedControlOpt = "driver",
+    criterion: CriterionOpt = SEARCH_DEFAULTS["criterion"],
+    speed_control: SpeedControlOpt = SEARCH_DEFAULTS["speed_control"],
     metric: MetricOpt = "threshold",
     metric_option: MetricOptionOpt = [],  # noqa: B006
     workers: WorkersOpt = None,

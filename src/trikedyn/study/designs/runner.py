@@ -87,8 +87,8 @@ MAX_SCENARIOS = 10_000
 def run_scenario(scenario: dict, vehicle=None, run_token: str | None = None) -> dict:
     """Compute one scenario's metric; never raises for the scenario's own failure.
 
-    The vehicle is built as: load (or take ``vehicle``), ``scale_suspension``, ``override``,
-    ``with_freight``; then the scenario's metric (:mod:`trikedyn.study.metrics`; the threshold velocity,
+    The vehicle is built as: load (or take ``vehicle``), then the scenario's
+    :class:`~trikedyn.params.variant.Variant` (``scale_suspension``, ``override``, ``with_freight``); then the scenario's metric (:mod:`trikedyn.study.metrics`; the threshold velocity,
     :func:`~trikedyn.analysis.threshold.threshold_velocity`, by default) runs.
 
     Parameters
@@ -115,15 +115,13 @@ def run_scenario(scenario: dict, vehicle=None, run_token: str | None = None) -> 
     row = {k: scenario.get(k) for k in SCENARIO_KEYS}
     name = scenario.get("metric") or "threshold"
     try:
-        from ...params import load_vehicle, override, scale_suspension, with_freight
+        from ...params import load_vehicle
+        from ...params.variant import Variant
         from ..metrics import get
 
         metric = get(name)
         pset = vehicle if vehicle is not None else load_vehicle(scenario["vehicle"])
-        pset = scale_suspension(pset, stiffness=scenario["stiffness_scale"], damping=scenario["damping_scale"])
-        if scenario["overrides"]:
-            pset = override(pset, scenario["overrides"])
-        pset = with_freight(pset, scenario["freight_kg"])
+        pset = Variant.from_dict(scenario).apply(pset)  # scale, override, freight
         result = metric.fn(pset, scenario, **(scenario.get("metric_options") or {}))
         row.update({"status": "ok", **dict.fromkeys(RESULT_KEYS), "unit": metric.unit, **result, "error": None,
                     "traceback": None})
