@@ -38,14 +38,11 @@ class Search:
     metric_options: dict = field(default_factory=dict)
 
     def __post_init__(self):
-        from ...analysis.threshold import CRITERIA
-        from ...simulate.closed_loop import SPEED_CONTROLS
+        from ...analysis.search_settings import SearchSettings
 
-        if self.criterion not in CRITERIA:
-            raise InputError(f"expected one of {', '.join(CRITERIA)}, got {self.criterion!r}", where="criterion")
-        if self.speed_control not in SPEED_CONTROLS:
-            raise InputError(f"expected one of {', '.join(SPEED_CONTROLS)}, got {self.speed_control!r}",
-                             where="speed_control")
+        # the range, resolution, criterion and speed control by the search settings' one set of bounds
+        SearchSettings(low_kmh=self.low_kmh, high_kmh=self.high_kmh, resolution_kmh=self.resolution_kmh,
+                       criterion=self.criterion, speed_control=self.speed_control)
         if self.metric != "threshold" or self.metric_options:
             from ..metrics import parse_entry
 
