@@ -6,7 +6,7 @@ the two accumulators are checked against each other. Both sides allocate nothing
 side as the right-hand side runs it: transforms, RNEA, CRBA, Cholesky on a preallocated workspace). The
 figure is the median of ``REPEATS`` timings, in microseconds per evaluation.
 
-usage: python benchmarks/codegen.py [--json]
+usage: python benchmarks/codegen.py [--json] [--dlc]
 """
 
 from __future__ import annotations
@@ -152,23 +152,96 @@ def measure(preset: str = "reference-etrike", reps: int = 3000) -> dict:
             "rhs_projected_with_generated_us": (t_rhs - t_gen + t_cg) / evaluations * 1e6}
 
 
-def bench_generated_kernels() -> dict:
-    """``make bench``'s entry: :func:`measure` on reference-etrike, under one key.
+def measure_dlc(preset: str = "reference-etrike", speed_kmh: float = 30.0, duration_s: float = 10.0,
+                repeats: int = REPEATS) -> dict:
+    """A closed-loop double lane change (the driver in the loop), generic and generated loop, one process.
+
+    The run is :func:`trikedyn.simulate.closed_loop.drive` on ISO 3888-1's path as in ``benchmarks/run.py``
+    (end to end: statics, the compiled loop, the channels); the compiled loop's own time is taken inside the
+    same calls. Best of ``repeats`` after a warm-up, the two kernels alternating; the states of the two runs
+    are compared.
 
     Returns
     -------
     dict
-        ``{"forward_dynamics_generated_vs_generic": measure()}``.
+        Per kernel ``wall_s``, ``real_time_factor``, ``loop_wall_s``, ``loop_real_time_factor``; the largest
+        state difference scaled by each state's largest magnitude (at least 1).
     """
-    return {"forward_dynamics_generated_vs_generic": measure("reference-etrike")}
+    from trikedyn.manoeuvres.paths import double_lane_change
+    from trikedyn.simulate import run as run_module
+    from trikedyn.simulate.closed_loop import drive
+
+    pset = load_vehicle(preset)
+    model = build_model(pset)
+    path = double_lane_change(pset.params.body.overall_width_m)
+    chosen = run_module.time_loop
+    loop_times = []
+
+    def timed(plant, kernels=None):
+        loop = chosen(plant, kernels)
+
+        def call(*args):
+            start = time.perf_counter()
+            out = loop(*args)
+            loop_times.append(time.perf_counter() - start)
+            return out
+        return call
+
+    best, results = {}, {}
+    run_module.time_loop = timed
+    try:
+        for kernels in ("generic", "generated"):
+            os.environ["TRIKEDYN_KERNELS"] = kernels
+            results[kernels] = drive(model, path, speed_kmh, duration_s=duration_s)  # warm-up, compiles
+            best[kernels] = [np.inf, np.inf]
+        for _ in range(repeats):
+            for kernels in ("generic", "generated"):
+                os.environ["TRIKEDYN_KERNELS"] = kernels
+                start = time.perf_counter()
+                drive(model, path, speed_kmh, duration_s=duration_s)
+                wall = time.perf_counter() - start
+                best[kernels] = [min(best[kernels][0], wall), min(best[kernels][1], loop_times[-1])]
+    finally:
+        run_module.time_loop = chosen
+        os.environ.pop("TRIKEDYN_KERNELS", None)
+    a, b = results["generic"].states, results["generated"].states
+    out = {"preset": preset, "speed_kmh": speed_kmh, "simulated_s": duration_s, "repeats": repeats,
+           "state_diff_scaled": float(np.max(np.abs(a - b) / np.maximum(1.0, np.abs(a).max(axis=0))))}
+    for kernels, (wall, loop) in best.items():
+        out[kernels] = {"wall_s": wall, "real_time_factor": duration_s / wall, "loop_wall_s": loop,
+                        "loop_real_time_factor": duration_s / loop}
+    out["speedup_end_to_end"] = best["generic"][0] / best["generated"][0]
+    out["speedup_loop"] = best["generic"][1] / best["generated"][1]
+    return out
+
+
+def bench_generated_kernels() -> dict:
+    """``make bench``'s entry: :func:`measure` and :func:`measure_dlc` on reference-etrike.
+
+    Returns
+    -------
+    dict
+        ``{"forward_dynamics_generated_vs_generic": measure(), "dlc_10s_generated_vs_generic": measure_dlc()}``.
+    """
+    return {"forward_dynamics_generated_vs_generic": measure("reference-etrike"),
+            "dlc_10s_generated_vs_generic": measure_dlc("reference-etrike")}
 
 
 def main() -> int:
-    """Print the figures of both presets (``--json``: as one JSON object)."""
-    results = {p: measure(p) for p in ("reference-etrike", "reference-tadpole")}
+    """Print the figures of both presets (``--json``: as one JSON object; ``--dlc``: the lane change only)."""
+    presets = ("reference-etrike", "reference-tadpole")
+    dlc = {p: measure_dlc(p) for p in presets}
+    results = {} if "--dlc" in sys.argv else {p: measure(p) for p in presets}
     if "--json" in sys.argv:
-        print(json.dumps(results, indent=1))
+        print(json.dumps({"kernels": results, "dlc": dlc}, indent=1))
         return 0
+    for preset, r in dlc.items():
+        g, c = r["generic"], r["generated"]
+        print(f"{preset}: closed-loop {r['simulated_s']:.0f} s DLC at {r['speed_kmh']:.0f} km/h, end to end generic "
+              f"{g['wall_s'] * 1e3:.1f} ms ({g['real_time_factor']:.0f}x real time), generated {c['wall_s'] * 1e3:.1f} ms "
+              f"({c['real_time_factor']:.0f}x); the loop alone {g['loop_wall_s'] * 1e3:.1f} vs "
+              f"{c['loop_wall_s'] * 1e3:.1f} ms ({g['loop_real_time_factor']:.0f}x vs {c['loop_real_time_factor']:.0f}x, "
+              f"{r['speedup_loop']:.2f}x); states agree to {r['state_diff_scaled']:.1e} (best of {r['repeats']})")
     for preset, r in results.items():
         print(f"{preset} ({r['dof']} DOF): forward dynamics generic {r['generic_us']:.3f} us, generated "
               f"{r['generated_us']:.3f} us per evaluation: {r['speedup']:.1f}x (median of {r['repeats']}, "

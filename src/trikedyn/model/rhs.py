@@ -33,7 +33,7 @@ from .dynamics import crba_into, joint_transforms_into, rnea_into, workspace
 from .kinematics import body_velocities_into, euler_rates_into, world_transforms_into
 from .packing import WHEEL_OUT
 
-__all__ = ["evaluate_into", "f", "f_with_outputs", "interpolate_inputs", "linkage_angle", "workspace"]
+__all__ = ["evaluate_into", "f", "f_with_outputs", "forces_into", "interpolate_inputs", "linkage_angle", "workspace"]
 
 
 @jit(inline="always")
@@ -112,9 +112,14 @@ def linkage_angle(command, steer_y, veh):
 
 
 @jit
-def evaluate_into(t, x, u, p, wout, ws, xdot):
-    """``xdot = f(t, x, u, p)`` into ``xdot``; fills ``wout`` (:data:`WHEEL_OUT` per wheel); ``ws`` from
-    :func:`workspace`.
+def forces_into(t, x, u, p, wout, ws, xdot):
+    """Everything of ``f(t, x, u, p)`` but the multibody accelerations: steps 1-4 of the module docstring.
+
+    Writes the joint transforms, world poses and body velocities into ``ws`` (``e``, ``r``, ``ew``, ``pw``,
+    ``v``), the joint forces into ``ws.tau`` [N, N m], the external wrenches on the bodies (as
+    the RNEA takes them) into ``ws.fext`` and the slip rates into ``xdot[2 n:]``; :func:`evaluate_into` then
+    adds the accelerations (and the generated loops of :mod:`trikedyn.simulate.specialised` theirs). Compiled
+    on its own, not inlined: the tyres are compiled once and shared by the generic loop and every generated one.
 
     Parameters
     ----------
@@ -203,9 +208,39 @@ def evaluate_into(t, x, u, p, wout, ws, xdot):
         fext[0, 1] += pz * drag  # p x (drag, 0, 0) = (0, pz drag, 0)
         fext[0, 3] += drag
 
-    gravity = (0.0, 0.0, -veh.g)
+
+
+@jit
+def evaluate_into(t, x, u, p, wout, ws, xdot):
+    """``xdot = f(t, x, u, p)`` into ``xdot``; fills ``wout`` (:data:`WHEEL_OUT` per wheel); ``ws`` from
+    :func:`workspace`. The forces (:func:`forces_into`), then ``du/dt`` by the generic RNEA, CRBA and a
+    Cholesky solve (its factor stays in ``ws.low``), then ``dq/dt``.
+
+    Parameters
+    ----------
+    t : float
+        Time [s].
+    x : numpy.ndarray
+        State (``VehicleModel.state_names``).
+    u : numpy.ndarray, shape (3,)
+        Inputs: steer command [rad], drive torque [N m], brake torque [N m].
+    p : Plant
+        The compiled vehicle (``VehicleModel.plant``).
+    wout : numpy.ndarray, dtype WHEEL_OUT
+        Written with the per-wheel outputs (loads [N], slips, deflection [m] ...).
+    ws : Workspace
+        Scratch arrays from :func:`~trikedyn.model.dynamics.workspace`.
+    xdot : numpy.ndarray
+        Written with ``dx/dt``.
+    """
+    forces_into(t, x, u, p, wout, ws, xdot)
+    n = p.parent.shape[0] + 5
+    q = x[:n]
+    qd = x[n : 2 * n]
+    tau, e = ws.tau, ws.e
+    gravity = (0.0, 0.0, -p.vehicle[0].g)
     bias = ws.bias
-    rnea_into(e, ws.r, qd, ws.zero, fext, gravity, p.parent, p.jtype, p.jaxis, p.mass, p.h, p.ibar, ws, bias, True)
+    rnea_into(e, ws.r, qd, ws.zero, ws.fext, gravity, p.parent, p.jtype, p.jaxis, p.mass, p.h, p.ibar, ws, bias, True)
     crba_into(e, ws.r, p.parent, p.jtype, p.jaxis, p.mass, p.h, p.ibar, ws)
     for i in range(n):
         tau[i] -= bias[i]

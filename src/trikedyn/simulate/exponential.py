@@ -15,9 +15,9 @@ where ``L`` is block-diagonal with one 2x2 block per wheel on its (spin rate, ``
 
 ``L_k = [[0, -(H^-1)_ss R_c C_kappa], [R_e / sigma_x, -v_ref / sigma_x]]``
 
-with ``(H^-1)_ss`` the spin joint's diagonal of the inverse mass matrix (the Cholesky factor of the step's
-first evaluation, :func:`inverse_mass_diagonal`), ``R_c`` the loaded radius (the lever of the longitudinal
-force about the axle), ``R_e`` the effective rolling radius and ``C_kappa = dFx/dkappa`` of the wheel's own
+with ``(H^-1)_ss`` the spin joint's diagonal of the inverse mass matrix (from the factor of the mass matrix
+of the step's first evaluation, :mod:`trikedyn.model.inverse_mass`), ``R_c`` the loaded radius (the lever of
+the longitudinal force about the axle), ``R_e`` the effective rolling radius and ``C_kappa = dFx/dkappa`` of the wheel's own
 tyre model at its current load, slip angle and camber (a finite difference: any tyre model, saturation
 included). The stages and the update use ``exp(h L / 2)`` and the functions ``phi_1``, ``phi_2``,
 ``phi_3`` of each block, in closed form (:func:`block_functions`); ``N`` is integrated to fourth order.
@@ -34,11 +34,12 @@ import cmath
 import math
 
 from .._jit import jit
+from ..model.inverse_mass import inverse_mass_diagonal, ltdl_inverse_diagonal
 from ..tyre.interface import tyre_forces
 
-__all__ = ["BLOCK_WIDTH", "block_functions", "expm2", "inverse_mass_diagonal", "phi_functions", "stage_pairs",
-           "third_stage_pairs", "update_pairs",
-           "spin_slip_blocks", "subtract_blocks"]
+__all__ = ["BLOCK_WIDTH", "block_functions", "expm2", "inverse_mass_diagonal", "ltdl_inverse_diagonal", "phi_functions",
+           "spin_slip_block", "spin_slip_blocks", "spin_slip_blocks_ltdl", "stage_pairs", "subtract_blocks",
+           "third_stage_pairs", "update_pairs"]
 
 SLIP_STEP = 1e-5
 """Finite-difference step in ``kappa`` for the slip stiffness ``dFx/dkappa`` [1]."""
@@ -83,36 +84,6 @@ def expm2(a, b, c, d, h):
 
 
 @jit(inline="always")
-def inverse_mass_diagonal(low, s, y):
-    """``(H^-1)_ss`` from the Cholesky factor ``low`` of ``H``: ``|L^-1 e_s|^2`` (``y``: scratch, length n).
-
-    Parameters
-    ----------
-    low : numpy.ndarray, shape (n, n)
-        Lower Cholesky factor of the mass matrix.
-    s : int
-        The diagonal entry wanted.
-    y : numpy.ndarray, shape (n,)
-        Scratch.
-
-    Returns
-    -------
-    float
-        ``(H^-1)_ss`` [1/kg or 1/(kg m^2)].
-    """
-    n = low.shape[0]
-    y[s] = 1.0 / low[s, s]
-    total = y[s] * y[s]
-    for i in range(s + 1, n):
-        acc = 0.0
-        for k in range(s, i):
-            acc -= low[i, k] * y[k]
-        y[i] = acc / low[i, i]
-        total += y[i] * y[i]
-    return total
-
-
-@jit(inline="always")
 def spin_slip_blocks(p, wout, low, scratch, idx, mat):
     """Each wheel's (spin rate, ``kappa``) block of ``L`` (see the module docstring) at the current state.
 
@@ -134,27 +105,74 @@ def spin_slip_blocks(p, wout, low, scratch, idx, mat):
     int
         The number of blocks.
     """
+    for k in range(p.wheels.shape[0]):
+        spin_slip_block(p, k, wout[k], inverse_mass_diagonal(low, 5 + p.wheels[k].wheel_body, scratch), idx, mat)
+    return p.wheels.shape[0]
+
+
+@jit(inline="always")
+def spin_slip_blocks_ltdl(p, wout, factor, scratch, idx, mat):
+    """:func:`spin_slip_blocks` from the leaves-first factorisation ``H = L^T D L`` of the generated kernels
+    (``forward_dynamics_factor_into`` of :mod:`trikedyn.model.codegen`) instead of a Cholesky factor.
+
+    Parameters
+    ----------
+    p : Plant
+    wout : ndarray of WHEEL_OUT
+        The wheels' outputs of the evaluation at the current state.
+    factor : ndarray (n, n)
+        That evaluation's factor (:func:`ltdl_inverse_diagonal`).
+    scratch : ndarray (n,)
+    idx : ndarray (n_wheels, 2) of int
+        Filled with the state indices of each block.
+    mat : ndarray (n_wheels, 4)
+        Filled with each block, row-major.
+
+    Returns
+    -------
+    int
+        The number of blocks.
+    """
+    for k in range(p.wheels.shape[0]):
+        spin_slip_block(p, k, wout[k], ltdl_inverse_diagonal(factor, p.parent, 5 + p.wheels[k].wheel_body, scratch),
+                        idx, mat)
+    return p.wheels.shape[0]
+
+
+@jit
+def spin_slip_block(p, k, o, inverse_mass, idx, mat):
+    """Wheel ``k``'s (spin rate, ``kappa``) block of ``L`` into ``idx[k]`` and ``mat[k]`` (compiled on its own,
+    not inlined: its tyre model is compiled once for every loop).
+
+    Parameters
+    ----------
+    p : Plant
+    k : int
+        The wheel.
+    o : record of WHEEL_OUT
+        The wheel's outputs at the current state.
+    inverse_mass : float
+        ``(H^-1)_ss`` of the wheel's spin joint [1/(kg m^2)].
+    idx : ndarray (n_wheels, 2) of int
+    mat : ndarray (n_wheels, 4)
+    """
     n = p.parent.shape[0] + 5
     veh = p.vehicle[0]
     v_low4 = veh.v_low * veh.v_low * veh.v_low * veh.v_low
-    for k in range(p.wheels.shape[0]):
-        w = p.wheels[k]
-        o = wout[k]
-        spin_dof = 5 + w.wheel_body
-        v_ref = math.sqrt(math.sqrt(o.vx * o.vx * o.vx * o.vx + v_low4))
-        r_eff = w.radius - o.deflection / 3.0
-        slip_stiffness = 0.0
-        if o.fz > 0.0 and veh.slip_forces > 0.0:
-            shifted = tyre_forces(w.tyre_model, p.tyres[k], o.kappa + SLIP_STEP, o.alpha, o.camber, o.fz, o.vx, v_ref,
-                                  o.spin, r_eff, veh.v_low, veh.w_low)[0]
-            slip_stiffness = (shifted - o.fx) / SLIP_STEP
-        idx[k, 0] = n + spin_dof
-        idx[k, 1] = 2 * n + 2 * k
-        mat[k, 0] = 0.0
-        mat[k, 1] = -inverse_mass_diagonal(low, spin_dof, scratch) * (w.radius - o.deflection) * slip_stiffness
-        mat[k, 2] = r_eff / w.relaxation_x
-        mat[k, 3] = -v_ref / w.relaxation_x
-    return p.wheels.shape[0]
+    w = p.wheels[k]
+    v_ref = math.sqrt(math.sqrt(o.vx * o.vx * o.vx * o.vx + v_low4))
+    r_eff = w.radius - o.deflection / 3.0
+    slip_stiffness = 0.0
+    if o.fz > 0.0 and veh.slip_forces > 0.0:
+        shifted = tyre_forces(w.tyre_model, p.tyres[k], o.kappa + SLIP_STEP, o.alpha, o.camber, o.fz, o.vx, v_ref,
+                              o.spin, r_eff, veh.v_low, veh.w_low)[0]
+        slip_stiffness = (shifted - o.fx) / SLIP_STEP
+    idx[k, 0] = n + 5 + w.wheel_body
+    idx[k, 1] = 2 * n + 2 * k
+    mat[k, 0] = 0.0
+    mat[k, 1] = -inverse_mass * (w.radius - o.deflection) * slip_stiffness
+    mat[k, 2] = r_eff / w.relaxation_x
+    mat[k, 3] = -v_ref / w.relaxation_x
 
 
 @jit(inline="always")

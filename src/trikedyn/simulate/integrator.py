@@ -62,8 +62,8 @@ def near_a_stop(x, p, n, dt):
 
 @jit(inline="always")
 def etd_step(x, t, h, k1, u, p, closed, inputs, wout, ws, xs, k2, k3, k4, scratch, idx, mat, fn, exponential):
-    """One step of ``h`` [s] from ``x`` at ``t`` (``k1 = f(t, x)`` evaluated, ``wout`` and the Cholesky
-    factor in ``ws`` from it), in place; False when the new state is not finite.
+    """One step of ``h`` [s] from ``x`` at ``t`` (``k1 = f(t, x)`` evaluated, ``wout`` and the factor of the
+    mass matrix in ``ws.low`` from it), in place; False when the new state is not finite.
 
     ETDRK4 about ``x`` with the wheels' spin-slip pairs exact (:mod:`trikedyn.simulate.exponential`), on the
     entries outside the blocks classical RK4 (and everywhere without ``exponential``).

@@ -24,9 +24,9 @@ from .integrator import (
     OPEN_LOOP_SPEED,
     STATUS_OK,
     STATUS_TEXT,
-    rk4_loop,
 )
 from .result import Result
+from .specialised import time_loop
 
 __all__ = ["INTEGRATORS", "TyreRangeWarning", "automatic_step", "input_table", "max_stable_step", "run_model", "simulate",
            "stop_step", "time_step"]
@@ -238,7 +238,8 @@ def time_step(model: VehicleModel, x0: np.ndarray, dt: float | None, integrator:
 
 def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, duration_s: float, dt: float | None,
               output_rate_hz: float, raise_on_failure: bool = True, path=None, speed_profile=None,
-              driver=None, meta=None, extra=None, manoeuvre=None, integrator: str = "etdrk4") -> Result:
+              driver=None, meta=None, extra=None, manoeuvre=None, integrator: str = "etdrk4",
+              kernels: str | None = None) -> Result:
     """Run the compiled loop from ``x0`` and compute the channels; raise :class:`SimulationError` on failure.
 
     With ``path`` (arrays ``PATH_COLUMNS``), ``speed_profile`` (``(time, speed)`` rows) and ``driver`` (a
@@ -278,6 +279,9 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
         Kept in the result.
     integrator : str
         ``"etdrk4"`` or ``"rk4"``.
+    kernels : str, optional
+        ``"generated"`` (the loop on the kernels generated for the tree) or ``"generic"`` (the reference);
+        ``$TRIKEDYN_KERNELS`` or ``"generated"`` when None (:func:`~trikedyn.simulate.specialised.time_loop`).
 
     Returns
     -------
@@ -291,7 +295,7 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
     every = max(1, int(round(1.0 / (output_rate_hz * dt))))
     n_steps = int(round(duration_s / dt))
     closed = path is not None
-    out = rk4_loop(
+    out = time_loop(model.plant, kernels)(
         x0, 0.0, dt, n_steps, every, inputs,
         np.ascontiguousarray(path) if closed else OPEN_LOOP_PATH,
         np.ascontiguousarray(speed_profile) if closed else OPEN_LOOP_SPEED,

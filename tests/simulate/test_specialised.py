@@ -1,0 +1,155 @@
+"""The time loop on the kernels generated for the tree (trikedyn.simulate.specialised) against the generic loop.
+
+The generic loop (RNEA, CRBA, Cholesky over any tree) is the reference. On both reference trikes, a closed-loop
+double lane change and an open-loop sine steer with drive torque give the same states and wheel loads with
+either loop, to 1e-9 of each quantity's largest magnitude over the run (at least 1 in its unit: m, rad, m/s,
+rad/s, N); they agree to ~1e-13 (numba's fast-math may order sums differently). The exponential integrator's
+``(H^-1)_ss`` from the generated ``L^T D L`` factor equals the inverse of the mass matrix's diagonal.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+import trikedyn as td
+from trikedyn.errors import InputError
+from trikedyn.model.vehicle import build_model
+from trikedyn.simulate import integrator
+from trikedyn.simulate.specialised import KERNELS_ENV, kernel_choice, loop_module, time_loop
+
+PRESETS = ["reference-etrike", "reference-tadpole"]
+TOLERANCE = 1e-9
+
+
+def sine_steer(t):
+    """0.03 rad at 0.5 Hz about the steering axis."""
+    return 0.03 * np.sin(np.pi * t)
+
+
+def scaled_difference(a, b):
+    """Largest ``|a - b|`` over the run, per column divided by the column's largest ``|b|`` (at least 1)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    return float(np.max(np.abs(a - b) / np.maximum(1.0, np.abs(b).max(axis=0))))
+
+
+def wheel_loads(result):
+    """The wheels' vertical loads [N], one column per wheel."""
+    names = [name for name in result.channels if name.endswith("_fz_N")]
+    assert len(names) == 3
+    return np.column_stack([result[name] for name in names])
+
+
+def both(monkeypatch, runner):
+    """``runner()`` with the generic loop, then with the generated one."""
+    out = {}
+    for kernels in ("generic", "generated"):
+        monkeypatch.setenv(KERNELS_ENV, kernels)
+        out[kernels] = runner()
+    return out["generic"], out["generated"]
+
+
+@pytest.fixture(scope="module", params=PRESETS)
+def model(request):
+    return build_model(td.load_vehicle(request.param))
+
+
+def test_closed_loop_lane_change_equals_generic(model, monkeypatch):
+    ref, got = both(monkeypatch, lambda: td.run(model, "dlc", speed_kmh=40.0))
+    assert ref.success and got.success
+    assert ref.states.shape == got.states.shape and ref.states.shape[0] > 1000
+    assert scaled_difference(got.states, ref.states) < TOLERANCE
+    assert scaled_difference(wheel_loads(got), wheel_loads(ref)) < TOLERANCE
+    assert np.ptp(ref["y_m"]) > 2.0  # it did change lanes
+
+
+def test_open_loop_run_equals_generic(model, monkeypatch):
+    ref, got = both(monkeypatch, lambda: td.run_open_loop(model, duration_s=4.0, speed_kmh=30.0, steer_rad=sine_steer,
+                                                         drive_torque_Nm=40.0))
+    assert ref.success and got.success
+    assert scaled_difference(got.states, ref.states) < TOLERANCE
+    assert scaled_difference(wheel_loads(got), wheel_loads(ref)) < TOLERANCE
+    assert np.ptp(wheel_loads(ref)) > 100.0  # the steering moved load between the wheels
+
+
+def test_selection(model, monkeypatch):
+    monkeypatch.delenv(KERNELS_ENV, raising=False)
+    assert kernel_choice() == "generated"
+    assert time_loop(model.plant) is loop_module(model.plant).rk4_loop
+    assert time_loop(model.plant) is not integrator.rk4_loop
+    assert time_loop(model.plant, "generic") is integrator.rk4_loop
+    monkeypatch.setenv(KERNELS_ENV, "generic")
+    assert time_loop(model.plant) is integrator.rk4_loop
+    assert time_loop(model.plant, "generated") is loop_module(model.plant).rk4_loop
+    module = loop_module(model.plant)
+    text = open(module.__file__).read()
+    assert "forward_dynamics_factor_into(" in text and "def rk4_loop(" in text
+    assert "cholesky_solve_into" not in text and "crba_into" not in text  # no generic dynamics in this loop
+
+
+def test_unknown_kernels_is_one_line(monkeypatch):
+    monkeypatch.setenv(KERNELS_ENV, "fast")
+    with pytest.raises(InputError, match=r"^TRIKEDYN_KERNELS: unknown kernels 'fast': expected one of generated, generic$"):
+        kernel_choice()
+    with pytest.raises(InputError, match="^kernels: unknown kernels 'x'"):
+        kernel_choice("x")
+
+
+def test_inverse_mass_diagonal_from_the_generated_factor(model):
+    from numba import njit
+
+    from trikedyn.model.codegen import kernels_for_tree
+    from trikedyn.model.dynamics import crba
+    from trikedyn.model.inverse_mass import ltdl_inverse_diagonal
+
+    @njit
+    def diagonal(factor, parent, n):
+        z = np.empty(n)
+        return np.array([ltdl_inverse_diagonal(factor, parent, s, z) for s in range(n)])
+
+    p = model.plant
+    k = kernels_for_tree(p)
+    n = p.parent.shape[0] + 5
+    rng = np.random.default_rng(4)
+    for _ in range(5):
+        q = rng.normal(0.0, 0.2, n)
+        u = rng.normal(0.0, 3.0, n)
+        factor = np.full((n, n), np.nan)  # the entries off the tree are never read
+        out = np.empty(n)
+        k.forward_dynamics_factor_into(q, u, rng.normal(0.0, 100.0, n), np.zeros((n - 5, 6)),
+                                       np.array([0.0, 0.0, -9.81]), p.tree_e, p.tree_r, p.mass, p.h, p.ibar, out,
+                                       factor)
+        expected = np.diag(np.linalg.inv(crba(q, p.parent, p.jtype, p.jaxis, p.tree_e, p.tree_r, p.mass, p.h, p.ibar)))
+        got = diagonal(factor, p.parent, n)
+        assert np.all(expected > 0.0)
+        assert np.max(np.abs(got - expected) / expected) < 1e-10
+
+
+_PROBE = textwrap.dedent("""
+    import json
+    import trikedyn as td
+    from trikedyn.model.vehicle import build_model
+    from trikedyn.simulate.specialised import loop_module
+    model = build_model(td.load_vehicle("reference-etrike"))
+    r = td.run_open_loop(model, duration_s=0.5, speed_kmh=20.0)
+    stats = loop_module(model.plant).rk4_loop.stats
+    print(json.dumps({"ok": bool(r.success), "hits": sum(stats.cache_hits.values()),
+                      "misses": sum(stats.cache_misses.values())}))
+""")
+
+
+def test_a_fresh_process_loads_the_compiled_loop(monkeypatch):
+    monkeypatch.setenv(KERNELS_ENV, "generated")
+    model = build_model(td.load_vehicle("reference-etrike"))
+    assert td.run_open_loop(model, duration_s=0.5, speed_kmh=20.0).success  # compiled (or loaded) here
+    done = subprocess.run([sys.executable, "-c", _PROBE], env=dict(os.environ), capture_output=True, text=True,
+                          timeout=600)
+    assert done.returncode == 0, done.stderr
+    probe = json.loads(done.stdout.strip().splitlines()[-1])
+    assert probe["ok"] and probe["hits"] >= 1 and probe["misses"] == 0  # numba's cache, not a compilation
