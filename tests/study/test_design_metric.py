@@ -100,3 +100,16 @@ def test_the_threshold_is_not_minimised(tmp_path):
                      "--workers", "0", "--out", "out")
     assert done.returncode == 2 and done.stderr.strip().splitlines() == [
         "trikedyn: error: --minimise: the threshold velocity is maximised; --minimise needs another --metric"]
+
+
+def test_a_sampled_metric_runs_the_manoeuvre_with_its_options():
+    """``-o`` reaches a metric that runs the manoeuvre (peak_ri), as a spec's manoeuvre options do in a study:
+    a single lane change of 1 m rolls the trike less than one of 3.5 m (the default)."""
+    from trikedyn.params import load_vehicle
+    from trikedyn.study.designs.search import Search
+
+    pset = load_vehicle("reference-etrike")
+    default, _, _ = Search("slc", {}, metric="peak_ri", metric_options={"speed_kmh": 30}).outcome(pset)
+    short, _, _ = Search("slc", {"lateral_offset_m": 1.0}, metric="peak_ri",
+                         metric_options={"speed_kmh": 30}).outcome(pset)
+    assert 0.0 < short < default - 0.02

@@ -205,7 +205,8 @@ class Search:
         from ..engine.executors import one_line
         from ..metrics import get
 
-        scenario = {"manoeuvre": self.manoeuvre, "speed_control": self.speed_control, "criterion": self.criterion,
+        scenario = {"manoeuvre": self.manoeuvre, "manoeuvre_options": dict(self.options),  # -o, as a spec's
+                    "speed_control": self.speed_control, "criterion": self.criterion,
                     "course_width_m": self.options.get("course_width_m"), "low_kmh": self.low_kmh,
                     "high_kmh": self.high_kmh, "resolution_kmh": self.resolution_kmh}
         try:
