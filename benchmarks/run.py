@@ -16,6 +16,7 @@ from pathlib import Path
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
+from batch import bench_batch  # noqa: E402  (benchmarks/batch.py, issue 25)
 from cluster import bench_cluster  # noqa: E402  (benchmarks/cluster.py, issue 23)
 from cluster import report as report_cluster  # noqa: E402
 from codegen import bench_generated_kernels  # noqa: E402  (benchmarks/codegen.py, issue 25)
@@ -217,6 +218,7 @@ def main() -> int:
     results.update(bench_peer(results))
     results.update(bench_startup())
     results.update(bench_threshold())
+    results.update(bench_batch())
     results.update(bench_study_and_reproduce())
     results.update(bench_cluster())
     out = Path(__file__).with_name("results.json")

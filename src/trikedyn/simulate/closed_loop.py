@@ -23,7 +23,7 @@ from ..params.io import ParameterSet
 from .result import Result
 from .run import run_model, time_step
 
-__all__ = ["SPEED_CONTROLS", "run", "drive", "footprint"]
+__all__ = ["SPEED_CONTROLS", "run", "drive", "footprint", "prepare_run"]
 
 SPEED_CONTROLS = ("driver", "ideal")
 """How the speed is held: ``driver`` (the PI controller on the vehicle's own drive and brakes, within their
@@ -119,6 +119,36 @@ def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc"
     Result
         With ``manoeuvre`` set, ``path_s_m``/``path_error_m`` when it has a path, and ``judged``.
     """
+    spec = prepare_run(vehicle, manoeuvre, speed_kmh=speed_kmh, driver=driver, dt=dt, duration_s=duration_s,
+                       integrator=integrator, speed_control=speed_control, **options)
+    return run_model(**spec, output_rate_hz=output_rate_hz, raise_on_failure=raise_on_failure)
+
+
+def prepare_run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc", *,
+                speed_kmh: float | None = None, driver: DriverSettings | None = None, dt: float | None = None,
+                duration_s: float | None = None, integrator: str = "etdrk4", speed_control: str = "driver",
+                **options) -> dict:
+    """Everything :func:`run` hands the compiled loop, without running it (the batch integrator,
+    :mod:`trikedyn.simulate.batch`, runs several of these in lockstep).
+
+    Parameters
+    ----------
+    vehicle, manoeuvre, driver, integrator, speed_control, **options
+        As for :func:`run`.
+    speed_kmh : float, optional
+        Target speed [km/h], for a manoeuvre given by name.
+    dt : float, optional
+        Time step [s]; automatic by default.
+    duration_s : float, optional
+        Simulated time [s]; the manoeuvre's own by default.
+
+    Returns
+    -------
+    dict
+        The keyword arguments of :func:`~trikedyn.simulate.run.run_model` but ``output_rate_hz`` and
+        ``raise_on_failure``: ``model``, ``x0``, ``inputs``, ``duration_s`` [s], ``dt`` [s], ``path``,
+        ``speed_profile``, ``driver``, ``meta``, ``extra``, ``manoeuvre``, ``integrator``.
+    """
     model = vehicle if isinstance(vehicle, VehicleModel) else build_model(vehicle)
     params = model.params
     if speed_control not in SPEED_CONTROLS:
@@ -155,10 +185,9 @@ def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc"
     meta = {"manoeuvre": manoeuvre.title, "manoeuvre_name": manoeuvre.name, "driver": settings.__dict__,
             "target_speed_kmh": float(manoeuvre.speed.speed_mps.max() * 3.6), "speed_control": speed_control,
             "window": manoeuvre.window.to_dict(), "footprint_m": list(footprint(params))}
-    return run_model(model, x0, inputs, duration_s=duration, dt=dt, output_rate_hz=output_rate_hz,
-                     raise_on_failure=raise_on_failure, path=path_rows, speed_profile=manoeuvre.speed.as_array(),
-                     driver=drv, meta=meta, extra=_judging_channels(params, manoeuvre), manoeuvre=manoeuvre,
-                     integrator=integrator)
+    return {"model": model, "x0": x0, "inputs": inputs, "duration_s": duration, "dt": dt, "path": path_rows,
+            "speed_profile": manoeuvre.speed.as_array(), "driver": drv, "meta": meta,
+            "extra": _judging_channels(params, manoeuvre), "manoeuvre": manoeuvre, "integrator": integrator}
 
 
 def _steer_inputs(steer: np.ndarray, duration_s: float, dt: float) -> np.ndarray:

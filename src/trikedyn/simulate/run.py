@@ -28,8 +28,8 @@ from .integrator import (
 from .result import Result
 from .specialised import time_loop
 
-__all__ = ["INTEGRATORS", "TyreRangeWarning", "automatic_step", "input_table", "max_stable_step", "run_model", "simulate",
-           "stop_step", "time_step"]
+__all__ = ["INTEGRATORS", "TyreRangeWarning", "automatic_step", "input_table", "loop_result", "loop_steps",
+           "max_stable_step", "run_model", "simulate", "stop_step", "time_step"]
 
 InputSpec = float | Callable[[np.ndarray], np.ndarray] | tuple
 
@@ -288,12 +288,8 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
     Result
         The recorded run.
     """
-    if duration_s <= 0:
-        raise InputError("duration must be > 0", where="duration_s")
-    dt = time_step(model, x0, dt, integrator)
+    dt, every, n_steps = loop_steps(model, x0, duration_s, dt, output_rate_hz, integrator)
     exponential = integrator == "etdrk4"
-    every = max(1, int(round(1.0 / (output_rate_hz * dt))))
-    n_steps = int(round(duration_s / dt))
     closed = path is not None
     out = time_loop(model.plant, kernels)(
         x0, 0.0, dt, n_steps, every, inputs,
@@ -304,6 +300,68 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
         exponential,
         stop_step(model)[0],
     )
+    return loop_result(model, out, dt=dt, raise_on_failure=raise_on_failure, meta=meta, extra=extra,
+                       manoeuvre=manoeuvre)
+
+
+def loop_steps(model: VehicleModel, x0: np.ndarray, duration_s: float, dt: float | None, output_rate_hz: float,
+               integrator: str = "etdrk4") -> tuple[float, int, int]:
+    """The compiled loop's step, record interval and step count for a run (:func:`run_model`).
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle.
+    x0 : numpy.ndarray
+        Initial state.
+    duration_s : float
+        Simulated time [s].
+    dt : float or None
+        Requested step [s]; automatic for None (:func:`time_step`).
+    output_rate_hz : float
+        Output rate [Hz].
+    integrator : str
+        ``"etdrk4"`` or ``"rk4"``.
+
+    Returns
+    -------
+    dt : float
+        The step [s].
+    every : int
+        Steps between records.
+    n_steps : int
+        Steps in the run.
+    """
+    if duration_s <= 0:
+        raise InputError("duration must be > 0", where="duration_s")
+    dt = time_step(model, x0, dt, integrator)
+    every = max(1, int(round(1.0 / (output_rate_hz * dt))))
+    return dt, every, int(round(duration_s / dt))
+
+
+def loop_result(model: VehicleModel, out: tuple, *, dt: float, raise_on_failure: bool, meta=None, extra=None,
+                manoeuvre=None) -> Result:
+    """The :class:`Result` of one run of the compiled loop (the tuple :func:`~trikedyn.simulate.integrator.rk4_loop`
+    returns): channels, IMU readings, status; :class:`SimulationError` on failure with ``raise_on_failure``.
+
+    Parameters
+    ----------
+    model : VehicleModel
+        The vehicle.
+    out : tuple
+        ``(times, states, derivatives, wheels, commands, status, n_recorded, t_stop)``.
+    dt : float
+        The step [s].
+    raise_on_failure : bool
+        Raise when the run stopped early.
+    meta, extra, manoeuvre
+        As for :func:`run_model`.
+
+    Returns
+    -------
+    Result
+        The recorded run.
+    """
     times, states, derivs, wheels, commands, status, n_rec, t_stop = out
     times, states, derivs, wheels, commands = (a[:n_rec] for a in (times, states, derivs, wheels, commands))
     _warn_if_tyre_data_left(model, wheels)

@@ -1,0 +1,277 @@
+"""Lockstep batches: several runs of one compiled model structure advanced together, step by step.
+
+A batch is B *lanes*, each running one *job* (a prepared run:
+:func:`~trikedyn.simulate.closed_loop.prepare_run`, or an open-loop table): a speed, a parameter variant of
+the same topology and tyre model, a manoeuvre of its own. One compiled call
+(:func:`~trikedyn.simulate.lockstep.batch_loop`) advances every busy lane by one step in turn, with the very
+step functions of the scalar loop (:func:`~trikedyn.simulate.integrator.etd_step`, the driver's
+:func:`~trikedyn.driver.preview.driver_step` with its own memory and path search per lane, the same health
+watch), so that each job's record equals :func:`~trikedyn.simulate.integrator.rk4_loop`'s. A lane whose job
+ends (its last step, NaN, runaway penetration, rollover) is frozen and, with ``refill``, takes the next
+job waiting; the batch ends when every job is done.
+
+Layout: what a lane carries (its state, step count, stage vectors, wheel outputs, exponential blocks,
+right-hand-side workspace) is held per lane, structure of arrays, the lane index first so that each lane's
+vectors are contiguous rows for the scalar kernels; all of it is set afresh for each job as the scalar loop
+sets it (the step reads some of it back: the last wheel outputs, the blocks). The parameter vectors
+of the lanes' plants are stacked along a first axis and a lane's :class:`~trikedyn.model.packing.Plant` is
+a view of one slice. The loop runs on the kernels the scalar loop runs on
+(:mod:`trikedyn.simulate.specialised`: generated for the tree by default, compiled again with them,
+:func:`batch_source`), so a lane's record equals the scalar run's. With scalar kernels the batch runs at
+the scalar loop's speed per lane (one call instead of B, one compiled loop for any B); vectorising across
+lanes needs right-hand-side kernels written over the lane index (issue 25).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import inspect
+import threading
+from collections.abc import Sequence
+
+import numba
+import numpy as np
+
+from ..driver.preview import DRIVER
+from ..model.packing import Plant
+from .integrator import OPEN_LOOP_DRIVER, OPEN_LOOP_PATH, OPEN_LOOP_SPEED
+from .lockstep import advance_lane, batch_loop, stack_plants
+from .result import Result
+from .run import loop_result, loop_steps, stop_step
+from .specialised import kernel_choice, loop_source
+
+__all__ = ["BATCH_KERNELS", "DEFAULT_LANES", "batch_source", "plan", "run_batch", "run_prepared"]
+
+DEFAULT_LANES = 8
+"""Lanes of a batch by default."""
+
+
+_COPIED = (advance_lane, batch_loop)
+"""The batch functions compiled again on the generated kernels (:func:`batch_source`)."""
+
+_REBOUND = {"evaluate_into", "spin_slip_blocks", "etd_step", "rk4_loop", *(f.__name__ for f in _COPIED)}
+"""Globals the generated module defines itself."""
+
+_LOCK = threading.Lock()
+_BY_STRUCTURE: dict = {}
+
+
+def _structure(plant):
+    """The tree structure of ``plant`` the generated kernels are specialised to."""
+    from ..model.codegen import TreeStructure
+
+    return TreeStructure.of(plant.parent, plant.jtype, plant.jaxis, plant.tree_e, plant.tree_r, plant.h, plant.ibar)
+
+
+def batch_source(structure) -> str:
+    """The source of the batch loop on the kernels generated for ``structure``: the scalar loop's module
+    (:func:`~trikedyn.simulate.specialised.loop_source`) and, after it,
+    :func:`~trikedyn.simulate.lockstep.advance_lane` and :func:`~trikedyn.simulate.lockstep.batch_loop` copied
+    verbatim, their other globals imported from :mod:`trikedyn.simulate.lockstep`.
+
+    Parameters
+    ----------
+    structure : TreeStructure
+        The tree's structure (:class:`~trikedyn.model.codegen.TreeStructure`).
+
+    Returns
+    -------
+    str
+        The module's text.
+    """
+    names = set()
+    for func in _COPIED:
+        py = func.py_func
+        names |= {n for n in py.__code__.co_names if n in py.__globals__ and n not in _REBOUND and n != "np"}
+    parts = [loop_source(structure), "\n\n# ---- the lockstep batch on these kernels (trikedyn.simulate.lockstep) ----\n",
+             f"from trikedyn.simulate.lockstep import {', '.join(sorted(names))}  # noqa: F401, E402\n"]
+    parts += ["\n\n" + inspect.getsource(func.py_func) for func in _COPIED]
+    return "".join(parts)
+
+
+def _generated(plant):
+    """:func:`~trikedyn.simulate.lockstep.batch_loop` on the kernels generated for ``plant``'s tree (written and compiled at first use)."""
+    from ..model.codegen import load_module
+
+    structure = _structure(plant)
+    with _LOCK:
+        module = _BY_STRUCTURE.get(structure)
+    if module is None:
+        source = batch_source(structure)
+        module = load_module("batch" + hashlib.sha256(source.encode()).hexdigest()[:24], lambda: source)
+        with _LOCK:
+            _BY_STRUCTURE[structure] = module
+    return module.batch_loop
+
+
+BATCH_KERNELS = {"generated": _generated, "generic": lambda plant: batch_loop}
+"""The batch loop by kernel (the keys of :data:`~trikedyn.simulate.specialised.KERNELS`): on the kernels
+generated for the tree, as the scalar loop by default, or on the generic ones."""
+
+
+def _padded(tables: list[np.ndarray], width: int) -> tuple[np.ndarray, np.ndarray]:
+    """The tables stacked, each padded with zeros to the longest; and their lengths."""
+    lengths = np.array([t.shape[0] for t in tables], np.int64)
+    out = np.zeros((len(tables), max(int(lengths.max()), 1), width))
+    for j, t in enumerate(tables):
+        out[j, : t.shape[0]] = t
+    return out, lengths
+
+
+def _same_plant(a: Plant, b: Plant) -> bool:
+    """Whether two plants hold the same values (an ideal-drive model is rebuilt for each run)."""
+    return a is b or all(np.array_equal(getattr(a, f), getattr(b, f)) for f in Plant._fields)
+
+
+def _group_key(model, dt: float, every: int, exponential: bool) -> tuple:
+    """Jobs that can share a batch: one step, record interval and integrator, plants of one numba type
+    and shape (one topology and tyre model)."""
+    shapes = tuple((f, getattr(model.plant, f).shape) for f in Plant._fields)
+    return dt, every, exponential, numba.typeof(model.plant), shapes, _structure(model.plant)
+
+
+def plan(specs: Sequence[dict], output_rate_hz: float = 100.0) -> tuple[list[dict], list[tuple]]:
+    """Group prepared runs into batches and pack each batch's arrays for the compiled loop.
+
+    Parameters
+    ----------
+    specs : sequence of dict
+        As for :func:`run_prepared`.
+    output_rate_hz : float
+        Output rate [Hz].
+
+    Returns
+    -------
+    jobs : list of dict
+        Per spec: ``model``, ``dt`` [s], ``n_steps``, ...
+    batches : list of tuple
+        ``(plant, arguments, members)``: a plant of the batch (its kernels), the arguments of
+        :func:`~trikedyn.simulate.lockstep.batch_loop` but ``lanes`` and ``refill``, the specs' indices.
+    """
+    jobs, groups = [], {}
+    for i, spec in enumerate(specs):
+        model, x0 = spec["model"], np.ascontiguousarray(spec["x0"], dtype=float)
+        integrator = spec.get("integrator", "etdrk4")
+        dt, every, n_steps = loop_steps(model, x0, spec["duration_s"], spec.get("dt"), output_rate_hz, integrator)
+        closed = spec.get("path") is not None
+        jobs.append({"model": model, "x0": x0, "dt": dt, "n_steps": n_steps, "inputs": np.asarray(spec["inputs"], float),
+                     "path": np.asarray(spec["path"], float) if closed else OPEN_LOOP_PATH,
+                     "speeds": np.asarray(spec["speed_profile"], float) if closed else OPEN_LOOP_SPEED,
+                     "driver": spec["driver"] if closed else OPEN_LOOP_DRIVER})
+        groups.setdefault(_group_key(model, dt, every, integrator == "etdrk4"), []).append(i)
+    batches = []
+    for (dt, every, exponential, *_), members in groups.items():
+        part = [jobs[i] for i in members]
+        plants, plant_of = [], []
+        for job in part:
+            known = [k for k, p in enumerate(plants) if _same_plant(p, job["model"].plant)]
+            if not known:
+                plants.append(job["model"].plant)
+            plant_of.append(known[0] if known else len(plants) - 1)
+        inputs, n_inputs = _padded([job["inputs"] for job in part], 4)
+        paths, n_path = _padded([job["path"] for job in part], 5)
+        speeds, n_speeds = _padded([job["speeds"] for job in part], 2)
+        drivers = np.concatenate([np.asarray(job["driver"], DRIVER).reshape(1) for job in part])
+        arguments = (np.stack([job["x0"] for job in part]), np.array([job["n_steps"] for job in part], np.int64),
+                     stack_plants(plants), np.array(plant_of, np.int64), inputs, n_inputs, paths, n_path, speeds,
+                     n_speeds, drivers, np.array([stop_step(job["model"])[0] for job in part]), dt, every, exponential)
+        batches.append((plants[0], arguments, members))
+    return jobs, batches
+
+
+def run_prepared(specs: Sequence[dict], *, lanes: int = DEFAULT_LANES, output_rate_hz: float = 100.0,
+                 raise_on_failure: bool = False, refill: bool = True, kernels: str | None = None) -> list[Result]:
+    """Run prepared runs in lockstep batches and return one :class:`Result` each, in order.
+
+    Runs that cannot share a batch (another step, topology or tyre model) go in batches of their own
+    (:func:`plan`).
+
+    Parameters
+    ----------
+    specs : sequence of dict
+        :func:`~trikedyn.simulate.closed_loop.prepare_run`'s dicts (``path``, ``speed_profile`` and
+        ``driver`` None, or missing, for an open-loop run on its ``inputs``).
+    lanes : int
+        Runs advanced together (>= 1).
+    output_rate_hz : float
+        Output rate [Hz].
+    raise_on_failure : bool
+        Raise :class:`~trikedyn.errors.SimulationError` for the first run (in order) that stopped early.
+    refill : bool
+        Refill a lane as soon as its run ends.
+    kernels : str, optional
+        ``"generated"`` or ``"generic"`` (:data:`BATCH_KERNELS`); as the scalar loop's when None
+        (:func:`~trikedyn.simulate.specialised.kernel_choice`).
+
+    Returns
+    -------
+    list of Result
+        Equal to :func:`~trikedyn.simulate.run.run_model`'s for each spec.
+    """
+    from ..errors import InputError
+
+    if int(lanes) < 1:
+        raise InputError(f"lanes must be >= 1, got {lanes!r}", where="lanes")
+    choice = kernel_choice(kernels)
+    jobs, batches = plan(specs, output_rate_hz)
+    outs: list = [None] * len(jobs)
+    for plant, arguments, members in batches:
+        res = BATCH_KERNELS[choice](plant)(*arguments, int(lanes), bool(refill))
+        times, states, derivs, wheels, commands, status, recorded, t_stop = res
+        for row, i in enumerate(members):
+            m = int(recorded[row])
+            outs[i] = (times[row, :m].copy(), states[row, :m].copy(), derivs[row, :m].copy(), wheels[row, :m].copy(),
+                       commands[row, :m].copy(), int(status[row]), m, float(t_stop[row]))
+    return [loop_result(spec["model"], out, dt=jobs[i]["dt"], raise_on_failure=raise_on_failure,
+                        meta=spec.get("meta"), extra=spec.get("extra"), manoeuvre=spec.get("manoeuvre"))
+            for i, (spec, out) in enumerate(zip(specs, outs, strict=True))]
+
+
+def run_batch(vehicle, manoeuvre="dlc", speeds_kmh: float | Sequence[float] = 30.0, *, driver=None,
+              dt: float | None = None, output_rate_hz: float = 100.0, duration_s: float | None = None,
+              integrator: str = "etdrk4", speed_control: str = "driver", lanes: int = DEFAULT_LANES,
+              raise_on_failure: bool = False, kernels: str | None = None, **options) -> list[Result]:
+    """Drive a manoeuvre at several speeds and/or with several vehicles, in lockstep batches.
+
+    One run per entry of ``speeds_kmh`` and of ``vehicle`` (a vehicle, or a sequence of them with one
+    topology and tyre model), broadcast against each other; each result equals
+    :func:`~trikedyn.simulate.closed_loop.run`'s with the same arguments.
+
+    Parameters
+    ----------
+    vehicle : ParameterSet, VehicleModel or sequence of them
+        The vehicle(s).
+    manoeuvre : str or Manoeuvre
+        A registered name (built at each speed with ``options``) or a built manoeuvre (then one speed).
+    speeds_kmh : float or sequence of float
+        Target speeds [km/h].
+    driver, dt, output_rate_hz, duration_s, integrator, speed_control, raise_on_failure, **options
+        As for :func:`~trikedyn.simulate.closed_loop.run` (``dt`` [s], ``output_rate_hz`` [Hz],
+        ``duration_s`` [s]).
+    lanes : int
+        Runs advanced together.
+    kernels : str, optional
+        ``"generated"`` or ``"generic"``; as the scalar loop's when None.
+
+    Returns
+    -------
+    list of Result
+        In the order of the broadcast (vehicle, speed) pairs.
+    """
+    from ..model.vehicle import VehicleModel, build_model
+    from .closed_loop import prepare_run
+
+    many = isinstance(vehicle, (list, tuple))
+    vehicles = list(vehicle) if many else [vehicle]
+    speeds = list(np.atleast_1d(np.asarray(speeds_kmh, dtype=float)))
+    if len(vehicles) != len(speeds) and 1 not in (len(vehicles), len(speeds)):
+        from ..errors import InputError
+
+        raise InputError(f"{len(vehicles)} vehicles and {len(speeds)} speeds do not broadcast", where="run_batch")
+    count = max(len(vehicles), len(speeds))
+    models = [v if isinstance(v, VehicleModel) else build_model(v) for v in vehicles]
+    specs = [prepare_run(models[i % len(models)], manoeuvre, speed_kmh=float(speeds[i % len(speeds)]), driver=driver,
+                         dt=dt, duration_s=duration_s, integrator=integrator, speed_control=speed_control, **options)
+             for i in range(count)]
+    return run_prepared(specs, lanes=lanes, output_rate_hz=output_rate_hz, raise_on_failure=raise_on_failure,
+                        kernels=kernels)
