@@ -50,6 +50,8 @@ from ..model.vehicle import VehicleModel, build_model
 from ..params.io import ParameterSet
 from .criteria import CRITERIA, DEFAULT_CRITERION, RunVerdict, check_criterion, classify, strikes_and_load
 from .search import Grid, Probe, margin_search, seed_speed
+from .search_settings import SEARCH_DEFAULTS as _D
+from .search_settings import SearchSettings
 from .verdict import Judging, judge
 
 __all__ = ["CRITERIA", "DEFAULT_CRITERION", "METHODS", "ThresholdResult", "manoeuvre_builder", "threshold_velocity"]
@@ -240,8 +242,9 @@ class _Runs:
 
 
 def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *, options: dict | None = None,
-                       low_kmh: float = 10.0, high_kmh: float = 90.0, step_kmh: float = 10.0,
-                       resolution_kmh: float = 0.1, driver: DriverSettings | None = None,
+                       low_kmh: float = _D["low_kmh"], high_kmh: float = _D["high_kmh"],
+                       step_kmh: float = _D["step_kmh"], resolution_kmh: float = _D["resolution_kmh"],
+                       driver: DriverSettings | None = None,
                        dt: float | None = None, method: str = "margin", criterion: str = DEFAULT_CRITERION,
                        speed_control: str = "driver", judging: Judging | None = None) -> ThresholdResult:
     """The threshold velocity of a vehicle in a manoeuvre.
@@ -286,11 +289,10 @@ def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *,
 
     model = vehicle if isinstance(vehicle, VehicleModel) else build_model(vehicle)
     build = manoeuvre_builder(manoeuvre, options)
-    values = (low_kmh, high_kmh, step_kmh, resolution_kmh)
-    if not all(math.isfinite(v) for v in values) or not (0 < low_kmh < high_kmh) or step_kmh <= 0 \
-            or resolution_kmh <= 0:
-        raise InputError("need finite 0 < low_kmh < high_kmh and positive step and resolution",
-                         where="threshold search")
+    try:  # the range by the search settings' one set of bounds (those of the commands and the specs)
+        SearchSettings(low_kmh=low_kmh, high_kmh=high_kmh, step_kmh=step_kmh, resolution_kmh=resolution_kmh)
+    except InputError as exc:
+        raise InputError(f"{exc.where}: {exc.reason}", where="threshold search") from None
     if method not in METHODS:
         raise InputError(f"unknown method {method!r}; expected one of {', '.join(METHODS)}", where="threshold search")
     check_criterion(criterion)
