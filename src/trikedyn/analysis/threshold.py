@@ -28,7 +28,9 @@ resolution above it (so they agree wherever the crossing is single):
   margins (:mod:`trikedyn.analysis.margins`: each wheel's load and, per criterion, the speed band, the path
   corridor, the spin limit and the cone clearance), extrapolated to their zero; about 5 runs a search;
 - ``method="bisection"``: bracketing (rising from ``low_kmh`` in ``step_kmh`` steps until a run fails),
-  then bisection to the resolution.
+  then bisection to the resolution;
+- ``method="batch"`` (:mod:`trikedyn.analysis.batch_search`): several speeds a round, chosen by the same
+  margins and run together in one lockstep batch (:mod:`trikedyn.simulate.batch`): more runs, fewer rounds.
 
 ``limit`` names what fails one resolution above the threshold: under ``lift-off``, ``"lift-off"``,
 ``"tracking"`` (the driver had lost the path, struck a cone or spun before the lift) or
@@ -57,7 +59,7 @@ from .verdict import Judging, judge
 __all__ = ["CRITERIA", "DEFAULT_CRITERION", "METHODS", "ThresholdResult", "manoeuvre_builder", "threshold_velocity"]
 
 TOP_SPEED = "top speed"
-METHODS = ("margin", "bisection")
+METHODS = ("margin", "bisection", "batch")
 
 
 def manoeuvre_builder(manoeuvre, options: dict | None = None):
@@ -217,6 +219,18 @@ class _Runs:
         self.speed_control, self.judging = speed_control, judging
         self.done: dict[float, tuple] = {}
         self.order: list[RunVerdict] = []
+        self.ready: dict = {}  # results run ahead in a batch, not measured yet
+
+    def prefetch(self, speeds_kmh) -> None:
+        """Run the speeds [km/h] not run yet together, in one lockstep batch (:mod:`trikedyn.simulate.batch`);
+        :meth:`measure` then takes their results."""
+        from ..simulate.batch import run_prepared
+        from ..simulate.closed_loop import prepare_run
+
+        todo = [v for v in dict.fromkeys(round(v, 6) for v in speeds_kmh) if v not in self.done and v not in self.ready]
+        specs = [prepare_run(self.model, self.build(self.model.params, v), driver=self.driver, dt=self.dt,
+                             speed_control=self.speed_control) for v in todo]
+        self.ready.update(zip(todo, run_prepared(specs, lanes=max(1, len(specs))), strict=True))
 
     def measure(self, speed_kmh: float, criterion: str) -> tuple[RunVerdict, Probe]:
         """The verdict under ``criterion`` of the run at ``speed_kmh`` [km/h], and its probe for the search."""
@@ -227,8 +241,10 @@ class _Runs:
         if fresh:
             from ..simulate.closed_loop import run
 
-            result = run(self.model, self.build(self.model.params, speed_kmh), driver=self.driver, dt=self.dt,
-                         speed_control=self.speed_control)
+            result = self.ready.pop(speed_kmh, None)
+            if result is None:
+                result = run(self.model, self.build(self.model.params, speed_kmh), driver=self.driver, dt=self.dt,
+                             speed_control=self.speed_control)
             self.done[speed_kmh] = (result, judge(result, self.judging), *strikes_and_load(result), {})
         result, verdict, strikes, min_load, probes = self.done[speed_kmh]
         if criterion not in probes:
@@ -270,9 +286,9 @@ def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *,
     dt : float, optional
         Time step [s]; by default the loop's automatic step (:func:`~trikedyn.simulate.run.automatic_step`),
         the same for every run of the search.
-    method : {"margin", "bisection"}
-        How the runs are chosen; both certify the answer by a pass at the threshold and a fail one
-        resolution above it.
+    method : {"margin", "bisection", "batch"}
+        How the runs are chosen; all certify the answer by a pass at the threshold and a fail one
+        resolution above it (``"batch"``: several speeds a round, run in lockstep).
     criterion : {"course", "lift-off", "both"}
         What a run must do to pass (see the module docstring); ``"course"`` by default.
     speed_control : {"driver", "ideal"}
@@ -359,7 +375,17 @@ def _search(runs: _Runs, criterion: str, grid: Grid, method: str, step_kmh: floa
             seed = seed_speed(runs.model.params, runs.build(runs.model.params, 0.5 * (grid.low_kmh + grid.high_kmh)))
         except InputError:
             seed = None
-        outcome = margin_search(lambda v: measure(v)[1], grid, seed_kmh=seed, step_kmh=step_kmh)
+        if method == "batch":
+            from .batch_search import batch_margin_search
+
+            def measure_many(speeds):
+                """The runs at ``speeds`` [km/h], made in one batch, as probes."""
+                runs.prefetch(speeds)
+                return [measure(v)[1] for v in speeds]
+
+            outcome = batch_margin_search(measure_many, grid, seed_kmh=seed, step_kmh=step_kmh)
+        else:
+            outcome = margin_search(lambda v: measure(v)[1], grid, seed_kmh=seed, step_kmh=step_kmh)
         passed, failed = outcome.passed, outcome.failed
     by_speed = {r.speed_kmh: r for r in made}
     strike = min((r.speed_kmh for r in made if r.cone_strikes), default=None)
