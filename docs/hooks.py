@@ -568,7 +568,7 @@ API_MODULES = (
                              "trikedyn.paper.cells")),
     ("Tyres", ("trikedyn.tyre.magic_formula", "trikedyn.tyre.tir", "trikedyn.tyre.tir_properties", "trikedyn.tyre.pac2002",
                "trikedyn.tyre.pac2002_pack", "trikedyn.tyre.pac2002_arrays", "trikedyn.tyre.models")),
-    ("Registries and plug-ins", ("trikedyn.registry",)),
+    ("Registries and plug-ins", ("trikedyn.registry", "trikedyn.options")),
     ("Errors and units", ("trikedyn.errors", "trikedyn.units")),
 )
 """The main modules of the API reference, by theme (each object of the flat API is documented once, there)."""

@@ -371,7 +371,7 @@ def test_the_check_reads_inherited_docstrings_and_builders():
     checked against its declared options."""
     from types import SimpleNamespace
 
-    from trikedyn.registry import Option
+    from trikedyn.options import Option
 
     class Base:
         def area(self, width_m):

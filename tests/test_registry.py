@@ -17,7 +17,8 @@ import pytest
 
 from trikedyn.cli import main
 from trikedyn.errors import InputError, LogFormatError
-from trikedyn.registry import Option, PluginWarning, Registry, did_you_mean
+from trikedyn.options import Option
+from trikedyn.registry import PluginWarning, Registry, did_you_mean
 
 
 def _plugin(module: str, registry, name: str):

@@ -1,6 +1,6 @@
 """A study metric from outside the package: the wheelbase of the varied vehicle, scaled by an option."""
 
-from trikedyn.registry import Option
+from trikedyn.options import Option
 from trikedyn.study.metrics import study_metric
 
 NAME = "test_wheelbase"

@@ -3,7 +3,7 @@
 :class:`SearchSettings` holds what a threshold search (:func:`~trikedyn.analysis.threshold.threshold_velocity`)
 is asked: the speed range, the bracketing step and the resolution [km/h], how the runs are chosen, what a
 run must do to pass, how the speed is held and the band it is held to. Every setting is an
-:class:`~trikedyn.registry.Option` of :func:`search_options` (default, unit, bounds, choices): the command
+:class:`~trikedyn.options.Option` of :func:`search_options` (default, unit, bounds, choices): the command
 line's options (``trikedyn threshold --high``, ``sensitivity``, ``loading-chart``, ``compare-layouts``,
 ``optimise``, ...), the study spec and the optimise spec read their defaults and bounds from there, so the
 same value is refused the same way wherever it is given.
@@ -24,7 +24,7 @@ from types import MappingProxyType
 from typing import Any
 
 from ..errors import InputError
-from ..registry import Option, checked, find_option
+from ..options import Option, checked, find_option
 
 __all__ = ["CRITERIA", "DEFAULT_CRITERION", "SEARCH_DEFAULTS", "SearchSettings", "search_option", "search_options"]
 

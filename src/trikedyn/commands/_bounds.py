@@ -1,6 +1,6 @@
 """Command-line options whose defaults and bounds come from the values that travel: the threshold search's
 settings (:class:`~trikedyn.analysis.search_settings.SearchSettings`) and the vehicle variant
-(:class:`~trikedyn.params.variant.Variant`). Each option is checked by its :class:`~trikedyn.registry.Option`,
+(:class:`~trikedyn.params.variant.Variant`). Each option is checked by its :class:`~trikedyn.options.Option`,
 so ``--high 500`` is refused with the same bounds as ``high_kmh = 500`` in a study or optimise spec."""
 
 from __future__ import annotations

@@ -17,6 +17,7 @@ from ._common import (
     PayloadOpt,
     SpeedControlOpt,
     VehicleArg,
+    absolute_csv,
     choice,
     emit,
     finite,
@@ -31,7 +32,7 @@ DEFAULT_MANOEUVRES = ("dlc", "slc")
 def compare_layouts_cmd(
     vehicle: VehicleArg,
     manoeuvre: Annotated[
-        list[str], typer.Option("--manoeuvre", help="A manoeuvre for the threshold velocity (see `trikedyn "
+        list[str], typer.Option("--manoeuvre", callback=absolute_csv, help="A manoeuvre for the threshold velocity (see `trikedyn "
                                 "manoeuvres`); repeatable. Default: dlc and slc.")
     ] = [],  # noqa: B006
     keep: Annotated[str, typer.Option(

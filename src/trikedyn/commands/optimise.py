@@ -24,6 +24,7 @@ from ._common import (
     SpeedControlOpt,
     VehicleArg,
     WorkersOpt,
+    absolute_csv,
     emit,
     manoeuvre_options,
     within,
@@ -71,7 +72,7 @@ def _check_command(file: Path, manoeuvre: str, options: dict, payload_kg: float)
 def optimise_cmd(
     vehicle: VehicleArg,
     spec: Annotated[str, typer.Option("--spec", help="An optimise spec: a built-in name (battery-layout) or a .toml file with [optimise] knobs = { \"component.battery.x_m\" = [low, high], ... }.")],
-    manoeuvre: Annotated[list[str], typer.Option("--manoeuvre", help="A registered manoeuvre (dlc, slc, ...) or a path .csv file; repeat it to maximise the worst threshold over several. Default: the spec's manoeuvres.")] = [],  # noqa: B006
+    manoeuvre: Annotated[list[str], typer.Option("--manoeuvre", callback=absolute_csv, help="A registered manoeuvre (dlc, slc, ...) or a path .csv file; repeat it to maximise the worst threshold over several. Default: the spec's manoeuvres.")] = [],  # noqa: B006
     option: OptionOpt = [],  # noqa: B006
     maxiter: Annotated[int | None, typer.Option("--maxiter", callback=within(0, 1000), help="Generations after the first (default: the spec's).")] = None,
     popsize: Annotated[int | None, typer.Option("--popsize", callback=within(1, 100), help="Population = popsize x number of knobs, at least 5 (default: the spec's).")] = None,

@@ -9,7 +9,7 @@ it::
     def build(params, speed_kmh, *, run_in_m):
         ...
 
-Each option is stated once, in ``options`` (:class:`~trikedyn.registry.Option`: default, unit, bounds,
+Each option is stated once, in ``options`` (:class:`~trikedyn.options.Option`: default, unit, bounds,
 help): the builder takes it as a keyword without a default (it is always given, the default filled in),
 and the built manoeuvre records every option's value in its ``parameters`` (a value the builder records
 itself, such as a width resolved from the vehicle, takes the place of the option's). Plug-ins from other
@@ -30,7 +30,8 @@ from dataclasses import dataclass
 from dataclasses import replace as _with
 
 from ..errors import InputError
-from ..registry import Option, Registry, did_you_mean, find_option, first_line
+from ..options import Option, find_option
+from ..registry import Registry, did_you_mean, first_line
 
 __all__ = ["MANOEUVRES", "ManoeuvreType", "Option", "available", "build", "get", "register", "parse_options"]
 

@@ -2,7 +2,7 @@
 
 :class:`ManoeuvreSpec` names a registered manoeuvre (``trikedyn manoeuvres``) or a path ``.csv`` file, and
 the options it is built with, each checked against the manoeuvre's option table
-(:class:`~trikedyn.registry.Option`: unit, bounds, choices) when the value is made: an unknown option is an
+(:class:`~trikedyn.options.Option`: unit, bounds, choices) when the value is made: an unknown option is an
 :class:`~trikedyn.errors.InputError` naming it, with a close match. Options left out take their defaults
 when the manoeuvre is built; the spec keeps only those given, so ``ManoeuvreSpec("dlc")`` and
 ``ManoeuvreSpec("dlc", {})`` are the same value.

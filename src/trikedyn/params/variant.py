@@ -3,7 +3,7 @@
 :class:`Variant` is what a study scenario, a command (``trikedyn threshold --stiffness-scale --payload``) and
 a design vary on a base vehicle: the spring and damper rates scaled (paper Table 2), values set by dotted
 path or design knob (:func:`~trikedyn.params.ops.override`), and freight in the trunk (Table 3). Its
-settings are :class:`~trikedyn.registry.Option` (:data:`VARIANT_OPTIONS`: default, unit, bounds), so the
+settings are :class:`~trikedyn.options.Option` (:data:`VARIANT_OPTIONS`: default, unit, bounds), so the
 command line and the study spec refuse the same values. :meth:`Variant.apply` makes the variant of a
 vehicle in one fixed order: scale, override, freight.
 """
@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..errors import InputError
-from ..registry import Option, checked, find_option
+from ..options import Option, checked, find_option
 
 __all__ = ["VARIANT_OPTIONS", "Variant", "variant_option"]
 

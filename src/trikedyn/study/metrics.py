@@ -35,7 +35,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from ..errors import InputError
-from ..registry import Option, Registry, find_option, first_line
+from ..options import Option, find_option
+from ..registry import Registry, first_line
 
 __all__ = ["DEFAULT_METRIC", "STUDY_METRICS", "MetricOption", "Option", "StudyMetric", "course_options", "get",
            "label", "metrics", "parse_entry", "study_metric", "table_fields"]
@@ -46,7 +47,7 @@ columns are exactly those of then."""
 
 
 MetricOption = Option
-"""An option of a study metric: :class:`trikedyn.registry.Option` (no default: required; a number or a word)."""
+"""An option of a study metric: :class:`trikedyn.options.Option` (no default: required; a number or a word)."""
 
 
 @dataclass(frozen=True)

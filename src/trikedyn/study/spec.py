@@ -174,8 +174,8 @@ class _Spec(_Model):
 def _variant_values(name: str, values: list) -> list:
     """A grid axis of a variant's number (a scale factor, the freight [kg]) checked by its bounds
     (:data:`~trikedyn.params.variant.VARIANT_OPTIONS`); a ValueError naming the value if one is out."""
+    from ..options import checked
     from ..params.variant import variant_option
-    from ..registry import checked
 
     opt = variant_option(name)
     try:
