@@ -348,9 +348,9 @@ def weighing_file() -> str:
 
 
 def study_spec() -> str:
-    from trikedyn.study import spec
+    from trikedyn.study.spec_model import _Spec
 
-    return model_reference(spec._Spec)
+    return model_reference(_Spec)
 
 
 def search_settings() -> str:
@@ -556,7 +556,8 @@ API_MODULES = (
                  "trikedyn.analysis.straight_balance")),
     ("Studies", ("trikedyn.study.spec", "trikedyn.study.scenarios", "trikedyn.study.designs.runner",
                  "trikedyn.study.engine.executors", "trikedyn.study.engine.dask", "trikedyn.study.engine.loop",
-                 "trikedyn.study.engine.pool", "trikedyn.study.engine.store", "trikedyn.study.engine.table",
+                 "trikedyn.study.engine.pool", "trikedyn.study.engine.store", "trikedyn.study.engine.database",
+                 "trikedyn.study.engine.table",
                  "trikedyn.study.metrics",
                  "trikedyn.study.optimise_spec", "trikedyn.study.designs.figures",
                  "trikedyn.study.designs.sensitivity", "trikedyn.study.designs.uncertainty",

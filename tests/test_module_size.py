@@ -16,7 +16,6 @@ LIMIT = 450
 
 KNOWN = {
     "simulate/run.py": 461,
-    "study/spec.py": 470,
 }
 """Modules over the limit, path under ``src/trikedyn`` -> lines when listed; the list may only shrink."""
 

@@ -64,7 +64,8 @@ as an override is read and checked when the spec is loaded (so ``--dry-run`` ref
 carry its absolute path, so a run reads the file that was checked wherever it runs.
 
 :func:`load_spec` does the I/O (reads the file, loads the vehicle once to check override paths and to
-digest it; the vehicle, tyre files and override paths are checked by :mod:`trikedyn.study.spec_files`); the
+digest it; the keys are checked by the schema, :mod:`trikedyn.study.spec_model`, the vehicle, tyre files and
+override paths by :mod:`trikedyn.study.spec_files`); the
 expansion into scenarios (:func:`~trikedyn.study.scenarios.expand`,
 :func:`~trikedyn.study.scenarios.count_scenarios`) is in
 :mod:`trikedyn.study.scenarios`.
@@ -73,17 +74,13 @@ expansion into scenarios (:func:`~trikedyn.study.scenarios.expand`,
 from __future__ import annotations
 
 import hashlib
-import math
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
-
-from .._validation import describe_validation_error
-from ..analysis.search_settings import SEARCH_DEFAULTS
 from ..errors import InputError
+from .spec_model import validate_spec
 
 __all__ = [
     "GroupSpec",
@@ -94,99 +91,6 @@ __all__ = [
     "parse_spec",
 ]
 
-
-
-# ------------------------------------------------------------------------------------------------
-# validation models (TOML -> checked values)
-# ------------------------------------------------------------------------------------------------
-class _Model(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-
-Scalar = float | int | bool | str
-
-
-class _Group(_Model):
-    name: str = Field(min_length=1)
-    stiffness_scale: list[float] = Field(default=[1.0], min_length=1)
-    damping_scale: list[float] = Field(default=[1.0], min_length=1)
-    overrides: dict[str, list[Scalar]] = Field(
-        default_factory=dict,
-        description="dotted parameter path or design knob (track_m, component.NAME.x_m ...) = list of values, "
-        "each list one more grid axis",
-    )
-
-    @field_validator("stiffness_scale", "damping_scale")
-    @classmethod
-    def _scale(cls, values, info):
-        return _variant_values(info.field_name, values)
-
-    @field_validator("overrides")
-    @classmethod
-    def _non_empty(cls, values):
-        for key, axis in values.items():
-            if not axis:
-                raise ValueError(f"override '{key}' needs at least one value")
-            for v in axis:
-                if isinstance(v, float) and not math.isfinite(v):  # a scenario id is JSON: no nan or inf
-                    raise ValueError(f"override '{key}': values must be finite, got {v!r}")
-        return values
-
-
-class _Spec(_Model):
-    name: str = Field(min_length=1)
-    description: str = ""
-    vehicle: str = "reference-etrike"
-    manoeuvres: list[str | dict[str, Scalar]] = Field(
-        default=["dlc", "slc"], min_length=1,
-        description="registered manoeuvres, each a name or a table { name = ..., option = value } (its options)")
-    metrics: list[str | dict[str, Scalar]] = Field(
-        default=["threshold"], min_length=1,
-        description="what each vehicle variation measures: registered study metrics (threshold, tilt_angle, "
-        "understeer_gradient, peak_ri, min_wheel_load, ...), each a name or a table { name = ..., option = value }",
-    )
-    freight_kg: list[float] = Field(default=[0.0], min_length=1)
-    # the search settings: defaults and bounds are SearchSettings' (checked in _parse, one line naming the key)
-    resolution_kmh: float = Field(default=SEARCH_DEFAULTS["resolution_kmh"],
-                                  description="threshold search resolution [km/h]")
-    low_kmh: float = Field(default=SEARCH_DEFAULTS["low_kmh"], description="lowest speed searched [km/h]")
-    high_kmh: float = Field(default=SEARCH_DEFAULTS["high_kmh"], description="highest speed searched [km/h] (the "
-                            "driver's searches stop at the top speed when lower)")
-    step_kmh: float = Field(default=SEARCH_DEFAULTS["step_kmh"], description="bracketing step [km/h]")
-    criterion: str = Field(
-        default=SEARCH_DEFAULTS["criterion"], description="what a run must do to pass: course (ISO 3888-1 "
-        "validity), lift-off (the paper's) or both")
-    speed_control: str = Field(
-        default=SEARCH_DEFAULTS["speed_control"], description="the vehicle's own drive (stops at its top speed) or "
-        "an unlimited one (ideal)")
-    speed_band_percent: float = Field(default=SEARCH_DEFAULTS["speed_band_percent"], description="half-width of the "
-                                      "band the speed is held to through the window [% of the target]")
-    speed_band_kmh: float = Field(default=SEARCH_DEFAULTS["speed_band_kmh"], description="smallest half-width of the "
-                                  "speed band [km/h] (the band is the larger of the two)")
-    groups: list[_Group] = Field(default_factory=lambda: [_Group(name="base")], min_length=1)
-
-    @field_validator("freight_kg")
-    @classmethod
-    def _freight(cls, values, info):
-        return _variant_values(info.field_name, values)
-
-
-def _variant_values(name: str, values: list) -> list:
-    """A grid axis of a variant's number (a scale factor, the freight [kg]) checked by its bounds
-    (:data:`~trikedyn.params.variant.VARIANT_OPTIONS`); a ValueError naming the value if one is out."""
-    from ..options import checked
-    from ..params.variant import variant_option
-
-    opt = variant_option(name)
-    try:
-        return [checked(opt, v) for v in values]
-    except InputError as exc:
-        raise ValueError(exc.reason) from None
-
-
-def _describe(exc: ValidationError, raw: dict) -> str:
-    """One line for the first validation error of a study spec."""
-    return describe_validation_error(exc, raw, _Spec)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -385,10 +289,7 @@ def _parse(source: str | dict, origin: str, base_dir: Path, place: str) -> Study
     from ..params.tomlfile import parse_toml
 
     raw = parse_toml(source, origin) if isinstance(source, str) else dict(source)
-    try:
-        model = _Spec.model_validate(raw)
-    except ValidationError as exc:
-        raise InputError(_describe(exc, raw), where=origin) from None
+    model = validate_spec(raw, origin)
     from ..analysis.search_settings import SearchSettings
     from ..manoeuvres.spec import ManoeuvreSpec
 

@@ -9,6 +9,7 @@
 - :mod:`~trikedyn.study.engine.pool`: calls that survive dead workers (the sampled designs: sensitivity,
   uncertainty, the loading chart, the optimiser);
 - :mod:`~trikedyn.study.engine.store` and :mod:`~trikedyn.study.engine.table`: the grid study's resumable
-  SQLite store and its table;
+  SQLite store and its table; :mod:`~trikedyn.study.engine.database`: the store's file (tables, transactions)
+  and its folder's writer lock;
 - :mod:`~trikedyn.study.engine.progress`: progress on a terminal or in a log.
 """

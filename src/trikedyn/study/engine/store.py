@@ -40,21 +40,22 @@ out to compute), ``started_at``, ``ended_at`` [s since the epoch] and ``outcome`
 ``completed``, ``interrupted`` (SIGINT/SIGTERM), ``incomplete`` (workers lost), ``failed`` (an exception
 ended it) or ``killed`` (it died without saying; found so by a later run).
 ``meta``: the study name and the schema version.
+
+The SQLite file itself (its tables, the connection's journal mode, transactions) and the folder's writer lock
+are :mod:`trikedyn.study.engine.database`'s; this module is what is written into it and read out of it.
 """
 
 from __future__ import annotations
 
-import contextlib
-import errno
 import json
 import os
 import socket
-import sqlite3
 import time
 from pathlib import Path
 
-from ..._files import atomic_write, ensure_folder, open_nofollow, refuse_symlink
+from ..._files import atomic_write, ensure_folder, refuse_symlink
 from ...errors import InputError
+from .database import DB_COMPANIONS, DB_NAME, connect, mark_killed_runs, take_lock, transaction
 from .table import (  # noqa: F401  (the columns are the store's: re-exported)
     EXPORT_COLUMNS,
     METRIC_COLUMNS,
@@ -67,41 +68,11 @@ from .table import (  # noqa: F401  (the columns are the store's: re-exported)
 
 __all__ = ["DB_NAME", "EXPORT_COLUMNS", "RESULT_KEYS", "StudyStore"]
 
-DB_NAME = "study.sqlite"
-LOCK_NAME = "study.lock"
-DB_COMPANIONS = ("-wal", "-shm", "-journal")
-"""Files SQLite keeps beside the database (``study.sqlite-wal``, ...)."""
 EXPORT_NAMES = {"csv": "results.csv", "parquet": "results.parquet"}
-SCHEMA_VERSION = "1"
+"""The exports' file names, by kind."""
 
 _LEGACY = {"metric": "threshold", "metric_options": {}, "metric_label": "threshold"}
 """What a scenario stored before metrics existed measured."""
-
-_SCHEMA = """
-CREATE TABLE IF NOT EXISTS results (
-    scenario_id TEXT PRIMARY KEY,
-    scenario    TEXT NOT NULL,
-    status      TEXT NOT NULL CHECK (status IN ('ok', 'error')),
-    result      TEXT,
-    error       TEXT,
-    traceback   TEXT,
-    wall_time_s REAL,
-    worker      TEXT,
-    run_token   TEXT,
-    finished_at REAL
-);
-CREATE TABLE IF NOT EXISTS runs (
-    run_token   TEXT PRIMARY KEY,
-    pid         INTEGER,
-    host        TEXT,
-    executor    TEXT,
-    planned     INTEGER,
-    started_at  REAL,
-    ended_at    REAL,
-    outcome     TEXT
-);
-CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
-"""
 
 
 def _json(value) -> str:
@@ -142,78 +113,22 @@ class StudyStore:
         self.folder = ensure_folder(folder)
         self.path = self.folder / DB_NAME
         try:
-            self._lock_fd = self._take_lock() if lock else None
+            self._lock_fd = take_lock(self.folder) if lock else None
             for name in (DB_NAME, *(DB_NAME + suffix for suffix in DB_COMPANIONS)):
                 refuse_symlink(self.folder / name)
             if lock:
                 for name in EXPORT_NAMES.values():
                     refuse_symlink(self.folder / name)
-            self._open_database(study)
+            self._conn = connect(self.path, study)
             stored = self.meta().get("study")
             if study is not None and stored != study:
                 raise InputError(f"holds the results of study '{stored}', not '{study}'; use another folder",
                                  where=str(self.folder))
             if self._lock_fd is not None:
-                self.found_killed = self._mark_killed_runs()
+                self.found_killed = mark_killed_runs(self._conn)
         except BaseException:
             self.close()
             raise
-
-    # -- plumbing ---------------------------------------------------------------------------------
-    def _open_database(self, study: str | None) -> None:
-        """Connect (WAL, synchronous=FULL), create the tables, record the schema version and the study."""
-        try:
-            self._conn = sqlite3.connect(self.path, isolation_level=None, timeout=30.0)
-            self._conn.execute("PRAGMA journal_mode=WAL")
-            self._conn.execute("PRAGMA synchronous=FULL")
-            with self._transaction():
-                for statement in _SCHEMA.split(";"):
-                    if statement.strip():
-                        self._conn.execute(statement)
-                self._conn.execute("INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)", (SCHEMA_VERSION,))
-                if study is not None:
-                    self._conn.execute("INSERT OR IGNORE INTO meta VALUES ('study', ?)", (study,))
-        except sqlite3.DatabaseError as exc:  # unwritable folder or file, not a database, a folder by that name
-            raise InputError(f"cannot open the study store ({exc})", where=str(self.path)) from None
-
-    def _take_lock(self) -> int | None:
-        try:
-            import fcntl
-        except ImportError:  # pragma: no cover - not POSIX: no cross-process lock
-            return None
-        fd = open_nofollow(self.folder / LOCK_NAME)  # held for the store's lifetime
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError as exc:
-            os.close(fd)
-            if exc.errno in (errno.EWOULDBLOCK, errno.EAGAIN, errno.EACCES):
-                raise InputError("another study run is writing into this folder; wait for it or use another "
-                                 "folder", where=str(self.folder)) from None
-            raise InputError(f"cannot lock ({exc.strerror or exc})", where=str(self.folder / LOCK_NAME)) from None
-        return fd
-
-    def _mark_killed_runs(self) -> list[str]:
-        """Mark the runs still ``running`` as ``killed``, ended now; their tokens.
-
-        Called with the folder's lock held: every run holds that lock from before it records its start
-        until after it records its end, and the OS releases it when its process dies, so a run still
-        ``running`` now is one whose process is gone (pid and host are not checked: pids are reused).
-        """
-        with self._transaction() as c:
-            tokens = [r[0] for r in c.execute("SELECT run_token FROM runs WHERE outcome = 'running'")]
-            c.execute("UPDATE runs SET outcome = 'killed', ended_at = ? WHERE outcome = 'running'", (time.time(),))
-        return tokens
-
-    @contextlib.contextmanager
-    def _transaction(self):
-        """``BEGIN IMMEDIATE`` ... ``COMMIT``; rolled back on any exception."""
-        self._conn.execute("BEGIN IMMEDIATE")
-        try:
-            yield self._conn
-        except BaseException:
-            self._conn.execute("ROLLBACK")
-            raise
-        self._conn.execute("COMMIT")
 
     def close(self) -> None:
         """Close the database and release the writer lock."""
@@ -247,7 +162,7 @@ class StudyStore:
         bool
             True if written, False if the scenario was stored already (the stored row is kept).
         """
-        with self._transaction():
+        with transaction(self._conn):
             return self._insert(row)
 
     def _insert(self, row: dict) -> bool:
@@ -283,7 +198,7 @@ class StudyStore:
         executor : str
             The executor's description.
         """
-        with self._transaction() as c:
+        with transaction(self._conn) as c:
             c.execute("INSERT INTO runs VALUES (?, ?, ?, ?, ?, ?, NULL, 'running')",
                       (token, os.getpid(), socket.gethostname(), executor, planned, time.time()))
 
@@ -297,7 +212,7 @@ class StudyStore:
         outcome : str
             How it ended.
         """
-        with self._transaction() as c:
+        with transaction(self._conn) as c:
             c.execute("UPDATE runs SET ended_at = ?, outcome = ? WHERE run_token = ?", (time.time(), outcome, token))
 
     # -- reading ----------------------------------------------------------------------------------
