@@ -47,7 +47,20 @@ def inverse_mass_diagonal(low, s, y):
 def dof_parent(parent, k):
     """The parent of degree of freedom ``k`` in the tree expanded to one joint per degree of freedom: the
     base's six form a chain (-1 above the first), a joint's parent is its parent body's joint (the base's
-    last for the base)."""
+    last for the base).
+
+    Parameters
+    ----------
+    parent : ndarray of int
+        Each body's parent body (the packed tree's parent array; the base is body 0 or 1 as packed).
+    k : int
+        The degree of freedom (0-5 the base's, then one per joint).
+
+    Returns
+    -------
+    int
+        The parent degree of freedom, -1 above the first.
+    """
     if k < 6:
         return k - 1
     pb = parent[k - 5]

@@ -215,7 +215,8 @@ def run_vehicle(meta: dict, names: list[str]):
 
 def run_course(meta: dict, params, run=None):
     """The manoeuvre rebuilt from a run's record (name, options, target speed) for ``params``, or None; and a
-    note saying how (or why not).
+    note saying how (or why not). The record's name and options travel as a
+    :class:`~trikedyn.manoeuvres.spec.ManoeuvreSpec`, checked against the manoeuvre's option table as any other.
 
     Parameters
     ----------
@@ -235,7 +236,8 @@ def run_course(meta: dict, params, run=None):
     note : str
         How it was rebuilt, or why not.
     """
-    from ..manoeuvres.registry import build, get
+    from ..manoeuvres.registry import get
+    from ..manoeuvres.spec import ManoeuvreSpec
 
     spec = meta.get("manoeuvre_spec") if isinstance(meta.get("manoeuvre_spec"), dict) else {}
     name = meta.get("manoeuvre_name") or spec.get("name")
@@ -251,7 +253,7 @@ def run_course(meta: dict, params, run=None):
         options = {k: v for k, v in (spec.get("parameters") or {}).items() if k in declared}
         if "file" in options:
             options["file"] = _named_path_csv(options["file"], run)
-        manoeuvre = build(str(name), params, float(speed), **options)
+        manoeuvre = ManoeuvreSpec(str(name), options).build(params, float(speed))
     except (InputError, AttributeError, KeyError, TypeError, ValueError, ArithmeticError) as exc:
         return None, f"none: '{name}' could not be rebuilt ({' '.join(str(exc).split())[:300]})"
     told = ", ".join(f"{k}={v}" for k, v in options.items())
