@@ -32,10 +32,10 @@ def test_uncertainty_of_the_tilt_angle(tmp_path, tilt_as_given):
     assert done.returncode == 0, done.stderr[-2000:]
     data = json.loads(done.stdout)
     assert (data["metric"], data["unit"], data["n"], data["failed"]) == ("tilt_angle", "deg", 4, 0)
-    assert data["reference_threshold_speed_kmh"] == pytest.approx(tilt_as_given, abs=1e-9)
-    angles = [row["threshold_speed_kmh"] for row in data["samples"]]
+    assert data["reference_value"] == pytest.approx(tilt_as_given, abs=1e-9)
+    angles = [row["value"] for row in data["samples"]]
     assert all(15.0 < a < 60.0 for a in angles) and len(set(angles)) == 4  # degrees, each sample its own
-    assert min(angles) <= data["p05_kmh"] <= data["median_kmh"] <= data["p95_kmh"] <= max(angles)
+    assert min(angles) <= data["p05"] <= data["median"] <= data["p95"] <= max(angles)
     # the narrowest track with the highest CG tilts least: the sample lowest in track/CG height
     ratio = [row["track_m"] / row["cg_height_m"] for row in data["samples"]]
     assert angles.index(min(angles)) == ratio.index(min(ratio))
@@ -53,9 +53,9 @@ def test_loading_chart_of_the_tilt_angle_has_no_safe_speed(tmp_path, tilt_as_giv
     assert (data["metric"], data["unit"], data["margin_kmh"], data["margin_fraction"]) == ("tilt_angle", "deg", None, None)
     cells = {(c["freight_kg"], c["freight_position_m"][1]): c for c in data["cells"]}
     assert all(c["safe_speed_kmh"] is None and c["error"] is None for c in cells.values())
-    assert cells[(0.0, 0.4)]["threshold_speed_kmh"] == pytest.approx(tilt_as_given, abs=1e-9)  # no freight
-    assert cells[(0.0, 1.2)]["threshold_speed_kmh"] == pytest.approx(tilt_as_given, abs=1e-9)
-    assert cells[(150.0, 1.2)]["threshold_speed_kmh"] < cells[(150.0, 0.4)]["threshold_speed_kmh"]  # freight up high
+    assert cells[(0.0, 0.4)]["value"] == pytest.approx(tilt_as_given, abs=1e-9)  # no freight
+    assert cells[(0.0, 1.2)]["value"] == pytest.approx(tilt_as_given, abs=1e-9)
+    assert cells[(150.0, 1.2)]["value"] < cells[(150.0, 0.4)]["value"]  # freight up high
     with (tmp_path / "out" / "loading-chart.csv").open() as fh:
         rows = list(csv.DictReader(fh))
     assert len(rows) == 4 and all(r["safe_speed_kmh"] == "" for r in rows)
@@ -75,12 +75,12 @@ def test_optimise_the_tilt_angle_either_way(tmp_path, tilt_as_given, minimise):
     data = json.loads(done.stdout)
     assert (data["metric"], data["unit"], data["minimise"]) == ("tilt_angle", "deg", minimise)
     assert data["objective"] == f"tilt angle, {'minimised' if minimise else 'maximised'}"
-    ref, best = data["reference_threshold_speed_kmh"], data["best_threshold_speed_kmh"]
+    ref, best = data["reference_value"], data["best_value"]
     assert ref == pytest.approx(tilt_as_given, abs=1e-9)
     assert (best < ref - 0.1) if minimise else (best > ref + 0.1)  # the battery moved lowers / raises it
-    assert data["vehicle_file_verified"] and data["vehicle_file_thresholds_kmh"]["dlc"] == best
+    assert data["vehicle_file_verified"] and data["vehicle_file_values"]["dlc"] == best
     with (tmp_path / "out" / "optimise-evaluations.csv").open() as fh:
-        values = [float(r["worst_threshold_speed_kmh"]) for r in csv.DictReader(fh)]
+        values = [float(r["worst_tilt_angle"]) for r in csv.DictReader(fh)]
     assert best == (min(values) if minimise else max(values))
     assert json.loads((tmp_path / "out" / "optimise-plan.json").read_text()).get("minimise", False) == minimise
 

@@ -18,7 +18,7 @@ def test_the_sensitivity_of_the_tilt_angle_ranks_track_and_cg_height(tmp_path):
     assert done.returncode == 0, done.stderr[-2000:]
     data = json.loads(done.stdout)
     assert (data["metric"], data["unit"], data["n_runs"], data["failed"]) == ("tilt_angle", "deg", 6, 0)
-    assert 10.0 < data["reference_threshold_speed_kmh"] < 60.0  # the vehicle as given, in degrees
+    assert 10.0 < data["reference_value"] < 60.0  # the vehicle as given, in degrees
     mu = {row["parameter"]: row["mu_star"] for row in data["indices"]}
     assert set(mu) == {"track_m", "cg_height_m"} and min(mu.values()) > 1.0  # both move the tilt angle
     rows = (tmp_path / "out" / "sensitivity-samples.csv").read_text().splitlines()[1:]
@@ -51,7 +51,7 @@ def test_the_sensitivity_of_the_understeer_gradient_ranks_the_cg_fore_aft_first(
     assert done.returncode == 0, done.stderr[-2000:]
     data = json.loads(done.stdout)
     assert (data["metric"], data["unit"], data["n_runs"], data["failed"]) == ("understeer_gradient", "deg/g", 8, 0)
-    assert 0.0 < data["reference_threshold_speed_kmh"] < 3.0  # the vehicle as given understeers, in deg/g
+    assert 0.0 < data["reference_value"] < 3.0  # the vehicle as given understeers, in deg/g
     mu = {row["parameter"]: row["mu_star"] for row in data["indices"]}
     assert max(mu, key=mu.get) == "mass.cg_x_m" and mu["mass.cg_x_m"] > 3 * max(mu["cg_height_m"], mu["track_m"]), mu
     header, *rows = (tmp_path / "out" / "sensitivity-samples.csv").read_text().splitlines()

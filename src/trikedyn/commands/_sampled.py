@@ -14,7 +14,7 @@ from ..errors import InputError
 from ..study.engine.executors import check_executor  # noqa: F401  (--workers, --dask-local, --scheduler: one)
 from ..study.engine.progress import ProgressLine  # noqa: F401  (the sampled commands' progress line)
 
-MetricOpt = Annotated[str, typer.Option("--metric", help="What each evaluation measures: a registered study metric (threshold, tilt_angle, understeer_gradient, peak_ri, min_wheel_load ...; see the study spec reference). Default: the threshold velocity.")]
+MetricOpt = Annotated[str, typer.Option("--metric", help="What each evaluation measures: a registered study metric (threshold, tilt_angle, understeer_gradient, peak_ri, min_wheel_load ...; see the study spec reference). Default: the threshold velocity. Another metric's value is named by it: value, reference_value, median ... in the JSON (with metric and unit), a column named by the metric in the CSV files.")]
 MetricOptionOpt = Annotated[list[str], typer.Option("--metric-option", help="An option of the metric, KEY=VALUE (e.g. speed_kmh=40 for peak_ri); repeatable.")]
 
 

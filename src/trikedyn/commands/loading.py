@@ -113,7 +113,7 @@ def loading_chart_cmd(
         start_output(out, plan, PLAN_FILE, kind="a loading-chart", resume=resume, force=force,
                      reads=[vehicle, manoeuvre, options.get("file")],
                      writes=[JSON_FILE, CSV_FILE, FIGURE_FILE, CELLS_FILE])
-        log = lc.CellLog(out / CELLS_FILE)
+        log = lc.CellLog(out / CELLS_FILE, search.metric)
     chart = lc.run_loading_chart(pset, search, *grid,
                                  margin_kmh=lc.DEFAULT_MARGIN_KMH if margin_kmh is None else margin_kmh,
                                  margin_fraction=margin_fraction, workers=workers, dask_local=dask_local, scheduler=scheduler, log=log, resume=resume,

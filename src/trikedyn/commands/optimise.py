@@ -81,7 +81,7 @@ def optimise_cmd(
     high: Annotated[float | None, typer.Option("--high", callback=search_bound("high_kmh"), help="Highest speed searched [km/h] (default: the spec's, 90; raise it for slc).")] = None,
     criterion: Annotated[str | None, CriterionOpt.__metadata__[0]] = None,
     speed_control: Annotated[str | None, SpeedControlOpt.__metadata__[0]] = None,
-    metric: Annotated[str, typer.Option("--metric", help="The objective: a registered study metric (threshold, tilt_angle, understeer_gradient, peak_ri, min_wheel_load ...), maximised (its worst over the manoeuvres), or minimised with --minimise. Default: the threshold velocity.")] = "threshold",
+    metric: Annotated[str, typer.Option("--metric", help="The objective: a registered study metric (threshold, tilt_angle, understeer_gradient, peak_ri, min_wheel_load ...), maximised (its worst over the manoeuvres), or minimised with --minimise. Default: the threshold velocity. Its value is named by it: best_value, reference_value ... in the JSON (with metric and unit), worst_METRIC and METRIC_MANOEUVRE columns in the log.")] = "threshold",
     metric_option: MetricOptionOpt = [],  # noqa: B006
     minimise: Annotated[bool, typer.Option("--minimise", help="Minimise the --metric instead of maximising it (a metric where smaller is better, such as peak_ri); the worst over several manoeuvres is then the highest. Not for the threshold.")] = False,
     workers: WorkersOpt = None,
@@ -99,6 +99,7 @@ def optimise_cmd(
 
     from ..params import load_vehicle, save_vehicle
     from ..study.designs import optimise as opt
+    from ..study.designs.named import by_metric
 
     start = time.perf_counter()
     check_executor(workers, dask_local, scheduler)
@@ -127,7 +128,7 @@ def optimise_cmd(
     reads = [vehicle, spec, *the_spec.manoeuvres, *(s.options.get("file") for s in searches)]
     start_output(out, _plan(pset, the_spec, searches, minimise), PLAN_FILE, kind="an optimise", resume=resume, force=force,
                  reads=reads, writes=[JSON_FILE, LOG_FILE, FIGURE_FILE, vehicle_file.name])
-    log = opt.EvaluationLog(out / LOG_FILE, the_spec.names, the_spec.manoeuvres)
+    log = opt.EvaluationLog(out / LOG_FILE, the_spec.names, the_spec.manoeuvres, metric)
     result = opt.run_optimise(pset, the_spec, searches, workers=workers, dask_local=dask_local, scheduler=scheduler, log=log, resume=resume,
                               progress=ProgressLine("optimise", "evaluations", every_s=5.0), minimise=minimise)
     save_vehicle(result.vehicle, vehicle_file)
@@ -135,14 +136,18 @@ def optimise_cmd(
     written, error = opt.evaluate_layout(load_vehicle(vehicle_file), {}, searches, the_spec.payload_kg)
     data = result.to_dict()
     data["vehicle_file"] = str(vehicle_file)
-    data["vehicle_file_thresholds_kmh"] = dict(zip(result.manoeuvres, written, strict=True))
+    data.update(by_metric({"vehicle_file_thresholds_kmh": dict(zip(result.manoeuvres, written, strict=True))}, metric))
     data["vehicle_file_verified"] = tuple(written) == tuple(result.best.thresholds)
     if not data["vehicle_file_verified"]:
         import warnings
 
-        warnings.warn(f"the written vehicle file searches to {written} km/h, the optimiser found "
-                      f"{result.best.thresholds} km/h{f' ({error})' if error else ''}", RuntimeWarning, stacklevel=1)
-    data["check"] = [_check_command(vehicle_file, s.manoeuvre, dict(s.options), the_spec.payload_kg) for s in searches]
+        unit = searches[0].unit
+        verb = "searches to" if metric == "threshold" else f"measures (its {metric})"
+        warnings.warn(f"the written vehicle file {verb} {written} {unit}, the optimiser found "
+                      f"{result.best.thresholds} {unit}{f' ({error})' if error else ''}", RuntimeWarning, stacklevel=1)
+    # `trikedyn threshold` gives the threshold again; another metric has no such command
+    data["check"] = [_check_command(vehicle_file, s.manoeuvre, dict(s.options), the_spec.payload_kg) for s in searches
+                     if metric == "threshold"]
     data["wall_time_s"] = time.perf_counter() - start
     files = write_results(out, data, result.plot(), FIGURE_FILE, JSON_FILE, dpi=120, vehicle=str(vehicle_file),
                           evaluations=str(out / LOG_FILE))

@@ -49,7 +49,7 @@ def _plan(pset, search, factors, method, samples, seed, fraction) -> dict:
 
 def _table(result) -> str:
     data = result.to_dict()
-    ref = data["reference_threshold_speed_kmh"]
+    ref = result.reference_threshold_speed_kmh
     what, unit = data["metric"].replace("_", " "), data["unit"]
     shown = ".1f" if data["metric"] == "threshold" else ".4g"
     group = "trajectories" if result.method == "morris" else "base samples"
@@ -59,7 +59,8 @@ def _table(result) -> str:
         f"{result.samples} {group}, {result.n_runs} runs, {result.failed} failed"
         + (f" ({result.dropped} {group} left out)" if result.dropped else ""),
     ]
-    lines.append(f"  threshold: the {result.search.criterion} criterion, {result.search.speed_control} speed control")
+    if data["metric"] == "threshold":
+        lines.append(f"  threshold: the {result.search.criterion} criterion, {result.search.speed_control} speed control")
     if result.at_search_limit:
         lines.append(f"  {result.at_search_limit} runs reached the top of the search ({result.search.high_kmh:g} km/h; "
                      "raise it with --high)")
@@ -130,7 +131,7 @@ def sensitivity_cmd(
     force: ForceOpt = False,
     as_json: JsonOpt = False,
 ):
-    """Sensitivity of the threshold velocity to the vehicle's assumed values (SALib: Morris or Sobol)."""
+    """Sensitivity of the threshold velocity (or of any study metric, --metric) to the vehicle's assumed values (SALib: Morris or Sobol)."""
     from ..params import load_vehicle
     from ..study.designs import sensitivity as sa
 
@@ -152,7 +153,7 @@ def sensitivity_cmd(
     if out is not None:
         start_output(out, plan, PLAN_FILE, kind="a sensitivity", resume=resume, force=force,
                      reads=[vehicle, manoeuvre, options.get("file")], writes=[JSON_FILE, SAMPLES_FILE, FIGURE_FILE])
-        log = sa.SampleLog(out / SAMPLES_FILE, factors, sa.group_size(method, len(factors)))
+        log = sa.SampleLog(out / SAMPLES_FILE, factors, sa.group_size(method, len(factors)), search.metric)
     result = sa.run_sensitivity(pset, search, factors, method=method, samples=n, seed=seed, fraction=fraction,
                                 excluded=excluded, workers=workers, dask_local=dask_local, scheduler=scheduler, log=log, resume=resume, progress=ProgressLine("sensitivity"))
     data = result.to_dict()

@@ -57,7 +57,8 @@ def _fmt(value, shown: str = ".1f") -> str:
 
 def _text(result) -> str:
     d = result.to_dict()
-    ref = d["reference_threshold_speed_kmh"]
+    d |= result.statistics()  # by the threshold's names, whatever the metric
+    ref = result.reference_threshold_speed_kmh
     normal = [i for i in result.inputs if i.distribution == "normal"]
     uniform = [i for i in result.inputs if i.distribution != "normal"]
     origins = {k: sum(i.factor.range_from == k for i in uniform) for k in ("declared", "fraction", "narrowed")}
@@ -69,7 +70,7 @@ def _text(result) -> str:
         f"{len(normal)} normal from measured sigmas, truncated at +/-3 sigma); Latin hypercube, {result.samples} "
         f"samples, {d['failed']} failed",
         f"  median {_fmt(d['median_kmh'], shown)} {unit}, 5-95 % {_fmt(d['p05_kmh'], shown)} .. "
-        f"{_fmt(d['p95_kmh'], shown)} {unit}, mean {_fmt(d['mean_kmh'], shown)}, std {_fmt(d['std_kmh'], shown)} "
+        f"{_fmt(d['p95_kmh'], shown)} {unit}, mean {_fmt(d['mean_kmh'], shown)}{'' if d['metric'] == 'threshold' else ' ' + unit}, std {_fmt(d['std_kmh'], shown)} "
         f"{unit} (n={d['n']})",
     ]
     if d["metric"] == "threshold":
@@ -171,7 +172,7 @@ def uncertainty_cmd(
         reads = [vehicle, manoeuvre, options.get("file"), weighing, *_identification_files(identification)]
         start_output(out, plan, PLAN_FILE, kind="an uncertainty", resume=resume, force=force, reads=reads,
                      writes=[JSON_FILE, SAMPLES_FILE, FIGURE_FILE])
-        log = ua.SampleLog(out / SAMPLES_FILE, [i.factor for i in inputs], 1)
+        log = ua.SampleLog(out / SAMPLES_FILE, [i.factor for i in inputs], 1, search.metric)
     result = ua.run_uncertainty(pset, search, inputs, samples=int(samples), seed=seed, fraction=fraction,
                                 excluded=excluded, workers=workers, dask_local=dask_local, scheduler=scheduler, log=log, resume=resume,
                                 progress=ProgressLine("uncertainty"))

@@ -19,5 +19,6 @@ differential evolution asking the engine to evaluate each population).
 - :mod:`~trikedyn.study.designs.sample_runs`: the sampled designs' evaluations (a
   :class:`~trikedyn.study.designs.search.Search` per sample: the threshold or any registered study metric),
   their logs (:mod:`~trikedyn.study.designs.csv_log`) and the threshold limits' counts
-  (:mod:`~trikedyn.study.designs.limits`).
+  (:mod:`~trikedyn.study.designs.limits`);
+- :mod:`~trikedyn.study.designs.named`: the names of a design's figures when its metric is not the threshold.
 """

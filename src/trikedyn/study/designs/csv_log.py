@@ -27,11 +27,13 @@ MAX_LOG_BYTES = 512 << 20
 
 
 class AppendedCsv:
-    """The file at ``path`` with the header ``columns``."""
+    """The file at ``path`` with the header ``columns`` (``earlier``: the header an earlier trikedyn wrote for
+    the same run, which a resumed run refuses with its own reason)."""
 
-    def __init__(self, path: str | os.PathLike, columns: list[str]):
+    def __init__(self, path: str | os.PathLike, columns: list[str], earlier: list[str] | None = None):
         self.path = Path(path)
         self.columns = list(columns)
+        self.earlier = None if earlier is None or list(earlier) == self.columns else list(earlier)
         self._fh = None
 
     def logged_rows(self, mismatch: str) -> list[list[str]]:
@@ -65,6 +67,10 @@ class AppendedCsv:
         rows = list(csv.reader(io.StringIO(text)))
         if not rows:
             return []
+        if self.earlier is not None and rows[0] == self.earlier:
+            raise InputError("was written by an earlier trikedyn, which named a metric's value as a threshold speed "
+                             f"({', '.join(c for c in self.earlier if c not in self.columns)}); it cannot be resumed: "
+                             "use --force (start again) or another --out", where=str(self.path))
         if rows[0] != self.columns:
             raise InputError(f"its columns are not those of this run; {mismatch}", where=str(self.path))
         return [row for row in rows[1:] if len(row) == len(self.columns) and row[2] in ("ok", "failed")]
@@ -120,14 +126,18 @@ class SampleLog(AppendedCsv):
     """The samples of a run as a CSV file: one row per evaluated sample, appended (and flushed) as it finishes.
 
     Columns: ``sample`` (row index), ``group`` (Morris trajectory or Sobol block), ``status`` (``ok`` or
-    ``failed``), ``threshold_speed_kmh`` [km/h], ``limit`` (what failed above the threshold, or empty:
+    ``failed``), ``threshold_speed_kmh`` [km/h] (another ``metric``'s value is named by it:
+    :func:`~trikedyn.study.designs.named.column`), ``limit`` (what failed above the threshold, or empty:
     :meth:`~trikedyn.study.designs.sample_runs.Search.outcome`), ``error``, then each factor's value [its unit].
     """
 
-    def __init__(self, path: str | os.PathLike, factors: Iterable, group: int):
+    def __init__(self, path: str | os.PathLike, factors: Iterable, group: int, metric: str = "threshold"):
+        from .named import column
+
         self.names = [f.name for f in factors]
         self.group = group
-        super().__init__(path, ["sample", "group", "status", "threshold_speed_kmh", "limit", "error", *self.names])
+        columns = ["sample", "group", "status", "threshold_speed_kmh", "limit", "error", *self.names]
+        super().__init__(path, [column(c, metric) if c == "threshold_speed_kmh" else c for c in columns], columns)
 
     def read(self, X: np.ndarray) -> dict[int, tuple[float | None, str | None, str]]:
         """The samples logged already: index -> ``(threshold or None, error or None, limit)``.

@@ -11,7 +11,8 @@ The **safe speed** is the threshold less a stated margin, never below 0:
 
 With a search of another registered study metric (``search.metric``: ``tilt_angle``, ``peak_ri`` ...), each cell
 holds that metric's value in its unit instead of the threshold, and there is **no safe speed** (a margin is a
-speed below a threshold): the chart shows the metric itself.
+speed below a threshold): the chart shows the metric itself, and the JSON and CSV name it by the metric
+(:mod:`~trikedyn.study.designs.named`: a cell's ``value``, the CSV's ``METRIC`` column).
 
 A cell whose vehicle is invalid, or whose search fails or finds no threshold, is null with the reason. The
 cells run on a process pool (:mod:`trikedyn.study.engine.executors`). :func:`run_loading_chart` returns a
@@ -137,7 +138,8 @@ class LoadingChart:
         Returns
         -------
         list of dict
-            ``freight_kg``, ``freight_position_m``, ``threshold_speed_kmh``, ``safe_speed_kmh``, ``error``.
+            ``freight_kg``, ``freight_position_m``, ``threshold_speed_kmh``, ``safe_speed_kmh``, ``error`` (the
+            threshold's names whatever the metric: :meth:`to_dict` names another metric's value ``value``).
         """
         return [{"freight_kg": m, "freight_position_m": [x, z], "threshold_speed_kmh": self.threshold[(m, x, z)],
                  "safe_speed_kmh": self.safe((m, x, z)), "error": self.errors[(m, x, z)]} for m, x, z in self.keys()]
@@ -150,9 +152,11 @@ class LoadingChart:
         dict
             The chart (masses [kg], positions [m], speeds [km/h]).
         """
+        from .named import by_metric
+
         at_limit = sum(t is not None and t >= self.search.high_kmh - 1e-9 for t in self.threshold.values()
                        if self.of_threshold)
-        return {
+        return by_metric({
             "vehicle": self.vehicle, "manoeuvre": self.manoeuvre, "options": dict(self.search.options),
             "margin_kmh": self.margin_kmh, "margin_fraction": self.margin_fraction, "margin": self.margin_text,
             "resolution_kmh": self.search.resolution_kmh, "high_kmh": self.search.high_kmh,
@@ -162,7 +166,7 @@ class LoadingChart:
             "z_m": list(self.z_m), "cells": self.cells(), "failed": self.failed, "at_search_limit": at_limit,
             "workers": self.workers, "wall_time_s": self.wall_time_s, "cells_resumed": self.resumed,
             "cells_computed": self.computed,
-        }
+        }, self.search.metric)
 
     def rows(self) -> list[list]:
         """The cells as CSV rows, the header first.
@@ -172,7 +176,9 @@ class LoadingChart:
         list of list
             The rows.
         """
-        out = [["freight_kg", "x_m", "z_m", "threshold_speed_kmh", "safe_speed_kmh", "error"]]
+        from .named import column
+
+        out = [["freight_kg", "x_m", "z_m", column("threshold_speed_kmh", self.search.metric), "safe_speed_kmh", "error"]]
         for c in self.cells():
             out.append([c["freight_kg"], *c["freight_position_m"], _blank(c["threshold_speed_kmh"]),
                         _blank(c["safe_speed_kmh"]), c["error"] or ""])
@@ -193,7 +199,9 @@ class LoadingChart:
         else:
             lines = [f"{self.vehicle}: {self.search.metric} [{self.search.unit}] per cell (no safe speed: "
                      "a margin applies to the threshold only)"]
-        if self.search.course_note():
+        from .named import meets_the_course
+
+        if self.search.course_note() and meets_the_course(self.search.metric):
             lines.append(self.search.course_note())
         width = 15
         for z in self.z_m:
@@ -204,7 +212,7 @@ class LoadingChart:
                 for x in self.x_m:
                     t = self.threshold[(m, x, z)]
                     if not self.of_threshold:
-                        cells.append("-" if t is None else f"{t:.4g}")
+                        cells.append("-" if t is None else f"{t:.4g} {self.search.unit}")
                         continue
                     cells.append("-" if t is None else f"{self.safe((m, x, z)):.1f} ({t:.1f})")
                 lines.append(f"{m:>12g}" + "".join(f"{c:>{width}}" for c in cells))

@@ -96,13 +96,17 @@ class CellLog(AppendedCsv):
 
     Columns: ``cell`` (its index in :meth:`LoadingChart.keys` order), ``freight_kg`` [kg], ``status`` (``ok``
     or ``failed``), ``threshold_speed_kmh`` [km/h], ``x_m`` and ``z_m`` [m] (the freight's position) and
-    ``error``.
+    ``error`` (with another ``metric``, its value's column is named by it:
+    :func:`~trikedyn.study.designs.named.column`).
     """
 
     COLUMNS = ["cell", "freight_kg", "status", "threshold_speed_kmh", "x_m", "z_m", "error"]
 
-    def __init__(self, path):
-        super().__init__(path, self.COLUMNS)
+    def __init__(self, path, metric: str = "threshold"):
+        from .named import column
+
+        super().__init__(path, [column(c, metric) if c == "threshold_speed_kmh" else c for c in self.COLUMNS],
+                         self.COLUMNS)
 
     def read(self, keys: list[tuple[float, float, float]]) -> dict:
         """The cells logged already: ``(mass, x, z)`` -> ``(threshold [km/h] or None, error or None)``.

@@ -79,15 +79,21 @@ class EvaluationLog(AppendedCsv):
 
     Columns: ``evaluation``, ``generation`` (-1: the reference vehicle), ``status`` (``ok`` or ``failed``),
     ``worst_threshold_speed_kmh``, ``threshold_MANOEUVRE_kmh`` per manoeuvre, ``error``, then each knob's
-    value (blank for the reference).
+    value (blank for the reference). With another ``metric``, ``worst_METRIC`` and ``METRIC_MANOEUVRE``
+    (:func:`~trikedyn.study.designs.named.column`).
     """
 
-    def __init__(self, path: str | os.PathLike, knobs: Sequence[str], manoeuvres: Sequence[str]):
+    def __init__(self, path: str | os.PathLike, knobs: Sequence[str], manoeuvres: Sequence[str],
+                 metric: str = "threshold"):
+        from .named import column
+
         self.knobs = list(knobs)
         self.manoeuvres = list(manoeuvres)
-        super().__init__(path, ["evaluation", "generation", "status", "worst_threshold_speed_kmh",
-                                *(f"threshold_{Path(m).stem if m.lower().endswith('.csv') else m}_kmh"
-                                  for m in self.manoeuvres), "error", *self.knobs])
+        columns = ["evaluation", "generation", "status", "worst_threshold_speed_kmh",
+                   *(f"threshold_{Path(m).stem if m.lower().endswith('.csv') else m}_kmh" for m in self.manoeuvres),
+                   "error", *self.knobs]
+        named = [column(c, metric) if 3 <= i < 4 + len(self.manoeuvres) else c for i, c in enumerate(columns)]
+        super().__init__(path, named, columns)
 
     def read(self) -> list[Evaluation]:
         """The evaluations logged already (a row cut short by a kill is left out: evaluated again).
@@ -233,9 +239,11 @@ class OptimiseResult:
         dict
             The result.
         """
+        from .named import by_metric
+
         failed = sum(e.error is not None for e in self.evaluations)
         best, ref = _finite(self.best_threshold_speed_kmh), _finite(self.reference_threshold_speed_kmh)
-        return {
+        return by_metric({
             "vehicle": self.vehicle_name, "spec": self.spec.origin, "description": self.spec.description,
             "manoeuvres": self.manoeuvres, "options": {s.manoeuvre: dict(s.options) for s in self.searches},
             "payload_kg": self.spec.payload_kg,
@@ -259,7 +267,7 @@ class OptimiseResult:
             "criterion": self.searches[0].criterion, "speed_control": self.searches[0].speed_control,
             "at_search_limit": self.metric == "threshold" and self.best_threshold_speed_kmh >= self.searches[0].high_kmh - 1e-9,
             "workers": self.workers, "wall_time_s": self.wall_time_s,
-        }
+        }, self.metric)
 
     def _objective_words(self) -> str:
         what = "threshold velocity" if self.metric == "threshold" else self.metric.replace("_", " ")
@@ -289,8 +297,12 @@ class OptimiseResult:
         if len(self.searches) > 1:
             for m, r, b in zip(self.manoeuvres, self.reference.thresholds, self.best.thresholds, strict=True):
                 lines.append(f"  {m}: {_kmh(r, shown)} -> {_kmh(b, shown)} {unit}")
-        lines.append(f"  {self.searches[0].criterion} criterion, {self.searches[0].speed_control} speed control")
-        lines += [f"  {m}: {note}" for m, note in ((s.manoeuvre, s.course_note()) for s in self.searches) if note]
+        from .named import meets_the_course
+
+        if self.metric == "threshold":
+            lines.append(f"  {self.searches[0].criterion} criterion, {self.searches[0].speed_control} speed control")
+        if meets_the_course(self.metric):
+            lines += [f"  {m}: {note}" for m, note in ((s.manoeuvre, s.course_note()) for s in self.searches) if note]
         width = max(len(n) for n in self.spec.names) + 2
         lines.append(f"  {'knob':<{width}}{'reference':>10}{'best':>10}{'move':>9}   bounds")
         for mv in self.moves():

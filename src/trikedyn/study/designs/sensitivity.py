@@ -152,7 +152,10 @@ class SensitivityResult:
 
     @property
     def at_search_limit(self) -> int:
-        """Samples whose threshold is the top of the search range [km/h] (nothing failed below it)."""
+        """Samples whose threshold is the top of the search range [km/h] (nothing failed below it); 0 for
+        another metric (no search)."""
+        if self.search.metric != "threshold":
+            return 0
         return int(np.sum(self.Y >= self.search.high_kmh - 1e-9))
 
     def to_dict(self) -> dict:
@@ -167,7 +170,9 @@ class SensitivityResult:
         for err in self.errors:
             if err is not None:
                 failures[err] = failures.get(err, 0) + 1
-        return {
+        from .named import by_metric
+
+        return by_metric({
             "vehicle": self.vehicle, "manoeuvre": self.manoeuvre, "options": dict(self.search.options),
             "method": self.method, "fraction": self.fraction, "samples": self.samples, "seed": self.seed,
             "resolution_kmh": self.search.resolution_kmh, "high_kmh": self.search.high_kmh,
@@ -181,7 +186,7 @@ class SensitivityResult:
             "excluded": [{"parameter": k, "reason": v} for k, v in self.excluded.items()],
             "failures": [{"error": k, "samples": v} for k, v in failures.items()],
             "wall_time_s": self.wall_time_s,
-        }
+        }, self.search.metric)
 
     def plot(self, top: int | None = None):
         """Bars of ``mu_star`` with its confidence interval and ``sigma`` [km/h] (Morris), or ``ST`` and ``S1``

@@ -56,8 +56,9 @@ class UncertaintyResult:
     """An uncertainty run: the inputs, every sample and its threshold, the distribution's statistics [km/h].
 
     With a search of another metric (``search.metric``), the thresholds and statistics are that metric's values in
-    its unit (``search.unit``); the names keep ``_kmh`` (the files' documented keys) and ``metric``/``unit`` say
-    which."""
+    its unit (``search.unit``): the attributes and :meth:`statistics` keep the threshold's names, and
+    :meth:`to_dict` names them by the metric (:func:`~trikedyn.study.designs.named.by_metric`: ``reference_value``,
+    ``median`` ..., with ``metric`` and ``unit``)."""
 
     vehicle: str
     manoeuvre: str
@@ -125,7 +126,9 @@ class UncertaintyResult:
         for err in self.errors:
             if err is not None:
                 failures[err] = failures.get(err, 0) + 1
-        return {
+        from .named import by_metric
+
+        return by_metric({
             "vehicle": self.vehicle, "manoeuvre": self.manoeuvre, "options": dict(self.search.options),
             "sampling": "latin-hypercube", "fraction": self.fraction, "seed": self.seed,
             "resolution_kmh": self.search.resolution_kmh, "high_kmh": self.search.high_kmh,
@@ -133,7 +136,8 @@ class UncertaintyResult:
             "reference_threshold_speed_kmh": self.reference_threshold_speed_kmh,
             "metric": self.search.metric, "unit": self.search.unit, "metric_options": dict(self.search.metric_options),
             **self.statistics(),
-            "at_search_limit": int(np.sum(self.ok >= self.search.high_kmh - 1e-9)),
+            "at_search_limit": int(np.sum(self.ok >= self.search.high_kmh - 1e-9)) if self.search.metric == "threshold"
+            else 0,
             "limits": limit_counts(self.limits),
             "inputs": [i.to_dict() for i in self.inputs],
             "measured": [m.to_dict() | {"used": any(i.name == m.path and i.source == m.source for i in self.inputs)}
@@ -143,7 +147,7 @@ class UncertaintyResult:
             "samples": rows,
             "failures": [{"error": k, "samples": v} for k, v in failures.items()],
             "wall_time_s": self.wall_time_s,
-        }
+        }, self.search.metric)
 
     def plot(self):
         """Histogram of the thresholds [km/h], the 5-95 % band, the median and the reference threshold marked;
