@@ -180,3 +180,33 @@ def test_a_study_stopped_by_sigterm_inside_reproduce_exits_143(monkeypatch, caps
     assert captured.err.startswith("trikedyn: interrupted by SIGTERM: 3 of 50") and captured.err.count("\n") == 1
     assert strict_json(captured.out) == {"error": captured.err[len("trikedyn: "):].strip(), "where": "SIGTERM",
                                          "interrupted": True}
+
+
+def test_a_ctrl_c_landing_in_a_garbage_collector_callback_is_not_lost(capsys):
+    """CI once saw it: the SIGINT came while a weakref callback ran (parameter_set's cache), Python printed
+    "Exception ignored ... KeyboardInterrupt" with a traceback and the loading chart finished with exit 0. The
+    interrupt is now noted and said when the command returns: no traceback, exit 130."""
+    import weakref
+
+    from trikedyn import cli
+
+    class Thing:
+        pass
+
+    def command():
+        thing = Thing()
+
+        def callback(ref):  # noqa: ARG001
+            os.kill(os.getpid(), signal.SIGINT)
+            for _ in range(1000):  # the handler runs here, inside the callback
+                pass
+
+        ref = weakref.ref(thing, callback)  # noqa: F841
+        del thing
+        time.sleep(0.05)
+        return 0
+
+    with cli._SigintSeen() as seen:
+        command()
+    assert seen.seen == "SIGINT" and seen.lost
+    assert "Traceback" not in capsys.readouterr().err

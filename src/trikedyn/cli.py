@@ -144,11 +144,22 @@ class _SigintSeen:
 
     def __init__(self):
         self.seen: str | None = None
+        self.lost = False
         self._installed: list = []
 
     def _handler(self, signum, frame):  # noqa: ARG002
         self.seen = signal.Signals(signum).name
         raise KeyboardInterrupt
+
+    def _unraisable(self, unraisable):
+        """A KeyboardInterrupt raised where Python cannot pass it on (a weakref callback or ``__del__`` run by
+        the garbage collector when the signal came) would be printed as "Exception ignored" with a traceback and
+        lost, and the command would end as if nothing was pressed: it is noted instead (:attr:`lost`), and
+        :func:`run_command` reports the interrupt when the command returns (its work then done and kept)."""
+        if isinstance(unraisable.exc_value, KeyboardInterrupt) and self.seen:
+            self.lost = True
+            return
+        self._hook(unraisable)
 
     def __enter__(self):
         if threading.current_thread() is threading.main_thread():
@@ -156,11 +167,16 @@ class _SigintSeen:
                 if signal.getsignal(sig) is default:
                     signal.signal(sig, self._handler)
                     self._installed.append(sig)
+            if self._installed:
+                self._hook = sys.unraisablehook
+                sys.unraisablehook = self._unraisable
         return self
 
     def __exit__(self, *exc):
         for sig in self._installed:
             signal.signal(sig, self._DEFAULTS[sig])
+        if self._installed:
+            sys.unraisablehook = self._hook
         self._installed = []
 
 
@@ -282,8 +298,8 @@ def run_command(argv: list[str] | None = None) -> int:
 
                 raise_interrupt(exc)
                 raise
-            if sigint.seen and result == 130:  # the CLI library's silent exit for a KeyboardInterrupt
-                return _interrupted(as_json, sigint.seen)
+            if sigint.seen and (result == 130 or sigint.lost):  # the CLI library's silent exit for a
+                return _interrupted(as_json, sigint.seen)  # KeyboardInterrupt, or one lost in a callback
         except InputError as exc:
             return _fail(str(exc), as_json, exc.where)
         except RunIncomplete as exc:  # the workers were lost; what finished is kept: exit 1, as the study's
