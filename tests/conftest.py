@@ -1,8 +1,16 @@
 """Shared test fixtures."""
 
+import os
 from pathlib import Path
 
 import pytest
+
+# The suite runs on the reference (generic) kernels: the generated loop of each tree structure is compiled only by
+# the tests that hold it to them (tests/simulate/test_specialised.py: both presets, closed and open loop, 1e-9;
+# tests/simulate/test_batch.py; tests/model/test_codegen.py). Compiling a generated loop for every structure the
+# suite meets, in every worker and every `python -m trikedyn` subprocess, cost minutes of the 10-minute budget.
+# `TRIKEDYN_KERNELS=generated make test` runs the whole suite on the generated loops.
+os.environ.setdefault("TRIKEDYN_KERNELS", "generic")
 
 REPO = Path(__file__).resolve().parents[1]
 SHARED = REPO.parent / "shared"
