@@ -5,7 +5,7 @@ BIN := $(VENV)/bin
 OUT ?= trikedyn-output
 STAMP := $(VENV)/.installed
 
-.PHONY: run test bench morris-seeds docs fuzz lint clean
+.PHONY: run test test-all bench morris-seeds docs fuzz lint clean
 
 $(STAMP): pyproject.toml
 	test -d $(VENV) || $(PYTHON) -m venv $(VENV)
@@ -16,7 +16,10 @@ $(STAMP): pyproject.toml
 run: $(STAMP)
 	$(BIN)/trikedyn reproduce --out $(OUT) --force
 
-test: $(STAMP)  # one test process per core (pytest-xdist); a test file's tests stay in one process
+test: $(STAMP)  # one test process per core (pytest-xdist); a test file's tests stay in one process; not the slow tier
+	$(BIN)/python -m pytest -q -n auto --dist loadfile -m "not slow"
+
+test-all: $(STAMP)  # every test, the slow tier too (a real Dask cluster, the paper study searched twice, ...)
 	$(BIN)/python -m pytest -q -n auto --dist loadfile
 
 fuzz: $(STAMP)

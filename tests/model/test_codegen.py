@@ -228,6 +228,7 @@ def random_tree(rng, nb=7):
     return parent, jtype, jaxis, tree_e, tree_r, mass, mass[:, None] * cg, ibar
 
 
+@pytest.mark.slow
 def test_a_made_up_tree_with_oblique_axes_equals_generic():
     from trikedyn.model.codegen import kernels
 

@@ -51,6 +51,7 @@ def _cli(capsys, *args) -> dict:
     return json.loads(out)
 
 
+@pytest.mark.slow
 def test_knob_component_two_manoeuvres_pool_dask_and_kill_resume(tmp_path, capsys, warm):
     pytest.importorskip("dask.distributed")
     spec = tmp_path / "layout.toml"

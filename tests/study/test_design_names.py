@@ -98,6 +98,7 @@ def test_with_the_threshold_the_names_are_as_before():
     assert column("threshold_speed_kmh", "threshold") == "threshold_speed_kmh"
 
 
+@pytest.mark.slow
 def test_a_log_of_the_earlier_names_is_not_resumed_as_this_metrics(tmp_path):
     """A run of another metric written before these names (its log says ``threshold_speed_kmh``) is refused in
     one line naming the file and the way out, not read as this run's."""

@@ -41,6 +41,7 @@ def _results(path: Path) -> dict:
     return data
 
 
+@pytest.mark.slow
 def test_morris_gives_the_same_files_on_dask_a_pool_and_in_process(tmp_path):
     pytest.importorskip("distributed", reason="needs dask.distributed (pip install 'trikedyn[dask]')")
     runs = {"in-process": ["--workers", "0"], "pool": ["--workers", "2"], "dask": ["--dask-local", "2"]}

@@ -30,6 +30,8 @@ import pytest
 from . import warm_numba_cache
 from .dask_processes import DaskProcesses
 
+pytestmark = pytest.mark.slow  # a real scheduler and two workers, ~3 min: `make test-all` (see the Makefile)
+
 pytest.importorskip("distributed", reason="the real-cluster tests need dask.distributed (pip install 'trikedyn[dask]')")
 
 SOBOL = ["sensitivity", "reference-etrike", "--method", "sobol", "--samples", "2", "-p", "track_m,cg_height_m",

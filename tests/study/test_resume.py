@@ -99,6 +99,7 @@ def _resume_and_check(spec: Path, out: Path, before: dict) -> dict:
     return summary
 
 
+@pytest.mark.slow
 def test_sigint_stops_cleanly_and_rerun_resumes(tmp_path, warm):
     spec, out = _spec(tmp_path), tmp_path / "out"
     proc = _launch(spec, out)
