@@ -34,25 +34,19 @@ def lanes(reference):
 
 
 def _assert_same(batch, scalar):
-    """Same status, the same records (times exactly), states and wheel loads to 1e-9 (relative, or absolute in
-    the state's or load's unit near zero) until two wheels are in the air at once.
-
-    The batch loop is compiled apart from the scalar one, and fast-math lets LLVM order a sum differently there:
-    they differ by rounding (measured up to 1.2e-8 N on a 2440 N load, 1.7e-10 relative). A trike with two
-    wheels off the ground is tipping over, and its contacts switching on and off amplify rounding: the 58 km/h
-    lane (two wheels up at 5.81 s, rolled over at 7.57 s) departs by 1.4e-5 from 6.28 s. There the status and
-    the stop time must still agree exactly."""
+    """Same status, the same records (times exactly), states and wheel loads to 1e-9."""
     assert batch.status == scalar.status
     assert batch.time_s.shape == scalar.time_s.shape
     np.testing.assert_array_equal(batch.time_s, scalar.time_s)
-    up = sum((scalar.channels[name] <= 0.0).astype(int) for name in LOADS)
-    end = int(np.argmax(up >= 2)) if (up >= 2).any() else len(scalar.time_s)
-    assert end > 0.5 * len(scalar.time_s) or not scalar.success
-    np.testing.assert_allclose(batch.states[:end], scalar.states[:end], rtol=1e-9, atol=1e-9)
-    for name in (*LOADS, "path_error_m"):
-        np.testing.assert_allclose(batch.channels[name][:end], scalar.channels[name][:end], rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(batch.states, scalar.states, rtol=0, atol=1e-9)
+    for name in LOADS:
+        np.testing.assert_allclose(batch.channels[name], scalar.channels[name], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(batch.channels["path_error_m"], scalar.channels["path_error_m"], rtol=0, atol=1e-9)
 
 
+@pytest.mark.xfail(strict=True, reason="issue 25 open: the batch loop, compiled apart from the scalar loop, rounds "
+                   "differently (up to 1.2e-8 N on a 2440 N wheel load; 1.4e-5 on the 58 km/h lane once two wheels "
+                   "are up): not yet equal to 1e-9 absolute")
 def test_a_batch_of_eight_equals_eight_scalar_runs(lanes):
     vehicles, speeds, scalar = lanes
     stopped = [r for r in scalar if not r.success]
@@ -66,6 +60,9 @@ def test_a_batch_of_eight_equals_eight_scalar_runs(lanes):
         assert b.meta["target_speed_kmh"] == s.meta["target_speed_kmh"]
 
 
+@pytest.mark.xfail(strict=True, reason="issue 25 open: the batch loop, compiled apart from the scalar loop, rounds "
+                   "differently (up to 1.2e-8 N on a 2440 N wheel load; 1.4e-5 on the 58 km/h lane once two wheels "
+                   "are up): not yet equal to 1e-9 absolute")
 def test_refilled_lanes_give_the_same_runs(lanes):
     """Three lanes for eight runs: each lane takes the next run when its own ends."""
     vehicles, speeds, scalar = lanes
@@ -171,6 +168,9 @@ def test_the_batch_method_finds_the_margin_searchs_threshold_on_paper_scenarios(
     assert count >= 3
 
 
+@pytest.mark.xfail(strict=True, reason="issue 25 open: the batch loop, compiled apart from the scalar loop, rounds "
+                   "differently (up to 1.2e-8 N on a 2440 N wheel load; 1.4e-5 on the 58 km/h lane once two wheels "
+                   "are up): not yet equal to 1e-9 absolute")
 def test_the_batch_runs_on_the_scalar_loops_kernels(reference, monkeypatch):
     """With ``TRIKEDYN_KERNELS=generic`` both the scalar and the batch loop run on the generic kernels."""
     from trikedyn.simulate.batch import BATCH_KERNELS
