@@ -44,9 +44,6 @@ def _assert_same(batch, scalar):
     np.testing.assert_allclose(batch.channels["path_error_m"], scalar.channels["path_error_m"], rtol=0, atol=1e-9)
 
 
-@pytest.mark.xfail(strict=True, reason="issue 25 open: the batch loop, compiled apart from the scalar loop, rounds "
-                   "differently (up to 1.2e-8 N on a 2440 N wheel load; 1.4e-5 on the 58 km/h lane once two wheels "
-                   "are up): not yet equal to 1e-9 absolute")
 def test_a_batch_of_eight_equals_eight_scalar_runs(lanes):
     vehicles, speeds, scalar = lanes
     stopped = [r for r in scalar if not r.success]
@@ -60,9 +57,6 @@ def test_a_batch_of_eight_equals_eight_scalar_runs(lanes):
         assert b.meta["target_speed_kmh"] == s.meta["target_speed_kmh"]
 
 
-@pytest.mark.xfail(strict=True, reason="issue 25 open: the batch loop, compiled apart from the scalar loop, rounds "
-                   "differently (up to 1.2e-8 N on a 2440 N wheel load; 1.4e-5 on the 58 km/h lane once two wheels "
-                   "are up): not yet equal to 1e-9 absolute")
 def test_refilled_lanes_give_the_same_runs(lanes):
     """Three lanes for eight runs: each lane takes the next run when its own ends."""
     vehicles, speeds, scalar = lanes
@@ -168,9 +162,6 @@ def test_the_batch_method_finds_the_margin_searchs_threshold_on_paper_scenarios(
     assert count >= 3
 
 
-@pytest.mark.xfail(strict=True, reason="issue 25 open: the batch loop, compiled apart from the scalar loop, rounds "
-                   "differently (up to 1.2e-8 N on a 2440 N wheel load; 1.4e-5 on the 58 km/h lane once two wheels "
-                   "are up): not yet equal to 1e-9 absolute")
 def test_the_batch_runs_on_the_scalar_loops_kernels(reference, monkeypatch):
     """With ``TRIKEDYN_KERNELS=generic`` both the scalar and the batch loop run on the generic kernels."""
     from trikedyn.simulate.batch import BATCH_KERNELS

@@ -3,7 +3,7 @@
 The generic loop (RNEA, CRBA, Cholesky over any tree) is the reference. On both reference trikes, a closed-loop
 double lane change and an open-loop sine steer with drive torque give the same states and wheel loads with
 either loop, to 1e-9 of each quantity's largest magnitude over the run (at least 1 in its unit: m, rad, m/s,
-rad/s, N); they agree to ~1e-13 (numba's fast-math may order sums differently). The exponential integrator's
+rad/s, N); they agree to ~1e-13 (the generated code sums in another order). The exponential integrator's
 ``(H^-1)_ss`` from the generated ``L^T D L`` factor equals the inverse of the mass matrix's diagonal.
 """
 
