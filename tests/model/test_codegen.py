@@ -73,6 +73,31 @@ def test_forward_dynamics_equals_generic(tree_and_kernels):
     assert worst < 1e-12
 
 
+def test_kinematics_equal_generic(tree_and_kernels):
+    """The generated kinematics kernel writes the generic joint transforms, world poses and body velocities
+    (the arrays the tyres read) to 1e-12 of each array's largest entry, every entry of every body."""
+    from trikedyn.model.kinematics import body_velocities_into, world_transforms_into
+
+    tree, k = tree_and_kernels
+    parent, jtype, jaxis, tree_e, tree_r = tree.arrays()[:5]
+    nb = tree.n_bodies
+    rng = np.random.default_rng(7)
+    worst = {}
+    for _ in range(60):
+        q, u, _, _, _ = random_state(tree, rng)
+        ref = {"e": np.empty((nb, 3, 3)), "r": np.empty((nb, 3)), "ew": np.empty((nb, 3, 3)), "pw": np.empty((nb, 3)),
+               "v": np.empty((nb, 6))}
+        dynamics.joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, ref["e"], ref["r"], np.empty((3, 3)))
+        world_transforms_into(parent, ref["e"], ref["r"], ref["ew"], ref["pw"])
+        body_velocities_into(ref["e"], ref["r"], u, parent, jtype, jaxis, ref["v"])
+        got = {name: np.full_like(a, np.nan) for name, a in ref.items()}
+        k.kinematics_into(q, u, tree_e, tree_r, got["e"], got["r"], got["ew"], got["pw"], got["v"])
+        for name, a in ref.items():
+            assert np.all(np.isfinite(got[name])), name  # every entry written
+            worst[name] = max(worst.get(name, 0.0), rel_err(got[name], a))
+    assert max(worst.values()) < 1e-12, worst
+
+
 def test_forward_dynamics_into_writes_out(tree_and_kernels):
     tree, k = tree_and_kernels
     q, u, _, tau, fext = random_state(tree, np.random.default_rng(1))

@@ -1,4 +1,5 @@
-"""The algorithms of :mod:`trikedyn.model.codegen` unrolled over one tree structure (RNEA, CRBA, the solve).
+"""The algorithms of :mod:`trikedyn.model.codegen` unrolled over one tree structure (the kinematics, RNEA,
+CRBA, the solve).
 
 Each method emits straight-line code through an :class:`~trikedyn.model._folding.Emitter` and returns the
 *values* (float constants or names of locals) of its results; products with the structure's constants fold
@@ -99,6 +100,32 @@ class UnrolledTree:
                 e = te
             self.e.append(e)
             self.r.append(r)
+
+    def kinematics(self):
+        """Emit the world poses and body velocities at ``q``, ``u`` (after :meth:`transforms`), as the generic
+        :func:`~trikedyn.model.kinematics.world_transforms_into` and
+        :func:`~trikedyn.model.kinematics.body_velocities_into` give them.
+
+        Returns
+        -------
+        ew, pw, v : list
+            Per body the values of the world -> body rotation (3 x 3), the body origin in the world (3) [m] and
+            the body's velocity ``(omega, v)`` in its own axes (6).
+        """
+        em, s = self.em, self.s
+        r0 = [em.load("q", k) for k in range(3)]
+        self.r[0] = r0
+        ew, pw, v = [self.e[0]], [r0], [[em.load("u", k) for k in range(6)]]
+        for b in range(1, self.nb):
+            p, e, r = s.parent[b], self.e[b], self.r[b]
+            pw.append([em.sum(term(pw[p][i]), *(term(ew[p][k][i], r[k]) for k in range(3))) for i in range(3)])
+            ew.append([[em.sum(*(term(e[i][k], ew[p][k][j]) for k in range(3))) for j in range(3)]
+                       for i in range(3)])
+            sub = self.motion_subspace(b)
+            qd = em.load("u", 5 + b)
+            xv = xform_motion(em, e, r, v[p])
+            v.append([em.sum(term(xv[k]), term(sub[k], qd)) for k in range(6)])
+        return ew, pw, v
 
     def rnea(self, udot, fext_zero=False):
         """Emit ``tau = H udot + C``; ``udot`` a list of values (0.0 folds out). Returns the values of tau."""

@@ -42,7 +42,7 @@ from ._unrolled import UnrolledTree
 __all__ = ["GENERATOR_VERSION", "TreeStructure", "cache_dir", "generate_source", "kernels", "kernels_for_tree",
            "load_module"]
 
-GENERATOR_VERSION = 1
+GENERATOR_VERSION = 2
 """Raised whenever the generated code changes meaning (the key also hashes this module's source)."""
 
 _LOCK = threading.Lock()
@@ -175,7 +175,8 @@ def _forward_dynamics_lines(structure, with_factor):
 def generate_source(structure: TreeStructure) -> str:
     """The Python source of the kernels for ``structure``.
 
-    The module defines ``rnea_into``/``rnea`` (``H udot + C``), ``mass_matrix_into``/``mass_matrix`` and
+    The module defines ``kinematics_into`` (the joint transforms, world poses and body velocities),
+    ``rnea_into``/``rnea`` (``H udot + C``), ``mass_matrix_into``/``mass_matrix`` and
     ``forward_dynamics_into``/``forward_dynamics_generated`` (``du/dt``, NaN if ``H`` is not positive
     definite) and ``forward_dynamics_factor_into`` (the same, keeping the factorisation of ``H`` for
     :func:`trikedyn.simulate.exponential.ltdl_inverse_diagonal`), with the arguments of their generic namesakes in :mod:`trikedyn.model.dynamics` less the
@@ -215,6 +216,24 @@ def generate_source(structure: TreeStructure) -> str:
             em.line(f"out[{i}, {j}] = {hmat.get((max(i, j), min(i, j)), 0.0)}")
     src.append(_function("mass_matrix_into", ["q", *values, "out"], "Mass matrix ``H(q)`` into ``out``.",
                          em.lines))
+
+    em = Emitter()
+    tree = UnrolledTree(structure, em)
+    tree.transforms()
+    ew, pw, v = tree.kinematics()
+    for b in range(nb):
+        for i in range(3):
+            em.line(f"r[{b}, {i}] = {tree.r[b][i]}")
+            em.line(f"pw[{b}, {i}] = {pw[b][i]}")
+            for j in range(3):
+                em.line(f"e[{b}, {i}, {j}] = {tree.e[b][i][j]}")
+                em.line(f"ew[{b}, {i}, {j}] = {ew[b][i][j]}")
+        for k in range(6):
+            em.line(f"v[{b}, {k}] = {v[b][k]}")
+    src.append(_function("kinematics_into", ["q", "u", "tree_e", "tree_r", "e", "r", "ew", "pw", "v"],
+                         "The joint transforms ``e``, ``r``, the world poses ``ew``, ``pw`` [m] and the body velocities "
+                         "``v`` [rad/s, m/s] at ``q``, ``u``, as the generic ``joint_transforms_into``, "
+                         "``world_transforms_into`` and ``body_velocities_into``.", em.lines))
 
     src.append(_function("forward_dynamics_into", ["q", "u", "tau", "fext", "gravity", *values, "out"],
                          "``du/dt = H^-1 (tau - C)`` into ``out``; NaN if ``H`` is not positive definite.",

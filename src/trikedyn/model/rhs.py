@@ -33,7 +33,8 @@ from .dynamics import crba_into, joint_transforms_into, rnea_into, workspace
 from .kinematics import body_velocities_into, euler_rates_into, world_transforms_into
 from .packing import WHEEL_OUT
 
-__all__ = ["evaluate_into", "f", "f_with_outputs", "forces_into", "interpolate_inputs", "linkage_angle", "workspace"]
+__all__ = ["evaluate_into", "f", "f_with_outputs", "forces_into", "interpolate_inputs", "linkage_angle", "workspace",
+           "wrenches_into"]
 
 
 @jit(inline="always")
@@ -118,8 +119,9 @@ def forces_into(t, x, u, p, wout, ws, xdot):
     Writes the joint transforms, world poses and body velocities into ``ws`` (``e``, ``r``, ``ew``, ``pw``,
     ``v``), the joint forces into ``ws.tau`` [N, N m], the external wrenches on the bodies (as
     the RNEA takes them) into ``ws.fext`` and the slip rates into ``xdot[2 n:]``; :func:`evaluate_into` then
-    adds the accelerations (and the generated loops of :mod:`trikedyn.simulate.specialised` theirs). Compiled
-    on its own, not inlined: the tyres are compiled once and shared by the generic loop and every generated one.
+    adds the accelerations. The generic kinematics, then :func:`wrenches_into` (compiled on its own, not
+    inlined: the tyres are compiled once and shared by the generic loop and every generated one, whose
+    kinematics are generated).
 
     Parameters
     ----------
@@ -138,6 +140,27 @@ def forces_into(t, x, u, p, wout, ws, xdot):
     xdot : numpy.ndarray
         Written with ``dx/dt``.
     """
+    n = p.parent.shape[0] + 5
+    q = x[:n]
+    qd = x[n : 2 * n]
+    e = ws.e
+    joint_transforms_into(q, p.parent, p.jtype, p.jaxis, p.tree_e, p.tree_r, e, ws.r, ws.t33)
+    world_transforms_into(p.parent, e, ws.r, ws.ew, ws.pw)
+    body_velocities_into(e, ws.r, qd, p.parent, p.jtype, p.jaxis, ws.v)
+    wrenches_into(t, x, u, p, wout, ws, xdot)
+
+
+@jit
+def wrenches_into(t, x, u, p, wout, ws, xdot):
+    """:func:`forces_into` after the kinematics: the tyres, springs, steering servo, drive, brakes and drag
+    from the poses and velocities already in ``ws`` (``e``, ``ew``, ``pw``, ``v``); the generated loops
+    (:mod:`trikedyn.simulate.specialised`) fill those by their own kinematics kernel, then call this.
+
+    Parameters
+    ----------
+    t, x, u, p, wout, ws, xdot
+        As :func:`forces_into`.
+    """
     nb = p.parent.shape[0]
     n = nb + 5
     wheels = p.wheels
@@ -146,10 +169,7 @@ def forces_into(t, x, u, p, wout, ws, xdot):
     q = x[:n]
     qd = x[n : 2 * n]
     slip = x[2 * n :]
-    e, ew, pw, v, fext = ws.e, ws.ew, ws.pw, ws.v, ws.fext
-    joint_transforms_into(q, p.parent, p.jtype, p.jaxis, p.tree_e, p.tree_r, e, ws.r, ws.t33)
-    world_transforms_into(p.parent, e, ws.r, ew, pw)
-    body_velocities_into(e, ws.r, qd, p.parent, p.jtype, p.jaxis, v)
+    ew, pw, v, fext = ws.ew, ws.pw, ws.v, ws.fext
     fext[:, :] = 0.0
     tau = ws.tau
     tau[:] = 0.0
