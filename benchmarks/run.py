@@ -20,6 +20,7 @@ from batch import bench_batch  # noqa: E402  (benchmarks/batch.py, issue 25)
 from cluster import bench_cluster  # noqa: E402  (benchmarks/cluster.py, issue 23)
 from cluster import report as report_cluster  # noqa: E402
 from codegen import bench_generated_kernels  # noqa: E402  (benchmarks/codegen.py, issue 25)
+from step_parts import parts as step_parts  # noqa: E402  (benchmarks/step_parts.py, issue 25)
 
 from trikedyn import __version__  # noqa: E402
 from trikedyn.model.statics import rolling_state, static_equilibrium  # noqa: E402
@@ -215,6 +216,7 @@ def main() -> int:
     results.update(bench_sine_steer())
     results.update(bench_generated_kernels())
     results.update(bench_double_lane_change())
+    results["step_parts_reference_etrike_us"] = step_parts("reference-etrike")
     results.update(bench_peer(results))
     results.update(bench_startup())
     results.update(bench_threshold())
@@ -232,7 +234,12 @@ def main() -> int:
     print(f"forward dynamics, generic {k['generic_us']:.2f} us, generated for the tree {k['generated_us']:.2f} us: {k['speedup']:.1f}x")
     d = results["double_lane_change_10s_30kmh"]
     print("closed-loop ISO 3888-1 double lane change, 10 s at 30 km/h:")
-    print(f"  end to end  {d['wall_s'] * 1e3:7.1f} ms   real-time factor {d['real_time_factor']:6.0f} (target 3000)")
+    print(f"  end to end  {d['wall_s'] * 1e3:7.1f} ms   real-time factor {d['real_time_factor']:6.0f} (target 1500)")
+    sp = results["step_parts_reference_etrike_us"]
+    print("  a step's parts [us per call]: right-hand side " f"{sp['rhs_generated_us']:.2f} (x4; generic {sp['rhs_generic_us']:.2f}),"
+          f" of which kinematics {sp['kinematics_generated_us']:.2f} and tyres/springs {sp['wrenches_us']:.2f};"
+          f" spin-slip blocks {sp['spin_slip_blocks_us']:.2f}, their functions {sp['block_functions_us']:.2f},"
+          f" driver {sp['driver_step_us']:.2f}")
     peer = results["commonroad_mb_lane_change_10s"]
     if peer is None:
         print("CommonRoad multi-body model: not installed (pip install commonroad-vehicle-models)")
