@@ -98,7 +98,8 @@ def parts(vehicle: str = "reference-etrike") -> dict:
         total = 0.0
         for _ in range(count):
             x[0] += 1e-12
-            wrenches_into(0.0, x, u, p, wout, ws, xdot)
+            wrenches_into(0.0, x, u, p.wheels, p.tyres, p.vehicle, p.road, wout, ws.ew, ws.pw, ws.v, ws.fext, ws.tau,
+                          xdot)
             total += xdot[-1] + ws.tau[6]
         return total
 

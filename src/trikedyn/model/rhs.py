@@ -147,31 +147,47 @@ def forces_into(t, x, u, p, wout, ws, xdot):
     joint_transforms_into(q, p.parent, p.jtype, p.jaxis, p.tree_e, p.tree_r, e, ws.r, ws.t33)
     world_transforms_into(p.parent, e, ws.r, ws.ew, ws.pw)
     body_velocities_into(e, ws.r, qd, p.parent, p.jtype, p.jaxis, ws.v)
-    wrenches_into(t, x, u, p, wout, ws, xdot)
+    wrenches_into(t, x, u, p.wheels, p.tyres, p.vehicle, p.road, wout, ws.ew, ws.pw, ws.v, ws.fext, ws.tau, xdot)
 
 
 @jit
-def wrenches_into(t, x, u, p, wout, ws, xdot):
+def wrenches_into(t, x, u, wheels, tyres, vehicle, road, wout, ew, pw, v, fext, tau, xdot):
     """:func:`forces_into` after the kinematics: the tyres, springs, steering servo, drive, brakes and drag
-    from the poses and velocities already in ``ws`` (``e``, ``ew``, ``pw``, ``v``); the generated loops
-    (:mod:`trikedyn.simulate.specialised`) fill those by their own kinematics kernel, then call this.
+    from the world poses and body velocities already computed; the generated loops
+    (:mod:`trikedyn.simulate.specialised`) compute those by their own kinematics kernel, then call this.
+
+    It takes the arrays it reads rather than the plant and the workspace: numba passes every array of a
+    tuple argument member by member, and a call with the whole plant and workspace cost ~0.2 us more
+    (``python benchmarks/step_parts.py``).
 
     Parameters
     ----------
-    t, x, u, p, wout, ws, xdot
-        As :func:`forces_into`.
+    t : float
+        Time [s].
+    x : numpy.ndarray
+        State.
+    u : numpy.ndarray, shape (3,)
+        Inputs: steer command [rad], drive torque [N m], brake torque [N m].
+    wheels, tyres, vehicle, road : numpy.ndarray
+        The plant's ``wheels``, ``tyres``, ``vehicle`` and ``road`` (:class:`~trikedyn.model.packing.Plant`).
+    wout : numpy.ndarray, dtype WHEEL_OUT
+        Written with the per-wheel outputs.
+    ew, pw, v : numpy.ndarray
+        World -> body rotations (nb, 3, 3), body origins in the world (nb, 3) [m], body velocities (nb, 6)
+        [rad/s, m/s] (the workspace's ``ew``, ``pw``, ``v``).
+    fext, tau : numpy.ndarray
+        Written with the external wrenches on the bodies (nb, 6) [N m, N] and the joint forces [N, N m].
+    xdot : numpy.ndarray
+        Written with the slip rates (``xdot[2 n:]``).
     """
-    nb = p.parent.shape[0]
+    nb = ew.shape[0]
     n = nb + 5
-    wheels = p.wheels
     nw = wheels.shape[0]
-    veh = p.vehicle[0]
+    veh = vehicle[0]
     q = x[:n]
     qd = x[n : 2 * n]
     slip = x[2 * n :]
-    ew, pw, v, fext = ws.ew, ws.pw, ws.v, ws.fext
     fext[:, :] = 0.0
-    tau = ws.tau
     tau[:] = 0.0
     steer_cmd, drive_cmd, brake_cmd = u[0], u[1], u[2]
 
@@ -192,7 +208,7 @@ def wrenches_into(t, x, u, p, wout, ws, xdot):
         wb = w.wheel_body
         out = wout[k]
         fwx, fwy, fwz, mwx, mwy, mwz, dkappa, dtan = wheel_wrench(
-            w, p.tyres[k], veh, p.road[0], ew[wb], pw[wb, 0], pw[wb, 1], pw[wb, 2], v[wb], slip[2 * k],
+            w, tyres[k], veh, road[0], ew[wb], pw[wb, 0], pw[wb, 1], pw[wb, 2], v[wb], slip[2 * k],
             slip[2 * k + 1], out)
         xdot[slip_off + 2 * k] = dkappa
         xdot[slip_off + 2 * k + 1] = dtan

@@ -59,7 +59,7 @@ def evaluate_into(t, x, u, p, wout, ws, xdot):
     q = x[:N_DOF]
     qd = x[N_DOF : 2 * N_DOF]
     kinematics_into(q, qd, p.tree_e, p.tree_r, ws.e, ws.r, ws.ew, ws.pw, ws.v)
-    wrenches_into(t, x, u, p, wout, ws, xdot)
+    wrenches_into(t, x, u, p.wheels, p.tyres, p.vehicle, p.road, wout, ws.ew, ws.pw, ws.v, ws.fext, ws.tau, xdot)
     forward_dynamics_factor_into(q, qd, ws.tau, ws.fext, (0.0, 0.0, -p.vehicle[0].g), p.tree_e, p.tree_r, p.mass,
                                  p.h, p.ibar, xdot[N_DOF : 2 * N_DOF], ws.low)
     euler_rates_into(q, qd, ws.e[0], xdot[:N_DOF])
