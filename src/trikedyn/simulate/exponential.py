@@ -106,7 +106,8 @@ def spin_slip_blocks(p, wout, low, scratch, idx, mat):
         The number of blocks.
     """
     for k in range(p.wheels.shape[0]):
-        spin_slip_block(p, k, wout[k], inverse_mass_diagonal(low, 5 + p.wheels[k].wheel_body, scratch), idx, mat)
+        spin_slip_block(p.wheels, p.tyres, p.vehicle, p.parent.shape[0] + 5, k, wout[k],
+                        inverse_mass_diagonal(low, 5 + p.wheels[k].wheel_body, scratch), idx, mat)
     return p.wheels.shape[0]
 
 
@@ -134,19 +135,23 @@ def spin_slip_blocks_ltdl(p, wout, factor, scratch, idx, mat):
         The number of blocks.
     """
     for k in range(p.wheels.shape[0]):
-        spin_slip_block(p, k, wout[k], ltdl_inverse_diagonal(factor, p.parent, 5 + p.wheels[k].wheel_body, scratch),
-                        idx, mat)
+        spin_slip_block(p.wheels, p.tyres, p.vehicle, p.parent.shape[0] + 5, k, wout[k],
+                        ltdl_inverse_diagonal(factor, p.parent, 5 + p.wheels[k].wheel_body, scratch), idx, mat)
     return p.wheels.shape[0]
 
 
 @jit
-def spin_slip_block(p, k, o, inverse_mass, idx, mat):
+def spin_slip_block(wheels, tyres, vehicle, n, k, o, inverse_mass, idx, mat):
     """Wheel ``k``'s (spin rate, ``kappa``) block of ``L`` into ``idx[k]`` and ``mat[k]`` (compiled on its own,
-    not inlined: its tyre model is compiled once for every loop).
+    not inlined: its tyre model is compiled once for every loop; it takes the plant's arrays it reads, not the
+    plant: numba passes a tuple argument's every array member by member).
 
     Parameters
     ----------
-    p : Plant
+    wheels, tyres, vehicle : numpy.ndarray
+        The plant's ``wheels``, ``tyres`` and ``vehicle`` (:class:`~trikedyn.model.packing.Plant`).
+    n : int
+        Degrees of freedom.
     k : int
         The wheel.
     o : record of WHEEL_OUT
@@ -156,15 +161,14 @@ def spin_slip_block(p, k, o, inverse_mass, idx, mat):
     idx : ndarray (n_wheels, 2) of int
     mat : ndarray (n_wheels, 4)
     """
-    n = p.parent.shape[0] + 5
-    veh = p.vehicle[0]
+    veh = vehicle[0]
     v_low4 = veh.v_low * veh.v_low * veh.v_low * veh.v_low
-    w = p.wheels[k]
+    w = wheels[k]
     v_ref = math.sqrt(math.sqrt(o.vx * o.vx * o.vx * o.vx + v_low4))
     r_eff = w.radius - o.deflection / 3.0
     slip_stiffness = 0.0
     if o.fz > 0.0 and veh.slip_forces > 0.0:
-        shifted = tyre_forces(w.tyre_model, p.tyres[k], o.kappa + SLIP_STEP, o.alpha, o.camber, o.fz, o.vx, v_ref,
+        shifted = tyre_forces(w.tyre_model, tyres[k], o.kappa + SLIP_STEP, o.alpha, o.camber, o.fz, o.vx, v_ref,
                               o.spin, r_eff, veh.v_low, veh.w_low)[0]
         slip_stiffness = (shifted - o.fx) / SLIP_STEP
     idx[k, 0] = n + 5 + w.wheel_body
