@@ -63,6 +63,7 @@ def metric(name: str, unit: str = "", help: str = "", *, replace: bool = False):
     """
 
     def decorate(fn):
+        """Register ``fn`` as the metric ``name`` and return it unchanged."""
         METRICS.register(name, MetricType(name, unit, help or first_line(fn), fn), replace=replace)
         return fn
 

@@ -293,6 +293,8 @@ class _Table:
         return tree.mass @ points / tree.total_mass()
 
     def state(self, s):
+        """The generalised coordinates [m, rad] of a solution ``s``: its first entries in the solved coordinates,
+        the others (chassis x, wheel spins) at the level-table equilibrium."""
         q = self.q0.copy()
         q[self.coords] = s[: len(self.coords)]
         return q
@@ -366,6 +368,8 @@ def _tilt_side(table: _Table, side: str, rigid) -> TiltSide:
         rows.append(found[1])
 
     def lowest(a):
+        """The lowest signed wheel load [N] at a tilt of ``a`` [deg], solved from the last standing angle: its root
+        is the lift-off angle."""
         hit = table.solve(a, sign, s_lower)
         if hit is None:
             raise SimulationError(f"no equilibrium found at {a:.4f} deg of tilt to the {side}")

@@ -34,6 +34,8 @@ class _Parts:
         self.folder = ensure_folder(self.out / PARTS_DIR)
 
     def get(self, name: str, compute: Callable, figure: str | None = None):
+        """The piece ``name``: read back from its JSON file when resuming (and its ``figure`` exists), else
+        computed by ``compute`` (which then also returns the figure, saved as ``figure``) and saved."""
         from .._files import atomic_write
         from .._json import finite, json_default
         from .._reading import read_text
@@ -151,6 +153,8 @@ def assess(pset, *, payload_kg: float = 0.0, out: str | Path, quick: bool = Fals
     data["requirements"] = None
     if requirements is not None:
         def value_of(item, metric: str):
+            """The vehicle's value of ``metric`` for the requirement ``item`` (laden or as given): from a run of its
+            manoeuvre at its speed [km/h] when the metric needs one, else from that state's metrics."""
             tag = "laden" if item.laden else "as_given"
             if METRICS.get(metric).needs:
                 run = parts.get(f"run-{item.manoeuvre}-{item.speed_kmh:g}-{tag}",

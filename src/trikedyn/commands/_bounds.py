@@ -27,6 +27,8 @@ def _variant_table():  # the params package is heavy: read when an option is che
 
 def _bound(table, name: str):
     def check(ctx: typer.Context, param: typer.CallbackParam, value):
+        """Typer callback: ``value`` parsed and checked by the option ``name`` of ``table()``; None and the
+        option's own default pass unchecked."""
         if value is None or ctx.resilient_parsing:
             return value
         source = ctx.get_parameter_source(param.name) if param.name else None

@@ -25,6 +25,8 @@ def within(low: float, high: float, unit: str = "", *, above: bool = False):
     ``above``); None passes (an option left out)."""
 
     def check(ctx: typer.Context, param: typer.CallbackParam, value):
+        """Typer callback: ``value`` unchanged if finite and within the bounds (None passes), else
+        :class:`InputError` naming the option."""
         if value is None or ctx.resilient_parsing:
             return value
         name = max(param.opts, key=len) if param.opts else param.name
@@ -58,6 +60,8 @@ def _one_of(other: str):
     check = variant_bound("freight_kg")
 
     def callback(ctx: typer.Context, param: typer.CallbackParam, value):
+        """Typer callback: ``value`` checked as the variant's ``freight_kg`` [kg]; :class:`InputError` when this
+        option and ``other`` are both given."""
         value = check(ctx, param, value)
         if ctx.resilient_parsing:
             return value
@@ -148,6 +152,8 @@ def round_text(text: str, longest: int = 7) -> str:
     such as ``10.450000000000001``) rounded by :func:`readable`; numbers a command formatted are kept."""
 
     def shorten(match: re.Match) -> str:
+        """The matched number as written if it has at most ``longest`` significant digits, else rounded by
+        :func:`readable` (a leading ``+`` kept)."""
         number = match.group(0)
         if _significant(number) <= longest:
             return number
@@ -210,6 +216,8 @@ def choice(*allowed: str):
     """Typer callback: the option's value must be one of ``allowed`` (a close match is suggested)."""
 
     def check(ctx: typer.Context, param: typer.CallbackParam, value):
+        """Typer callback: ``value`` unchanged if it is one of ``allowed`` (or None), else :class:`InputError`
+        suggesting a close match."""
         if value is None or ctx.resilient_parsing or value in allowed:
             return value
         from ..errors import did_you_mean

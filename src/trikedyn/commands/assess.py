@@ -56,6 +56,7 @@ def assess_cmd(
     on_interrupt(f"the pieces done are kept in {folder}: the same command with --resume continues")
 
     def say(text: str) -> None:
+        """Print the progress line ``assess: text`` to stderr."""
         typer.echo(f"assess: {text}", err=True)
 
     data = assess(pset, payload_kg=payload, out=folder, quick=quick, resume=resume, requirements=wanted, say=say)

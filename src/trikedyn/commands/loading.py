@@ -127,6 +127,7 @@ def loading_chart_cmd(
                       cells=str(out / CELLS_FILE))
 
     def shown() -> str:
+        """The text output: the chart's table, and the files written when there is an output folder."""
         lines = [chart.table()]
         if out is not None:
             lines.append(f"wrote {', '.join(data['files'].values())}")

@@ -322,6 +322,8 @@ def _write_into(target: Path, suspension: str, result, log: Path, mass_from: str
     sources = _sources(result, log, mass_from)
 
     def same_log(source):
+        """Whether a value's ``source`` says it was identified (``trikedyn identify``) from a log of this log's
+        file name: such a value may be replaced without ``--force``."""
         match = _IDENTIFIED.match(source or "")
         return match is not None and Path(match.group("log")).name == log.name
 
@@ -336,6 +338,7 @@ def _write_into(target: Path, suspension: str, result, log: Path, mass_from: str
 
 def _identify_text(data: dict) -> str:
     def sigma(key):
+        """`` ± sigma`` of the entry ``key`` of ``data``, or nothing when the entry is missing or not finite."""
         value = data.get(key)
         return _sigma(value) if value is not None else ""
 

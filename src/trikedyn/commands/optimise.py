@@ -153,6 +153,7 @@ def optimise_cmd(
                           evaluations=str(out / LOG_FILE))
 
     def shown() -> str:
+        """The text output: the result's table, the commands that check the thresholds, and the files written."""
         lines = [result.table()]
         lines += [f"  check: {c}" for c in data["check"]]
         lines.append(f"wrote {', '.join(files.values())}")

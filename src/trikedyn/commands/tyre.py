@@ -87,6 +87,8 @@ def show_cmd(
     }
 
     def text():
+        """The text output: the file's family, dimensions and validity ranges, then at the load ``fz`` [N] the
+        slip stiffnesses, peak forces [N] and relaxation lengths [m], and the defaulted and ignored keys."""
         d = tir.dimensions
         dims = ", ".join(f"{k.lower().replace('_', ' ')} {v:g}{'' if k == 'ASPECT_RATIO' else ' m'}"
                          for k, v in d.items())

@@ -144,6 +144,7 @@ def register(name: str, title: str, *, options: tuple[Option, ...] = (), closed_
     """
 
     def decorate(builder):
+        """Register ``builder`` as the manoeuvre ``name`` and return it unchanged."""
         MANOEUVRES.register(name, ManoeuvreType(name, title, builder, tuple(options), closed_loop,
                                                 summary or first_line(builder, title)), replace=replace)
         return builder

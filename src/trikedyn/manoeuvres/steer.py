@@ -45,6 +45,8 @@ def step_steer(angle_rad: float, *, start_s: float = 1.0, ramp_s: float = 0.15):
         raise InputError("ramp_s must be > 0 and start_s >= 0", where="step_steer")
 
     def steer(t):
+        """Steer command [rad] at times ``t`` [s]: 0 before ``start_s``, a linear ramp over ``ramp_s``, then
+        ``angle_rad``."""
         return angle_rad * np.clip((np.asarray(t, dtype=float) - start_s) / ramp_s, 0.0, 1.0)
 
     return steer
@@ -79,6 +81,7 @@ def sine_steer(amplitude_rad: float, frequency_hz: float, *, start_s: float = 0.
     end = np.inf if periods is None else start_s + periods / frequency_hz
 
     def steer(t):
+        """Steer command [rad] at times ``t`` [s]: the sine from ``start_s`` for ``periods`` periods, 0 outside."""
         t = np.asarray(t, dtype=float)
         active = (t >= start_s) & (t <= end)
         return np.where(active, amplitude_rad * np.sin(2 * np.pi * frequency_hz * (t - start_s)), 0.0)

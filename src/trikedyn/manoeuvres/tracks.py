@@ -164,6 +164,8 @@ def double_lane_change(
     x_end = e[-1] + run_out
 
     def profile(x):
+        """``(y [m], y' [-], y'' [1/m])`` of the reference line at ``x`` [m]: the lane centres joined by sine
+        blends, mirrored for a change to the right."""
         y, dy, ddy = _lateral_profile(x, centres[0], transitions)
         return sign * y, sign * dy, sign * ddy
 
@@ -262,6 +264,8 @@ def single_lane_change(
         cones += _lane_cones(lane, (x1, x_end))
 
     def profile(x):
+        """``(y [m], y' [-], y'' [1/m])`` of the path at ``x`` [m]: 0 up to ``run_in_m``, a sine blend to
+        ``lateral_offset_m`` over ``length_m``, then constant."""
         return _lateral_profile(x, 0.0, ((x0, x1, a),))
 
     return _from_graph(

@@ -99,6 +99,8 @@ def _solve_static(model: VehicleModel, tol: float) -> Equilibrium:
     guess[0] = -load / float(np.mean(model.wheels["vertical_stiffness"]))
 
     def residual(p):
+        """The accelerations that vanish at rest (roll and pitch [rad/s^2], vertical [m/s^2], free joints') of the
+        state whose chassis height [m], roll, pitch [rad] and free joints are ``p``, the rest 0."""
         x = np.zeros(model.n_states)
         x[unknown] = p
         xdot, _ = state_derivative(model, x)

@@ -40,6 +40,7 @@ SENSOR = {"rate_hz": 10.0, "noise_std_mps2": 0.05, "bias_mps2": 0.2, "seed": 202
 
 def _write_csv(path: Path, rows: list[dict]) -> None:
     def write(fh):
+        """Write ``rows`` to the open file ``fh`` as a CSV with a header line."""
         writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
         writer.writeheader()
         writer.writerows(rows)
@@ -300,10 +301,12 @@ def _speed_control_statement(rows: list[dict]) -> dict:
     """What the paper's thresholds become with each speed control and criterion (:func:`speed_controls`)."""
 
     def row(man, control, freight=0.0):
+        """The row of ``rows`` for manoeuvre ``man`` under speed control ``control`` at freight ``freight`` [kg]."""
         return next(r for r in rows if r["manoeuvre"] == man and r["speed_control"] == control
                     and r["freight_kg"] == freight)
 
     def said(r, key):
+        """Row ``r``'s threshold by criterion ``key`` as text, ``x.x km/h (its limit)``, or ``none``."""
         limit = r[f"{key}_limit"]
         value = r[f"{key}_kmh"]
         return "none" if value is None else f"{value:.1f} km/h ({limit or 'no limit in the range'})"
@@ -343,6 +346,7 @@ class _Background:
             self._box["error"] = exc
 
     def result(self):
+        """Wait for the thread; its function's value, or raise the exception it raised."""
         self._thread.join()
         if "error" in self._box:
             raise self._box["error"]

@@ -138,6 +138,8 @@ def _part(component: dict) -> MassProperties:
 
 def _component(field: str) -> Callable[[dict, float, str | None], None]:
     def move(data: dict, value: float, target: str | None) -> None:
+        """Set component ``target``'s ``field`` to ``value``; the vehicle's mass [kg], CG [m] and inertia [kg m^2]
+        follow."""
         component = next(c for c in data["components"] if c["name"] == target)
         old = _part(component)
         component[field] = value
@@ -164,6 +166,7 @@ def _component(field: str) -> Callable[[dict, float, str | None], None]:
 
 def _freight(axis: str) -> Callable[[dict, float, str | None], None]:
     def move(data: dict, value: float, _target) -> None:
+        """Set the freight site's ``axis`` coordinate to ``value`` [m]."""
         data["freight"][axis] = value
 
     return move

@@ -30,6 +30,7 @@ def _at_least(minimum: float, unit: str) -> AfterValidator:
     """
 
     def check(value: float) -> float:
+        """``value`` unchanged if it is at least ``minimum`` (in ``unit``), else ValueError."""
         if value < minimum:
             raise ValueError(f"input should be at least {minimum:g}{' ' + unit if unit else ''} (got {value:g})")
         return value

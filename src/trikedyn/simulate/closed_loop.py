@@ -61,6 +61,8 @@ def _judging_channels(params, manoeuvre: Manoeuvre):
     """``extra`` for :func:`run_model`: path progress and error of the CG, and the judged window."""
 
     def extra(times, base):
+        """The judging channels of a run at ``times`` [s] from its ``base`` channels: the CG's ``path_s_m`` and
+        ``path_error_m`` [m] (with a path) and ``judged`` (1 inside the judged window, else 0)."""
         out = {}
         if manoeuvre.path is not None:
             cx, cy = cg_track(params, base["x_m"], base["y_m"], base["yaw_rad"])

@@ -114,6 +114,7 @@ def study_metric(name: str, *, unit: str = "", per_manoeuvre: bool, uses_search:
     """
 
     def decorate(fn):
+        """Register ``fn`` as the study metric ``name`` and return it unchanged."""
         STUDY_METRICS.register(name, StudyMetric(name, unit, help or first_line(fn), per_manoeuvre, uses_search,
                                                  tuple(options), fn), replace=replace)
         return fn

@@ -199,9 +199,11 @@ def peak_forces(tir: TyreProperties, fz: float, gamma: float = 0.0, *, side=None
         alo, ahi = -ahi, -alo
 
     def fx(k):
+        """Pure-slip longitudinal force ``Fx0`` [N] at slip ratio ``k`` (at the load ``fz`` and inclination)."""
         return forces(c, fz, kappa=k, gamma=gamma, combined=False).fx
 
     def fy(a):
+        """Pure-slip lateral force ``Fy0`` [N] at slip angle ``a`` [rad] (at the load ``fz`` and inclination)."""
         return forces(c, fz, alpha=a, gamma=gamma, combined=False).fy
 
     kx_max, fx_max, kx_min, fx_min = _extremes(fx, klo, khi)

@@ -39,9 +39,12 @@ class WitMotionText(LogFormat):
 
     @property
     def headers(self) -> list[str]:
+        """This layout's headers: the time, the 9 channels and the temperature, as the layout names them."""
         return HEADERS[self.name]
 
     def read(self, raw: bytes, path: Path, options: ReadOptions) -> ImuLog:
+        """The log as an :class:`~trikedyn.measure.logs.ImuLog`: chip time (or the PC clock where it is empty), the
+        rows of device ``options.sensor`` of a file with several."""
         fmt, sensor, notes = self.name, options.sensor, []
         text = tables._decode(raw, path, ("utf-8-sig", "gb18030"))
         header, cells, lines, at_header = tables._split_table(text, self.sep, path)
@@ -76,6 +79,8 @@ class WitMotionText(LogFormat):
         return tables._table_log(path, fmt, t, header, cells, lines, spec, set(pc.values()), notes)
 
     def write(self, data: pd.DataFrame, path: Path) -> None:
+        """Write ``data`` in this layout: chip time (and PC clock and device name) as clock text, the channels in
+        g, °/s and °, temperature in °C, the other columns under their own names."""
         f = clock_fields(data[TIME].to_numpy(float), path, self.name)
         out = {}
         if self.pc_columns:

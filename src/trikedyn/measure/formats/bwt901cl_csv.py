@@ -19,14 +19,46 @@ _BWT = {"Acc": CHANNELS[0:3], "AngVel": CHANNELS[3:6], "Ang": CHANNELS[6:9]}
 
 
 class Bwt901clCsv(LogFormat):
+    """The get_bwt901cl_data logger's CSV (see the module docstring): ``Time`` as HH:MM:SS.fff, ``AccX1`` ..
+    ``AngZ2`` in m/s², °/s and °, zeros until a sensor is heard."""
+
     name = "bwt901cl-csv"
     description = "get_bwt901cl_data logger CSV (Time HH:MM:SS.fff, AccX1 .. AngZ2 in m/s2, deg/s, deg)"
     order = 50
 
     def sniff(self, head):
+        """2 when the header holds ``Time`` and ``AccX1``, else 0.
+
+        Parameters
+        ----------
+        head : Head
+            The file's first bytes.
+
+        Returns
+        -------
+        float
+            The score.
+        """
         return 2.0 if {"time", "accx1"} <= head.keys else 0.0
 
     def read(self, raw: bytes, path: Path, options: ReadOptions) -> ImuLog:
+        """The log of sensor ``options.sensor`` as an :class:`~trikedyn.measure.logs.ImuLog`, its leading rows of
+        zeros (before the logger heard it) dropped, accelerations kept as written (g x 9.8).
+
+        Parameters
+        ----------
+        raw : bytes
+            The file's bytes.
+        path : Path
+            The file, for errors.
+        options : ReadOptions
+            What the caller asked for (sensor, rate [Hz], columns, units, ...).
+
+        Returns
+        -------
+        ImuLog
+            The log, SI columns (time [s], accelerations [m/s^2], rates [rad/s], angles [rad]).
+        """
         sensor, notes = options.sensor, []
         header, cells, lines, at_header = tables._split_table(tables._decode(raw, path, ("utf-8-sig",)), ",", path)
         sensors = sorted({int(m[1]) for h in header if (m := re.fullmatch(r"AccX(\d+)", h))})
@@ -57,6 +89,16 @@ class Bwt901clCsv(LogFormat):
         return tables._table_log(path, self.name, t[n:], header, cells, lines[n:], spec, others, notes)
 
     def write(self, data: pd.DataFrame, path: Path) -> None:
+        """The SI columns as sensor 1: ``Time`` as HH:MM:SS.fff, accelerations in m/s², rates in °/s, angles in °,
+        the other columns under their own names.
+
+        Parameters
+        ----------
+        data : pandas.DataFrame
+            SI columns (``time_s`` [s] increasing, ...).
+        path : Path
+            The file to write.
+        """
         out = {"Time": clock_text(clock_fields(data[TIME].to_numpy(float), path, self.name), "clock")}
         for prefix, sis in _BWT.items():
             for c, si in zip("XYZ", sis, strict=False):

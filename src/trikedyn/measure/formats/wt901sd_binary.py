@@ -138,20 +138,62 @@ def _write_binary(data: pd.DataFrame, path: Path) -> None:
 
 
 class Wt901sdBinary(LogFormat):
+    """Raw 11-byte 0x55 WIT frames as the WT901SD logger writes them to its card (see the module docstring)."""
+
     name = "wt901sd-binary"
     description = "raw 11-byte 0x55 WIT frames as the WT901SD logger writes them to its card"
     order = 40
 
     def sniff(self, head):
+        """100 when the file starts with valid WIT frames (0x55, a WIT type, a good checksum) at its first (up to
+        four) 11-byte steps, else 0.
+
+        Parameters
+        ----------
+        head : Head
+            The file's first bytes.
+
+        Returns
+        -------
+        float
+            The score.
+        """
         ok = _valid_starts(np.frombuffer(head.raw, np.uint8))
         fits = head.raw[:1] == b"\x55" and ok.size and all(ok[i] for i in range(0, min(ok.size, 34), 11))
         return 100.0 if fits else 0.0
 
     def read(self, raw: bytes, path: Path, options: ReadOptions) -> ImuLog:
+        """The frames as an :class:`~trikedyn.measure.logs.ImuLog`: a sample per 0x51 acceleration frame, time
+        from the 0x50 chip time, or from ``options.sample_rate_hz`` [Hz] (10 if not given) without it.
+
+        Parameters
+        ----------
+        raw : bytes
+            The file's bytes.
+        path : Path
+            The file, for errors.
+        options : ReadOptions
+            What the caller asked for (sensor, rate [Hz], columns, units, ...).
+
+        Returns
+        -------
+        ImuLog
+            The log, SI columns (time [s], accelerations [m/s^2], rates [rad/s], angles [rad]).
+        """
         _one_sensor(options.sensor, self.name, path)
         return _read_binary(raw, path, options.sample_rate_hz, [])
 
     def write(self, data: pd.DataFrame, path: Path) -> None:
+        """The SI columns as frames, one set per sample: 0x50 chip time, 0x51 accelerations (required), 0x52
+        rates, 0x53 angles and 0x54 magnetometer (each group whole or absent), temperature in each.
+
+        Parameters
+        ----------
+        data : pandas.DataFrame
+            SI columns (``time_s`` [s] increasing, ...).
+        path : Path
+            The file to write.
+        """
         _write_binary(data, path)
 
 

@@ -150,6 +150,8 @@ def _all_factors(pset: ParameterSet, fraction: float) -> tuple[dict[str, Factor]
     declared = declared_ranges(pset)
 
     def add(name, value, paths, note_path=None, **kw):
+        """Add the factor ``name`` (value ``value``, varying ``paths``), or refuse it when it is 0 and no range is
+        declared."""
         keys = (*paths, *([note_path] if note_path else []))
         if value == 0.0 and _declared_range(pset, name, value, keys, declared) is None:
             refused[name] = (f"'{name}' is 0: a relative range is empty (declare one in the vehicle file: "

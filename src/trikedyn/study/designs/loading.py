@@ -335,6 +335,8 @@ def run_loading_chart(pset: ParameterSet, search: Search, masses_kg: Sequence[fl
         progress(len(threshold), len(keys))
 
     def record(key, value):
+        """Keep cell ``key``'s ``value`` (threshold [km/h] or metric value, error or None), log it and report
+        progress."""
         nonlocal computed
         speed, error = value
         error = None if error is None else " ".join(str(error).split())

@@ -172,6 +172,8 @@ def identification_stds(path: str | Path, suspension: str) -> list[Measured]:
                          f"xi = {xi:g}, M_s = {m:g} kg", where=where)
 
     def kc(fn, z):
+        """Suspension stiffness [N/m] and damping [N s/m] giving the sprung mass a body mode of ``fn`` [Hz] and
+        damping ratio ``z`` (through the tyre when its stiffness is known)."""
         if kt is None:
             k = stiffness_from_frequency(fn, m)
             return float(k), float(damping_coefficient(z, k, m))

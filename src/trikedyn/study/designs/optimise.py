@@ -202,10 +202,12 @@ class _Evaluator:
                 todo.append(values)
 
         def finished(values, result):
+            """Record a layout's evaluation once its worker returns ``result`` = (thresholds, error)."""
             thresholds, error = result
             self.record(self.make(index[values], self.generation, values, thresholds, error))
 
         def died(values):
+            """Record a layout on which a worker died twice as failed (no thresholds)."""
             finished(values, (tuple(None for _ in self.searches), "a worker process died on this layout (twice)"))
 
         tasks = ((values, (self.pset, dict(zip(self.spec.names, values, strict=True)), self.searches,
@@ -243,6 +245,8 @@ def _least_move(candidates: list[Evaluation], spec: OptimiseSpec, ref: tuple[flo
     """Of layouts with the same objective, the one that moves least from the reference (then the earliest)."""
 
     def distance(ev):
+        """How far ``ev``'s layout moves from the reference: the sum of each knob's move over its range,
+        dimensionless."""
         return sum(abs(v - r) / (hi - lo) for v, r, (_, lo, hi) in zip(ev.values, ref, spec.knobs, strict=True))
 
     return min(candidates, key=lambda ev: (round(distance(ev), 12), ev.index))

@@ -152,6 +152,7 @@ class EvaluationLog(AppendedCsv):
         from ..._files import atomic_write
 
         def fill(fh):
+            """Write the header and every evaluation's row to the open file ``fh``."""
             writer = csv.writer(fh)
             writer.writerow(self.columns)
             writer.writerows(self._row(ev) for ev in evaluations)

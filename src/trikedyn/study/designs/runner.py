@@ -211,6 +211,7 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
         abandoned = False
 
         def collect(scenario_id, row):
+            """Store a finished scenario's ``row``, count it and report progress."""
             nonlocal n_done, computed
             store.put(row)
             computed += 1

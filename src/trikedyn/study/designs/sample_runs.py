@@ -113,6 +113,8 @@ def run_samples(pset: ParameterSet, factors: Iterable[Factor], X: np.ndarray, se
     done = len(known or {})
 
     def record(i, y, err, limit=""):
+        """Keep row ``i``'s threshold ``y`` [km/h] (NaN if None), error and limit, hand them to ``on_result`` and
+        report progress."""
         nonlocal done
         Y[i] = np.nan if y is None else y
         errors[i], limits[i] = err, limit
