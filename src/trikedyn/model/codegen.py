@@ -96,20 +96,19 @@ class TreeStructure:
             The structure, hashable, for :func:`kernels`.
         """
 
-        def const(x):
-            """The entry if it is exactly 0 or +-1, else None."""
-            x = float(x)
-            return x if x in (0.0, 1.0, -1.0) else None
+        def rows(values, width):
+            """Rows of Python floats (``tolist``: no numpy scalars, the sign of a zero kept)."""
+            return np.asarray(values, dtype=np.float64).reshape(nb, width).tolist()
 
         nb = len(parent)
         return cls(
-            parent=tuple(int(p) for p in parent),
-            jtype=tuple(int(t) for t in jtype),
-            jaxis=tuple(tuple(float(a) for a in np.asarray(jaxis)[b]) for b in range(nb)),
-            e_const=tuple(tuple(const(x) for x in np.asarray(tree_e)[b].ravel()) for b in range(nb)),
-            r_zero=tuple(tuple(bool(x == 0.0) for x in np.asarray(tree_r)[b]) for b in range(nb)),
-            h_zero=tuple(tuple(bool(x == 0.0) for x in np.asarray(h)[b]) for b in range(nb)),
-            ibar_zero=tuple(tuple(bool(x == 0.0) for x in np.asarray(ibar)[b].ravel()) for b in range(nb)),
+            parent=tuple(int(p) for p in np.asarray(parent).tolist()),
+            jtype=tuple(int(t) for t in np.asarray(jtype).tolist()),
+            jaxis=tuple(tuple(row) for row in rows(jaxis, 3)),
+            e_const=tuple(tuple(x if x in (0.0, 1.0, -1.0) else None for x in row) for row in rows(tree_e, 9)),
+            r_zero=tuple(tuple(x == 0.0 for x in row) for row in rows(tree_r, 3)),
+            h_zero=tuple(tuple(x == 0.0 for x in row) for row in rows(h, 3)),
+            ibar_zero=tuple(tuple(x == 0.0 for x in row) for row in rows(ibar, 9)),
         )
 
     def key(self) -> str:

@@ -33,7 +33,7 @@ from .dynamics import crba_into, joint_transforms_into, rnea_into, workspace
 from .kinematics import body_velocities_into, euler_rates_into, world_transforms_into
 from .packing import WHEEL_OUT
 
-__all__ = ["evaluate_into", "f", "f_with_outputs", "forces_into", "interpolate_inputs", "linkage_angle", "workspace",
+__all__ = ["evaluate_into", "evaluate_stage_into", "f", "f_with_outputs", "forces_into", "interpolate_inputs", "linkage_angle", "workspace",
            "wrenches_into"]
 
 
@@ -282,6 +282,14 @@ def evaluate_into(t, x, u, p, wout, ws, xdot):
         tau[i] -= bias[i]
     cholesky_solve_into(ws.hmat, tau, ws.low, ws.vec, xdot[n : 2 * n])
     euler_rates_into(q, qd, e[0], xdot[:n])
+
+
+evaluate_stage_into = evaluate_into
+"""The right-hand side at an inner stage of a step (the second to fourth of
+:func:`~trikedyn.simulate.integrator.etd_step`): :func:`evaluate_into`'s arguments and results, except that
+``ws.low`` need not hold the factor of the mass matrix afterwards (only the first stage's factor is read, by
+the exponential blocks). Here the same function (the Cholesky factor is the solve's by-product); the
+generated kernels (:mod:`trikedyn.simulate.specialised`) bind a right-hand side that skips storing it."""
 
 
 @jit

@@ -49,7 +49,7 @@ DEFAULT_LANES = 8
 _COPIED = (advance_lane, batch_loop)
 """The batch functions compiled again on the generated kernels (:func:`batch_source`)."""
 
-_REBOUND = {"evaluate_into", "spin_slip_blocks", "etd_step", "rk4_loop", *(f.__name__ for f in _COPIED)}
+_REBOUND = {"evaluate_into", "evaluate_stage_into", "spin_slip_blocks", "etd_step", "rk4_loop", *(f.__name__ for f in _COPIED)}
 """Globals the generated module defines itself."""
 
 _LOCK = threading.Lock()

@@ -45,17 +45,24 @@ WHEEL_CHANNELS = {
 """Per-wheel channels (``<wheel>_<name>``) and the :data:`~trikedyn.model.packing.WHEEL_OUT` field of each."""
 
 
-@jit
+@jit(inline="always")
 def point_motion(state, deriv, point, n):
-    """Velocity and classical acceleration [m/s, m/s^2] of a point fixed in the chassis, chassis axes.
+    """Velocity and classical acceleration [m/s, m/s^2] of a point fixed in the chassis, chassis axes, as six
+    floats ``(vx, vy, vz, ax, ay, az)`` (no allocation: it runs once per recorded sample).
 
     With the chassis' body-frame velocity ``(w, v)`` and its rate: ``v_p = v + w x p`` and
     ``a_p = dv/dt + dw/dt x p + w x v_p``.
     """
-    w = state[n : n + 3]
-    vp = state[n + 3 : n + 6] + np.cross(w, point)
-    ap = deriv[n + 3 : n + 6] + np.cross(deriv[n : n + 3], point) + np.cross(w, vp)
-    return vp, ap
+    w0, w1, w2 = state[n], state[n + 1], state[n + 2]
+    d0, d1, d2 = deriv[n], deriv[n + 1], deriv[n + 2]
+    p0, p1, p2 = point[0], point[1], point[2]
+    v0 = state[n + 3] + (w1 * p2 - w2 * p1)
+    v1 = state[n + 4] + (w2 * p0 - w0 * p2)
+    v2 = state[n + 5] + (w0 * p1 - w1 * p0)
+    a0 = deriv[n + 3] + (d1 * p2 - d2 * p1) + (w1 * v2 - w2 * v1)
+    a1 = deriv[n + 4] + (d2 * p0 - d0 * p2) + (w2 * v0 - w0 * v2)
+    a2 = deriv[n + 5] + (d0 * p1 - d1 * p0) + (w0 * v1 - w1 * v0)
+    return v0, v1, v2, a0, a1, a2
 
 
 @jit
@@ -83,12 +90,14 @@ def compute_channels(states, derivs, cg, steer_index, n):
     base = np.empty((m, 17))
     for i in range(m):
         x = states[i]
-        vc, ac = point_motion(x, derivs[i], cg, n)
-        base[i, 0:6] = x[0:6]
-        base[i, 6:9] = x[n : n + 3]
-        base[i, 9:12] = vc
-        base[i, 12:15] = ac
-        base[i, 15] = np.sqrt(vc[0] * vc[0] + vc[1] * vc[1])
+        v0, v1, v2, a0, a1, a2 = point_motion(x, derivs[i], cg, n)
+        for k in range(6):
+            base[i, k] = x[k]
+        for k in range(3):
+            base[i, 6 + k] = x[n + k]
+        base[i, 9], base[i, 10], base[i, 11] = v0, v1, v2
+        base[i, 12], base[i, 13], base[i, 14] = a0, a1, a2
+        base[i, 15] = np.sqrt(v0 * v0 + v1 * v1)
         base[i, 16] = x[5 + steer_index] if steer_index > 0 else 0.0
     return base
 
@@ -122,17 +131,17 @@ def imu_readings(states, derivs, sensor, gravity, n):
     out = np.empty((m, 9))
     for i in range(m):
         x = states[i]
-        w = x[n : n + 3]
-        _, acc = point_motion(x, derivs[i], sensor, n)
+        _, _, _, a0, a1, a2 = point_motion(x, derivs[i], sensor, n)
         cr, sr = np.cos(x[3]), np.sin(x[3])
         cp, sp = np.cos(x[4]), np.sin(x[4])
         # gravity (0, 0, -g) in chassis axes: R^T (0, 0, -g) = -g (third row of R)
         gx = gravity * sp
         gy = -gravity * cp * sr
         gz = -gravity * cp * cr
-        out[i, 0] = acc[0] - gx
-        out[i, 1] = acc[1] - gy
-        out[i, 2] = acc[2] - gz
-        out[i, 3:6] = w
-        out[i, 6:9] = x[3:6]
+        out[i, 0] = a0 - gx
+        out[i, 1] = a1 - gy
+        out[i, 2] = a2 - gz
+        for k in range(3):
+            out[i, 3 + k] = x[n + k]
+            out[i, 6 + k] = x[3 + k]
     return out

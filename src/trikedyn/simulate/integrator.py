@@ -16,7 +16,7 @@ import numpy as np
 from .._jit import jit
 from ..driver.preview import DRIVER_STATE, driver_step, open_loop_driver
 from ..model.packing import WHEEL_OUT
-from ..model.rhs import evaluate_into, interpolate_inputs, workspace
+from ..model.rhs import evaluate_into, evaluate_stage_into, interpolate_inputs, workspace
 from .defaults import DEFAULT_DT_S
 from .exponential import (
     BLOCK_WIDTH,
@@ -63,7 +63,8 @@ def near_a_stop(x, p, n, dt):
 @jit(inline="always")
 def etd_step(x, t, h, k1, u, p, closed, inputs, wout, ws, xs, k2, k3, k4, scratch, idx, mat, fn, exponential):
     """One step of ``h`` [s] from ``x`` at ``t`` (``k1 = f(t, x)`` evaluated, ``wout`` and the factor of the
-    mass matrix in ``ws.low`` from it), in place; False when the new state is not finite.
+    mass matrix in ``ws.low`` from it), in place; False when the new state is not finite. The other three
+    stages are :func:`~trikedyn.model.rhs.evaluate_stage_into` (their factor of the mass matrix is not read).
 
     ETDRK4 about ``x`` with the wheels' spin-slip pairs exact (:mod:`trikedyn.simulate.exponential`), on the
     entries outside the blocks classical RK4 (and everywhere without ``exponential``).
@@ -77,19 +78,19 @@ def etd_step(x, t, h, k1, u, p, closed, inputs, wout, ws, xs, k2, k3, k4, scratc
     stage_pairs(fn, idx, m, x, k1, half, xs)
     if not closed:
         u[0], u[1], u[2] = interpolate_inputs(t + half, inputs)
-    evaluate_into(t + half, xs, u, p, wout, ws, k2)
+    evaluate_stage_into(t + half, xs, u, p, wout, ws, k2)
     subtract_blocks(mat, idx, m, xs, x, k2)
     for i in range(nx):  # b = x + h/2 phi1(hL/2) N_a
         xs[i] = x[i] + half * k2[i]
     stage_pairs(fn, idx, m, x, k2, half, xs)
-    evaluate_into(t + half, xs, u, p, wout, ws, k3)
+    evaluate_stage_into(t + half, xs, u, p, wout, ws, k3)
     subtract_blocks(mat, idx, m, xs, x, k3)
     for i in range(nx):  # c = x + exp(hL/2) (a - x) + h/2 phi1(hL/2) (2 N_b - N_n)
         xs[i] = x[i] + h * k3[i]
     third_stage_pairs(fn, idx, m, x, k1, k3, half, xs)
     if not closed:
         u[0], u[1], u[2] = interpolate_inputs(t + h, inputs)
-    evaluate_into(t + h, xs, u, p, wout, ws, k4)
+    evaluate_stage_into(t + h, xs, u, p, wout, ws, k4)
     subtract_blocks(mat, idx, m, xs, x, k4)
     # x + h (W1 N_n + W2 (N_a + N_b) + W3 N_c), the weights 1/6, 1/3, 1/6 outside the blocks
     for i in range(nx):
