@@ -131,6 +131,34 @@ def test_inverse_mass_diagonal_from_the_generated_factor(model):
         assert np.max(np.abs(got - expected) / expected) < 1e-10
 
 
+def test_the_stage_right_hand_side_equals_the_full_one(model):
+    """``evaluate_stage_into`` (inner RK stages, no factor kept) gives ``evaluate_into``'s derivative and wheel
+    outputs bit for bit on random states; it leaves the workspace's factor as it found it."""
+    from trikedyn.model.packing import WHEEL_OUT
+    from trikedyn.model.rhs import workspace
+    from trikedyn.model.statics import rolling_state, static_equilibrium
+
+    p = model.plant
+    module = loop_module(p)
+    x0 = rolling_state(model, static_equilibrium(model), 30 / 3.6)
+    rng = np.random.default_rng(11)
+    nw = p.wheels.shape[0]
+    for _ in range(5):
+        x = x0 + rng.normal(0.0, 1e-3, x0.size)
+        u = np.array([rng.normal(0.0, 0.05), rng.normal(0.0, 30.0), 0.0])
+        outs = []
+        for evaluate in (module.evaluate_into, module.evaluate_stage_into):
+            ws, wout, xdot = workspace(p.parent), np.zeros(nw, WHEEL_OUT), np.empty(x.size)
+            ws.low[:] = 7.0
+            evaluate(0.0, x, u, p, wout, ws, xdot)
+            outs.append((xdot, wout, ws.low.copy()))
+        (full, wfull, low_full), (stage, wstage, low_stage) = outs
+        assert np.all(np.isfinite(full))
+        assert np.array_equal(full, stage)
+        assert all(np.array_equal(wfull[name], wstage[name]) for name in WHEEL_OUT.names)
+        assert not np.all(low_full == 7.0) and np.all(low_stage == 7.0)
+
+
 _PROBE = textwrap.dedent("""
     import json
     import trikedyn as td
