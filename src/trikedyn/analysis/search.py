@@ -195,6 +195,9 @@ def seed_speed(params, manoeuvre) -> float | None:
 def predicted_crossing(probes: list[Probe], weight: float = 1.0) -> float | None:
     """Lowest predicted zero of the margin table's entries [km/h] (see the module docstring), or None.
 
+    All entries are predicted at once (:func:`_crossings`); each gets the value the per-entry rule
+    :func:`_crossing` gives it, to the last bit (a table that is not of float64 goes entry by entry).
+
     Parameters
     ----------
     probes : list of Probe
@@ -216,13 +219,22 @@ def predicted_crossing(probes: list[Probe], weight: float = 1.0) -> float | None
     v2 = np.array([p.speed_kmh for p in order]) ** 2
     table = _neighbourhood(np.stack([p.margins for p in order]), SPAN)  # (runs, wheels, stretches)
     static = next((p.static_N for p in order if p.static_N is not None), None)
-    best = math.inf
-    for w in range(shape[0]):
-        for b in range(shape[1]):
-            m = table[:, w, b]
-            z = _crossing(v2, m, None if static is None else float(static[w]), weight)
-            if z is not None:
-                best = min(best, z)
+    if table.dtype != np.float64 or table.ndim != 3 or v2.dtype != np.float64:
+        best = math.inf
+        for w in range(shape[0]):
+            for b in range(shape[1]):
+                z = _crossing(v2, table[:, w, b], None if static is None else float(static[w]), weight)
+                if z is not None:
+                    best = min(best, z)
+        return math.sqrt(best) if math.isfinite(best) and best > 0 else None
+    runs, wheels, stretches = table.shape
+    if static is None or not stretches:
+        anchor = None
+    else:  # each wheel's static load [N], once per stretch
+        anchor = np.repeat(np.array([float(static[w]) for w in range(wheels)]), stretches)
+    z = _crossings(v2, table.reshape(runs, wheels * stretches), anchor, weight)
+    z = z[z < math.inf]  # None (NaN) and +inf never lower the minimum
+    best = z.min() if z.size else math.inf
     return math.sqrt(best) if math.isfinite(best) and best > 0 else None
 
 
@@ -232,13 +244,16 @@ def _neighbourhood(table: np.ndarray, span: int) -> np.ndarray:
     (NaN) when a neighbour is unknown, unless a known neighbour is already negative."""
     if span <= 0:
         return table
-    n = table.shape[-1]
+    finite = np.isfinite(table)
+    values = np.where(finite, table, np.inf)
+    low, known = values.copy(), finite.copy()
+    for k in range(1, min(span, table.shape[-1] - 1) + 1):  # the neighbours k stretches before and after
+        np.minimum(low[..., k:], values[..., :-k], out=low[..., k:])
+        np.minimum(low[..., :-k], values[..., k:], out=low[..., :-k])
+        known[..., k:] &= finite[..., :-k]
+        known[..., :-k] &= finite[..., k:]
     out = np.empty_like(table)
-    for b in range(n):
-        part = table[..., max(0, b - span): b + span + 1]
-        low = np.where(np.isfinite(part), part, np.inf).min(axis=-1)
-        unknown = ~np.isfinite(part).all(axis=-1) & ~(low <= 0)
-        out[..., b] = np.where(unknown | ~np.isfinite(low), np.nan, low)
+    out[...] = np.where(~known & ~(low <= 0) | ~np.isfinite(low), np.nan, low)
     return out
 
 
@@ -270,6 +285,49 @@ def _crossing(v2: np.ndarray, m: np.ndarray, static: float | None, weight: float
     if pos.size >= 2 and line is not None and line < vc:  # two passes foresee it before the failure
         return line
     return vb + mb * (vc - vb) / (mb - mc)  # regula falsi to the nearest failure
+
+
+def _crossings(v2: np.ndarray, m: np.ndarray, static: np.ndarray | None, weight: float) -> np.ndarray:
+    """:func:`_crossing` of every entry at once: ``m`` [N] is (runs, entries) of float64, ``static`` [N]
+    one load per entry or None; NaN where :func:`_crossing` gives None. Each branch is taken where
+    :func:`_crossing` takes it, with the same operations in the same order."""
+    runs, entries = m.shape
+    cols = np.arange(entries)
+    known = np.isfinite(m)
+    passing = known & (m > 0)
+    count = np.cumsum(passing, axis=0)
+    npos = count[-1]
+    ib = np.argmax(passing & (count == npos), axis=0)  # the highest pass (where there is one)
+    ia = np.argmax(passing & (count == npos - 1), axis=0)  # the one below it (where there are two)
+    anchor = np.zeros(entries, bool) if static is None else static > 0
+    s = np.zeros(entries) if static is None else static
+    z = np.full(entries, np.nan)
+    with np.errstate(all="ignore"):  # every branch is evaluated on every entry; only its own are kept
+        # failures only: the secant from the static load at v = 0
+        first = np.argmax(known, axis=0)
+        only = (npos == 0) & known[first, cols] & anchor
+        mf = m[first, cols]
+        z[only] = (v2[first] * s / (s - weight * mf))[only]
+        # the line through the two highest passes, or from the static load, where it falls
+        vb, mb = v2[ib], m[ib, cols]
+        two = npos >= 2
+        from_static = ~two & anchor & (vb > 0)
+        va = np.where(two, v2[ia], np.where(from_static, 0.0, vb))
+        ma = np.where(two, m[ia, cols], np.where(from_static, s, mb))
+        falling = (ma > mb) & (vb > va)
+        line = vb + mb * (vb - va) / (ma - mb)
+        # the nearest failure above the highest pass
+        failing = known & (m <= 0) & (v2[:, None] > vb)
+        ic = np.argmax(failing, axis=0)
+        fails = failing[ic, cols]
+        vc, mc = v2[ic], weight * m[ic, cols]
+        secant = vb + mb * (vc - vb) / (mb - mc)
+        some = npos > 0
+        use_line = some & falling & (~fails | two & (line < vc))
+        z[use_line] = line[use_line]
+        use_secant = some & fails & ~(two & falling & (line < vc))
+        z[use_secant] = secant[use_secant]
+    return z
 
 
 # ------------------------------------------------------------------------------------------------------------
