@@ -11,7 +11,9 @@ tree structure (:class:`~trikedyn.model.codegen.TreeStructure`) this module writ
   measured no faster: 0.418 against 0.408 us), then the Euler rates: the generic :func:`~trikedyn.model.rhs.evaluate_into` with
   its kinematics and dynamics replaced; and ``evaluate_stage_into``, the same on ``forward_dynamics_into``
   (no factor kept: the inner stages of a step, whose factor nobody reads; storing it cost ~0.19 us of the
-  dynamics' 0.52 us, three times a step);
+  dynamics' 0.52 us, three times a step); both inlined where the loop calls them (numba passes a tuple
+  argument's every array member by member, and ``p`` and ``ws`` are tuples of arrays: the loop ran 9-11 %
+  faster inlined, identical to the last bit, for 1-6 s more of its ~45 s cold compile per tree structure);
 * ``spin_slip_blocks`` bound to :func:`~trikedyn.simulate.exponential.spin_slip_blocks_ltdl` (the
   exponential integrator's ``(H^-1)_ss`` from that factor);
 * the source of :func:`~trikedyn.simulate.integrator.etd_step` and :func:`~trikedyn.simulate.integrator.rk4_loop`
@@ -54,7 +56,7 @@ _GLUE = '''
 # ---- the right-hand side and the loop on these kernels (trikedyn.simulate.specialised) ----------------
 
 
-@jit
+@jit(inline="always")
 def evaluate_into(t, x, u, p, wout, ws, xdot):
     """``xdot = f(t, x, u, p)``: the generated kinematics, the forces of :func:`trikedyn.model.rhs.wrenches_into`,
     then ``du/dt`` by the generated kernel (its ``L^T D L`` factor into ``ws.low``), then ``dq/dt``."""
@@ -67,7 +69,7 @@ def evaluate_into(t, x, u, p, wout, ws, xdot):
     euler_rates_into(q, qd, ws.e[0], xdot[:N_DOF])
 
 
-@jit
+@jit(inline="always")
 def evaluate_stage_into(t, x, u, p, wout, ws, xdot):
     """``evaluate_into`` without storing the factor of the mass matrix (an inner stage of a step: only the
     first stage's factor is read)."""
