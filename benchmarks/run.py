@@ -27,8 +27,9 @@ from trikedyn.model.statics import rolling_state, static_equilibrium  # noqa: E4
 from trikedyn.model.vehicle import build_model  # noqa: E402
 from trikedyn.params import load_vehicle  # noqa: E402
 from trikedyn.simulate import DEFAULT_DT_S  # noqa: E402
-from trikedyn.simulate.integrator import OPEN_LOOP, rk4_loop  # noqa: E402
+from trikedyn.simulate.integrator import OPEN_LOOP  # noqa: E402
 from trikedyn.simulate.run import input_table, simulate, stop_step  # noqa: E402
+from trikedyn.simulate.specialised import kernel_choice, time_loop  # noqa: E402
 
 REPEATS = 7
 
@@ -62,6 +63,7 @@ def bench_sine_steer() -> dict:
     x0 = rolling_state(model, eq, 30 / 3.6)
     dt = DEFAULT_DT_S  # the default step (exponential RK4, trikedyn.simulate.exponential)
     inputs = input_table(duration, dt, sine_steer, 50.0)
+    rk4_loop = time_loop(model.plant)  # the loop the run took: the kernels generated for the tree by default
     loop = best_of(lambda: rk4_loop(x0, 0.0, dt, int(duration / dt), 2, inputs, *OPEN_LOOP, model.plant, True,
                                     stop_step(model)[0]))
     per_eval = loop / (4 * int(duration / dt))  # four stages a step, with the step's other work shared out
@@ -101,6 +103,7 @@ def bench_threshold() -> dict:
 
     from trikedyn.analysis.threshold import threshold_velocity
     from trikedyn.params import override, scale_suspension, with_freight
+    from trikedyn.study.scenarios import expand
     from trikedyn.study.spec import load_spec
 
     model = build_model(load_vehicle("reference-etrike"))
@@ -118,7 +121,7 @@ def bench_threshold() -> dict:
                                                  "criterion": r.criterion}
     spec = load_spec("paper")
     base = spec.load_vehicle()
-    scenarios = spec.scenarios()
+    scenarios = list(expand(spec))
     models = []
     for s in scenarios:
         pset = scale_suspension(base, stiffness=s["stiffness_scale"], damping=s["damping_scale"])
@@ -133,7 +136,8 @@ def bench_threshold() -> dict:
             found = {}
             for method in per:
                 start = time.perf_counter()
-                r = threshold_velocity(m, s["manoeuvre"], low_kmh=s["low_kmh"], high_kmh=s["high_kmh"],
+                r = threshold_velocity(m, s["manoeuvre"], options=s["manoeuvre_options"] or None,
+                                       low_kmh=s["low_kmh"], high_kmh=s["high_kmh"],
                                        step_kmh=s["step_kmh"], resolution_kmh=s["resolution_kmh"], method=method,
                                        criterion=criterion, speed_control=control)
                 per[method]["wall_s"].append(time.perf_counter() - start)
@@ -226,7 +230,7 @@ def main() -> int:
     out = Path(__file__).with_name("results.json")
     out.write_text(json.dumps(results, indent=2))
     s = results["sine_steer_10s_30kmh"]
-    print(f"sine steer, 10 s at 30 km/h (reference-etrike, dt {s['time_step_s'] * 1e3:g} ms):")
+    print(f"sine steer, 10 s at 30 km/h (reference-etrike, dt {s['time_step_s'] * 1e3:g} ms, {kernel_choice()} kernels):")
     print(f"  end to end  {s['wall_s'] * 1e3:7.1f} ms   real-time factor {s['real_time_factor']:6.0f}")
     print(f"  loop only   {s['loop_wall_s'] * 1e3:7.1f} ms   real-time factor {s['loop_real_time_factor']:6.0f}")
     print(f"  per right-hand-side evaluation, the step's other work included (4 per step) {s['rhs_evaluation_us']:.2f} us")
@@ -261,6 +265,16 @@ def main() -> int:
               f"{p['margin_mean_runs']:.2f}, max {p['margin_max_runs']}{target}), {p['margin_mean_wall_s']:.2f} s per "
               f"search; bisection median {p['bisection_median_runs']:g} runs, {p['bisection_mean_wall_s']:.2f} s; same "
               f"threshold and limit in {p['same_threshold_as_bisection']}/{p['scenarios']}")
+    for kind in ("closed", "open"):
+        b = results[f"batch_{kind}_loop_10s"]
+        print(f"10 s {kind}-loop runs per core-second (target {results['batch_target_runs_per_core_s']}): scalar loop "
+              f"{b['scalar_loop_runs_per_core_s']:.0f} (end to end {b['scalar_end_to_end_runs_per_core_s']:.0f}), lockstep "
+              f"batch of 8 {b['batch_8_loop_runs_per_core_s']:.0f} (end to end {b['batch_8_end_to_end_runs_per_core_s']:.0f})")
+    ts = results["batch_threshold_search"]
+    print(f"threshold searches per core-second ({ts['scenarios']} scenarios of the paper's study; target 40): margin "
+          f"{ts['margin_searches_per_core_s']:.1f} ({ts['margin_mean_runs']:.2f} runs each), batched "
+          f"{ts['batch_searches_per_core_s']:.1f} ({ts['batch_mean_runs']:.2f} runs each); same threshold in "
+          f"{ts['same_threshold']}/{ts['scenarios']}")
     st, rp = results["study_paper_2_workers"], results["reproduce"]
     print(f"built-in study, 2 workers: median {st['wall_s']:.1f} s of {st['runs']} ({st['min_s']:.1f}-{st['max_s']:.1f} s;"
           f" target {st['target_s']:g} s)")
