@@ -37,9 +37,10 @@ from .loop import one_line  # noqa: F401  (re-exported: where the callers find i
 __all__ = ["PRELOAD", "InlineExecutor", "ProcessPool", "check_executor",
            "make_executor", "one_line", "start_pool_server", "worker_count"]
 
-PRELOAD = ("trikedyn.analysis.threshold", "trikedyn.study.designs.runner", "trikedyn.study.metrics")
-"""What the fork server imports before it forks the pool's workers: the simulation (numba, scipy, the model)
-and the study's worker functions."""
+PRELOAD = ("trikedyn.analysis.threshold", "trikedyn.study.designs.runner", "trikedyn.study.metrics",
+           "trikedyn.study.engine.warm")
+"""What the fork server imports before it forks the pool's workers: the simulation (numba, scipy, the model),
+the study's worker functions, and numba's compiler contexts set up (:mod:`trikedyn.study.engine.warm`)."""
 
 
 def _wait_for_exit(pid: int) -> None:
