@@ -187,8 +187,9 @@ def criterion_rows(result, verdict, criterion: str, judging, bins: int = BINS) -
             and window.any():
         from ..manoeuvres.judging import cone_clearance
 
-        clearance = cone_clearance(man.path, time, result["x_m"], result["y_m"], result["yaw_rad"],
-                                   tuple(result.meta["footprint_m"]))
+        clearance = np.full(time.size, np.nan)  # only the window's samples are read: only they are computed
+        clearance[window] = cone_clearance(man.path, time[window], result["x_m"][window], result["y_m"][window],
+                                           result["yaw_rad"][window], tuple(result.meta["footprint_m"]))
         rows[3] = _row(np.where(np.isfinite(clearance), clearance, np.nan), window, column, bins)
     return rows, anchors
 

@@ -74,23 +74,10 @@ def cone_strikes(
     cones = path.cones
     if cones.shape[0] == 0 or t.size == 0:
         return []
-    c, s = np.cos(yaw), np.sin(yaw)
-    first = np.full(cones.shape[0], -1, dtype=np.int64)
-    chunk = max(1, 2_000_000 // cones.shape[0])
-    for start in range(0, t.size, chunk):
-        sl = slice(start, start + chunk)
-        dx = cones[None, :, 0] - x[sl, None]
-        dy = cones[None, :, 1] - y[sl, None]
-        bx = c[sl, None] * dx + s[sl, None] * dy  # cone centre in vehicle axes
-        by = -s[sl, None] * dx + c[sl, None] * dy
-        ex = bx - np.clip(bx, x_rear, x_front)
-        ey = by - np.clip(by, -half_width, half_width)
-        hit = ex * ex + ey * ey <= r * r
-        new = hit.any(axis=0) & (first < 0)
-        if np.any(new):
-            first[new] = start + np.argmax(hit[:, new], axis=0)
-        if np.all(first >= 0):
-            break
+    from ._cones import first_contacts
+
+    first = first_contacts(x, y, np.cos(yaw), np.sin(yaw), np.ascontiguousarray(cones, dtype=np.float64),
+                           x_rear, x_front, half_width, r)
     struck = np.flatnonzero(first >= 0)
     order = struck[np.argsort(first[struck], kind="stable")]
     return [
@@ -129,20 +116,10 @@ def cone_clearance(path: Path, time_s, x_m, y_m, yaw_rad, footprint, *,
     out = np.full(t.size, np.inf)
     if cones.shape[0] == 0 or t.size == 0:
         return out
-    c, s = np.cos(yaw), np.sin(yaw)
-    chunk = max(1, 2_000_000 // cones.shape[0])
-    for start in range(0, t.size, chunk):
-        sl = slice(start, start + chunk)
-        dx = cones[None, :, 0] - x[sl, None]
-        dy = cones[None, :, 1] - y[sl, None]
-        bx = c[sl, None] * dx + s[sl, None] * dy  # cone centre in vehicle axes
-        by = -s[sl, None] * dx + c[sl, None] * dy
-        ex = bx - np.clip(bx, x_rear, x_front)
-        ey = by - np.clip(by, -half_width, half_width)
-        outside = np.hypot(ex, ey)
-        depth = np.minimum(np.minimum(bx - x_rear, x_front - bx), np.minimum(by + half_width, half_width - by))
-        signed = np.where((ex == 0.0) & (ey == 0.0), -depth, outside)
-        out[sl] = signed.min(axis=1) - r
+    from ._cones import nearest_clearance
+
+    out = nearest_clearance(x, y, np.cos(yaw), np.sin(yaw), np.ascontiguousarray(cones, dtype=np.float64),
+                            x_rear, x_front, half_width, r)
     return out
 
 

@@ -1,0 +1,119 @@
+"""The footprint-to-cone geometry of :func:`~trikedyn.manoeuvres.judging.cone_strikes` and
+:func:`~trikedyn.manoeuvres.judging.cone_clearance`, compiled (imported lazily: loading the manoeuvres does not
+load numba).
+
+Per sample and cone, the same IEEE operations in the same order as the array expressions they replace
+(``tests/manoeuvres/test_cones.py`` holds those as the reference), without their ``(samples, cones)``
+temporaries: equal to the last bit. The cosine and sine of the yaw come in computed by numpy, whose
+vectorised ``cos`` may round differently from the C library's.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._jit import jit
+
+
+@jit(inline="always")
+def _in_vehicle_axes(cx, cy, x, y, c, s):
+    """A cone centre ``(cx, cy)`` [m] in the axes of a vehicle at ``(x, y)`` [m] with heading cosine and sine
+    ``c``, ``s``."""
+    dx = cx - x
+    dy = cy - y
+    return c * dx + s * dy, -s * dx + c * dy
+
+
+@jit(inline="always")
+def _clip(value, lo, hi):
+    """``numpy.clip`` of one float (NaN stays NaN)."""
+    if value < lo:
+        return lo
+    if value > hi:
+        return hi
+    return value
+
+
+@jit
+def first_contacts(x, y, c, s, cones, x_rear, x_front, half_width, radius):
+    """Index of the first sample at which each cone's base circle overlaps the footprint rectangle (-1: never).
+
+    Parameters
+    ----------
+    x, y : numpy.ndarray
+        Position of the vehicle reference point at each sample [m].
+    c, s : numpy.ndarray
+        Cosine and sine of its yaw angle at each sample.
+    cones : numpy.ndarray, shape (n, 2)
+        Cone centres [m].
+    x_rear, x_front, half_width : float
+        The rectangle in vehicle axes [m].
+    radius : float
+        Cone base radius [m].
+
+    Returns
+    -------
+    numpy.ndarray of int64, shape (n,)
+        Sample index of the first contact, -1 for a cone never touched.
+    """
+    n = cones.shape[0]
+    first = np.full(n, -1, dtype=np.int64)
+    left = n
+    r2 = radius * radius
+    for k in range(x.size):
+        if left == 0:
+            break
+        for j in range(n):
+            if first[j] >= 0:
+                continue
+            bx, by = _in_vehicle_axes(cones[j, 0], cones[j, 1], x[k], y[k], c[k], s[k])
+            ex = bx - _clip(bx, x_rear, x_front)
+            ey = by - _clip(by, -half_width, half_width)
+            if ex * ex + ey * ey <= r2:
+                first[j] = k
+                left -= 1
+    return first
+
+
+@jit
+def nearest_clearance(x, y, c, s, cones, x_rear, x_front, half_width, radius):
+    """Signed clearance [m] between the footprint rectangle and the nearest cone at each sample.
+
+    Parameters
+    ----------
+    x, y : numpy.ndarray
+        Position of the vehicle reference point at each sample [m].
+    c, s : numpy.ndarray
+        Cosine and sine of its yaw angle at each sample.
+    cones : numpy.ndarray, shape (n, 2), n >= 1
+        Cone centres [m].
+    x_rear, x_front, half_width : float
+        The rectangle in vehicle axes [m].
+    radius : float
+        Cone base radius [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        Per sample, the smallest over the cones of the centre's distance to the rectangle (minus its depth
+        inside it) less ``radius`` [m] (the inputs are finite: :func:`~trikedyn.manoeuvres.judging.cone_clearance`
+        checks them).
+    """
+    out = np.empty(x.size)
+    for k in range(x.size):
+        best = np.inf
+        for j in range(cones.shape[0]):
+            bx, by = _in_vehicle_axes(cones[j, 0], cones[j, 1], x[k], y[k], c[k], s[k])
+            ex = bx - _clip(bx, x_rear, x_front)
+            ey = by - _clip(by, -half_width, half_width)
+            if ex == 0.0 and ey == 0.0:
+                depth = min(min(bx - x_rear, x_front - bx), min(by + half_width, half_width - by))
+                signed = -depth
+            else:
+                signed = math.hypot(ex, ey)
+            if signed < best:
+                best = signed
+        out[k] = best - radius
+    return out
