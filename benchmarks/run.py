@@ -20,6 +20,7 @@ from batch import bench_batch  # noqa: E402  (benchmarks/batch.py, issue 25)
 from cluster import bench_cluster  # noqa: E402  (benchmarks/cluster.py, issue 23)
 from cluster import report as report_cluster  # noqa: E402
 from codegen import bench_generated_kernels  # noqa: E402  (benchmarks/codegen.py, issue 25)
+from lanes import bench_lane_kernels  # noqa: E402  (benchmarks/lanes.py, issue 25)
 from step_parts import parts as step_parts  # noqa: E402  (benchmarks/step_parts.py, issue 25)
 
 from trikedyn import __version__  # noqa: E402
@@ -219,6 +220,7 @@ def main() -> int:
     }
     results.update(bench_sine_steer())
     results.update(bench_generated_kernels())
+    results.update(bench_lane_kernels())
     results.update(bench_double_lane_change())
     results["step_parts_reference_etrike_us"] = step_parts("reference-etrike")
     results.update(bench_peer(results))
@@ -236,6 +238,11 @@ def main() -> int:
     print(f"  per right-hand-side evaluation, the step's other work included (4 per step) {s['rhs_evaluation_us']:.2f} us")
     k = results["forward_dynamics_generated_vs_generic"]
     print(f"forward dynamics, generic {k['generic_us']:.2f} us, generated for the tree {k['generated_us']:.2f} us: {k['speedup']:.1f}x")
+    lk = results["lane_kernels"]
+    print(f"lane kernels (not yet in the time loop): scalar generated forward dynamics {lk['scalar_dynamics_us']:.3f} us, "
+          f"kinematics {lk['scalar_kinematics_us']:.3f} us; per lane-evaluation " + ", ".join(
+              f"B={b} {v['dynamics_us']:.3f}/{v['kinematics_us']:.3f} us ({v['dynamics_speedup']:.1f}x/{v['kinematics_speedup']:.1f}x)"
+              for b, v in lk["lanes"].items()))
     d = results["double_lane_change_10s_30kmh"]
     print("closed-loop ISO 3888-1 double lane change, 10 s at 30 km/h:")
     print(f"  end to end  {d['wall_s'] * 1e3:7.1f} ms   real-time factor {d['real_time_factor']:6.0f} (target 1500)")
