@@ -113,7 +113,19 @@ def cone_strikes(result) -> list[dict]:
     -------
     list of dict
         ``time_s``, cone and position [m] of each strike.
+
+    Notes
+    -----
+    Computed once per run (:meth:`~trikedyn.simulate.result.Result.derived`): a threshold search asks for them
+    twice, for the verdict and for the count. Each call returns its own copies.
     """
+    if hasattr(result, "derived"):
+        return [dict(strike) for strike in result.derived("cone_strikes", lambda: _cone_strikes(result))]
+    return _cone_strikes(result)
+
+
+def _cone_strikes(result) -> list[dict]:
+    """:func:`cone_strikes`, computed."""
     man = result.manoeuvre
     if man is None or man.path is None or not len(man.path.cones):
         return []

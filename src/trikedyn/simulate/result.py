@@ -111,6 +111,32 @@ class Result:
         object.__setattr__(self, "channels", MappingProxyType(dict(self.channels)))
         for array in (self.time_s, self.states, *self.channels.values()):
             array.setflags(write=False)
+        object.__setattr__(self, "_derived", {})
+
+    def derived(self, key: str, compute):
+        """A figure derived from this run, computed once: ``compute()`` the first time ``key`` is asked for, the
+        kept value after.
+
+        Judging a run asks for some figures more than once (a threshold search's verdict and its count of cone
+        strikes both need the cones struck, :func:`trikedyn.analysis.window.cone_strikes`); the run is
+        immutable, so each is computed once. The channels stay as they are.
+
+        Parameters
+        ----------
+        key : str
+            The figure's name; ``compute`` must depend on this run alone.
+        compute : callable
+            ``compute()`` returns the figure.
+
+        Returns
+        -------
+        object
+            The figure (shared between callers: do not modify it).
+        """
+        kept = self.__dict__.setdefault("_derived", {})  # setdefault: a result unpickled from before the memo
+        if key not in kept:
+            kept[key] = compute()
+        return kept[key]
 
     @property
     def success(self) -> bool:
