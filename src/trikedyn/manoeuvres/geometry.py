@@ -278,26 +278,13 @@ class Path:
         return self._foot(idx, px, py)
 
     def _foot(self, i: np.ndarray, px: np.ndarray, py: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Refine the nearest points ``i`` on their two adjacent segments: arc length and signed offset."""
-        n = self.x_m.size
-        best_s = np.empty_like(px)
-        best_off = np.empty_like(px)
-        best_d2 = np.full_like(px, np.inf)
-        for a in (np.maximum(i - 1, 0), np.minimum(i, n - 2)):
-            b = a + 1
-            ex = self.x_m[b] - self.x_m[a]
-            ey = self.y_m[b] - self.y_m[a]
-            seg = np.hypot(ex, ey)
-            ux, uy = ex / seg, ey / seg
-            rx, ry = px - self.x_m[a], py - self.y_m[a]
-            along = rx * ux + ry * uy
-            t = np.clip(along / seg, 0.0, 1.0)
-            d2 = (rx - t * ex) ** 2 + (ry - t * ey) ** 2
-            better = d2 < best_d2
-            best_d2 = np.where(better, d2, best_d2)
-            best_s = np.where(better, self.s_m[a] + t * (self.s_m[b] - self.s_m[a]), best_s)
-            best_off = np.where(better, ux * ry - uy * rx, best_off)
-        return best_s, best_off
+        """Refine the nearest points ``i`` on their two adjacent segments: arc length and signed offset
+        (:func:`~trikedyn.manoeuvres._nearest.feet`)."""
+        from ._nearest import feet
+
+        return feet(np.ascontiguousarray(self.x_m, dtype=np.float64), np.ascontiguousarray(self.y_m, dtype=np.float64),
+                    np.ascontiguousarray(self.s_m, dtype=np.float64), np.ascontiguousarray(i, dtype=np.int64),
+                    np.ascontiguousarray(px, dtype=np.float64), np.ascontiguousarray(py, dtype=np.float64))
 
 
 # --------------------------------------------------------------------------------------------------------------
