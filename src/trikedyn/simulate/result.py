@@ -211,11 +211,14 @@ class Result:
         Result
             The result.
         """
-        channels = {name: base[:, i].copy() for i, name in enumerate(BASE_CHANNELS)}
+        # one transposed copy per block, each channel a contiguous row of it (not a copy per strided column)
+        rows = base.T.copy()
+        channels = {name: rows[i] for i, name in enumerate(BASE_CHANNELS)}
         names = model.wheel_names
+        per_wheel = {field_name: wheels[field_name].T.copy() for field_name in WHEEL_CHANNELS.values()}
         for k, wname in enumerate(names):
             for quantity, field_name in WHEEL_CHANNELS.items():
-                channels[f"{wname}_{quantity}"] = wheels[field_name][:, k].copy()
+                channels[f"{wname}_{quantity}"] = per_wheel[field_name][k]
         fz = wheels["fz"]
         ys = np.array([w.y_m for w in (model.params.wheel(n) for n in names)])
         pair = [k for k, n in enumerate(names) if not model.params.wheel(n).steered] if model.params.layout == "delta" \
@@ -225,11 +228,11 @@ class Result:
         channels["ri"] = rollover_index(fz[:, right], fz[:, left])
         channels["ltr"] = load_transfer_ratio(fz[:, ys < 0].sum(axis=1), fz[:, ys > 0].sum(axis=1))
         channels["min_wheel_load_N"] = fz.min(axis=1)
+        rows = imu.T.copy()
         for j, name in enumerate(IMU_CHANNELS):
-            channels[f"imu_{name}"] = imu[:, j].copy()
-        channels["steer_cmd_rad"] = commands[:, 0].copy()
-        channels["drive_torque_Nm"] = commands[:, 1].copy()
-        channels["brake_torque_Nm"] = commands[:, 2].copy()
+            channels[f"imu_{name}"] = rows[j]
+        rows = commands[:, :3].T.copy()
+        channels["steer_cmd_rad"], channels["drive_torque_Nm"], channels["brake_torque_Nm"] = rows
         channels.update(extra or {})
         info = {"vehicle": model.params.name, "dt_s": dt, "wheels": list(names), "left": names[left],
                 "right": names[right], **(meta or {})}
