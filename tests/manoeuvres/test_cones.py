@@ -81,3 +81,24 @@ def test_a_cone_inside_the_footprint_has_a_negative_clearance_by_its_depth():
     np.testing.assert_array_equal(got, _reference_clearance(path, x, y, yaw, FOOTPRINT), strict=True)
     assert np.all(got[: cx.size] < -CONE_RADIUS_M)
     assert cone_strikes(path, t, x, y, yaw, FOOTPRINT) == _reference_strikes(path, t, x, y, yaw, FOOTPRINT)
+
+
+@pytest.mark.parametrize("path", [double_lane_change(1.25), single_lane_change()], ids=["dlc", "slc"])
+def test_near_ties_between_cones_keep_the_nearest_to_the_last_bit(path):
+    """The kernel takes ``hypot`` only for cones near the smallest squared distance: positions midway between
+    two cones (the lane's two limits), nudged by a few units in the last place, against the reference."""
+    cones = path.cones
+    a, b = np.triu_indices(cones.shape[0], 1)
+    mid_x = 0.5 * (cones[a, 0] + cones[b, 0])
+    mid_y = 0.5 * (cones[a, 1] + cones[b, 1])
+    x, y = [], []
+    for steps in range(-3, 4):
+        x.append(mid_x - 1.0 + steps * np.spacing(mid_x))  # the rectangle spans x - 0.4 .. x + 2.6
+        y.append(mid_y + steps * np.spacing(np.abs(mid_y) + 1.0))
+    x, y = np.concatenate(x), np.concatenate(y)
+    yaw = np.zeros_like(x)
+    t = np.arange(x.size) * 0.01
+    narrow = (-0.4, 2.6, 0.05)  # a narrow footprint: the cones on both sides are outside it, nearly tied
+    for footprint in (FOOTPRINT, narrow):
+        np.testing.assert_array_equal(cone_clearance(path, t, x, y, yaw, footprint),
+                                      _reference_clearance(path, x, y, yaw, footprint), strict=True)
