@@ -66,13 +66,35 @@ class LaneLayout:
     lanes: int
 
     def shape(self, name: str) -> tuple[int, ...]:
-        """The shape of array ``name`` for one lane."""
+        """The shape of array ``name`` for one lane.
+
+        Parameters
+        ----------
+        name : str
+            One of :data:`LANE_ARRAYS`.
+
+        Returns
+        -------
+        tuple of int
+            Its shape.
+        """
         sizes = {"n": self.n_bodies + 5, "nb": self.n_bodies}
         spec = dict(LANE_ARRAYS)[name]
         return tuple(sizes[d] if d in sizes else int(d) for d in spec.split(","))
 
     def start(self, name: str) -> int:
-        """The first row of array ``name``."""
+        """The first row of array ``name``.
+
+        Parameters
+        ----------
+        name : str
+            One of :data:`LANE_ARRAYS`.
+
+        Returns
+        -------
+        int
+            The row (the entry ``row * lanes`` of the buffer is lane 0's).
+        """
         row = 0
         for other, _ in LANE_ARRAYS:
             if other == name:
@@ -81,7 +103,20 @@ class LaneLayout:
         raise KeyError(name)
 
     def row(self, name: str, index: tuple) -> int:
-        """The row of ``name[index]``."""
+        """The row of ``name[index]``.
+
+        Parameters
+        ----------
+        name : str
+            One of :data:`LANE_ARRAYS`.
+        index : tuple of int
+            The entry's index for one lane.
+
+        Returns
+        -------
+        int
+            The row.
+        """
         return self.start(name) + int(np.ravel_multi_index(index, self.shape(name)))
 
     @property
@@ -90,7 +125,13 @@ class LaneLayout:
         return sum(int(np.prod(self.shape(name))) for name, _ in LANE_ARRAYS)
 
     def buffer(self) -> np.ndarray:
-        """A new zeroed buffer, ``rows * lanes`` floats."""
+        """A new zeroed buffer.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``rows * lanes`` floats.
+        """
         return np.zeros(self.rows * self.lanes)
 
     def view(self, buf: np.ndarray, name: str) -> np.ndarray:
