@@ -172,3 +172,19 @@ def test_study_command_runs_and_resumes(capsys, tmp_path):
     spec.write_text(spec.read_text().replace("freight_kg", "freigth_kg"))
     code, _, err = run(capsys, "study", str(spec), "--out", str(out))
     assert code == 2 and "did you mean 'freight_kg'" in err
+
+
+def test_the_console_script_freezes_the_heap_before_it_exits(monkeypatch):
+    """``trikedyn`` exits with the command's code after ``gc.freeze()``: the interpreter's last collection then
+    skips what the command loaded (0.3 s after a threshold search: 0.33-0.55 s of exit against 0.06 s)."""
+    import gc
+
+    from trikedyn import cli
+
+    calls = []
+    monkeypatch.setattr(cli, "main", lambda: calls.append("main") or 3)
+    monkeypatch.setattr(gc, "freeze", lambda: calls.append("freeze"))
+    with pytest.raises(SystemExit) as exit_info:
+        cli._console()
+    assert exit_info.value.code == 3
+    assert calls == ["main", "freeze"]

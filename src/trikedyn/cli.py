@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+import gc
 import json
 import os
 import signal
@@ -337,4 +338,9 @@ def run_command(argv: list[str] | None = None) -> int:
 
 
 def _console():  # pragma: no cover - console-script shim
-    sys.exit(main())
+    code = main()
+    # The command is done: its files are closed and its output is written. At exit the interpreter's last
+    # garbage collection would walk every object the command loaded (numba, scipy, pandas, matplotlib: 0.1-0.15 s
+    # each, 0.3 s after a threshold search); frozen, it skips them and the process ends that much sooner.
+    gc.freeze()
+    sys.exit(code)
