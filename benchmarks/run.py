@@ -240,8 +240,10 @@ def main() -> int:
     print(f"forward dynamics, generic {k['generic_us']:.2f} us, generated for the tree {k['generated_us']:.2f} us: {k['speedup']:.1f}x")
     lk = results["lane_kernels"]
     print(f"lane kernels (not yet in the time loop): scalar generated forward dynamics {lk['scalar_dynamics_us']:.3f} us, "
-          f"kinematics {lk['scalar_kinematics_us']:.3f} us; per lane-evaluation " + ", ".join(
-              f"B={b} {v['dynamics_us']:.3f}/{v['kinematics_us']:.3f} us ({v['dynamics_speedup']:.1f}x/{v['kinematics_speedup']:.1f}x)"
+          f"kinematics {lk['scalar_kinematics_us']:.3f} us, dynamics keeping the factor {lk['scalar_factor_us']:.3f} us; "
+          "per lane-evaluation " + ", ".join(
+              f"B={b} {v['dynamics_us']:.3f}/{v['kinematics_us']:.3f}/{v['factor_us']:.3f} us "
+              f"({v['dynamics_speedup']:.1f}x/{v['kinematics_speedup']:.1f}x/{v['factor_speedup']:.1f}x)"
               for b, v in lk["lanes"].items()))
     d = results["double_lane_change_10s_30kmh"]
     print("closed-loop ISO 3888-1 double lane change, 10 s at 30 km/h:")

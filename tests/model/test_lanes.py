@@ -68,6 +68,26 @@ def test_every_lanes_kinematics_equal_the_scalar_kernel(batch):
             assert rel_err(layout.view(buf, name)[..., lane], value) < 1e-12, name
 
 
+def test_every_lanes_factor_of_the_mass_matrix_equals_the_scalar_kernels(batch):
+    """``forward_dynamics_factor_lanes`` keeps ``L^T D L`` as ``forward_dynamics_factor_into`` does (the entries
+    it writes, to 1e-12 of the largest), and gives the same ``udot`` as ``forward_dynamics_lanes``."""
+    layout, buf, lanes, scalar = batch
+    module = lane_kernels(structure_of(lanes[0][0]), LANES)
+    with_factor = buf.copy()
+    layout.view(with_factor, "low")[...] = np.nan  # the entries it leaves alone stay NaN
+    module.forward_dynamics_factor_lanes(with_factor)
+    assert np.array_equal(layout.view(with_factor, "udot"), layout.view(buf, "udot"))
+    for lane, (tree, q, u, tau, fext) in enumerate(lanes):
+        n = tree.n_dof
+        out, factor = np.empty(n), np.full((n, n), np.nan)
+        scalar.forward_dynamics_factor_into(q, u, tau, fext, tuple(GRAVITY), tree.tree_e, tree.tree_r, tree.mass,
+                                            tree.h, tree.ibar, out, factor)
+        got = layout.view(with_factor, "low")[..., lane]
+        written = ~np.isnan(factor)
+        assert np.array_equal(~np.isnan(got), written)
+        assert np.max(np.abs(got[written] - factor[written])) < 1e-12 * np.max(np.abs(factor[written]))
+
+
 def test_a_lane_whose_mass_matrix_is_not_positive_definite_alone_gives_nan(batch):
     layout, buf, lanes, _ = batch
     tree = lanes[0][0]

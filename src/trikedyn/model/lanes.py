@@ -14,7 +14,8 @@ gives NaN by a select, not a branch.
 Measured on the reference machine (AVX-512, numba from the package registry; ``python benchmarks/lanes.py``,
 two runs): the forward dynamics of the reference e-trike take 0.073-0.094 us per lane-evaluation in a batch of
 8 against 0.38-0.53 us for the scalar generated kernel (5.2-5.6x; 4 lanes 3.3-4.3x, 16 lanes no better than 8),
-the kinematics 0.093 against 0.28 us (3x: they store 264 numbers a lane); the tadpole alike (5.8x, 2.9x). Every
+the kinematics 0.093 against 0.28 us (3x: they store 264 numbers a lane), the dynamics keeping the mass matrix's
+factor 0.070 against 0.491 us (7.0x); the tadpole alike (5.5-5.8x, 2.3-2.9x, 5.7x). Every
 lane equals the scalar kernel to 1e-12 (``tests/model/test_lanes.py``; 3e-16 on random states): only the
 arithmetic of ``sincos`` differs from the scalar kernels' (a last-bit difference in a sine or cosine). The
 time loop does not call them yet: the batch integrator of :mod:`trikedyn.simulate.lockstep` advances each lane
@@ -44,10 +45,12 @@ LANE_ARRAYS = (
     ("q", "n"), ("u", "n"), ("tau", "n"), ("fext", "nb,6"), ("gravity", "3"),
     ("tree_e", "nb,3,3"), ("tree_r", "nb,3"), ("mass", "nb"), ("h", "nb,3"), ("ibar", "nb,3,3"),
     ("udot", "n"), ("e", "nb,3,3"), ("r", "nb,3"), ("ew", "nb,3,3"), ("pw", "nb,3"), ("v", "nb,6"),
+    ("low", "n,n"),
 )
 """The arrays of a lane buffer, in order, with their shapes per lane (``n`` degrees of freedom, ``nb`` bodies):
 the scalar kernels' arguments (coordinates [m, rad], velocities, generalised forces, external wrenches, gravity
-[m/s^2] and the tree's values), ``udot`` (the forward dynamics' output) and the kinematics' outputs."""
+[m/s^2] and the tree's values), ``udot`` (the forward dynamics' output), the kinematics' outputs and ``low``,
+the factor ``H = L^T D L`` of the mass matrix (as the scalar ``forward_dynamics_factor_into`` keeps it)."""
 
 
 @dataclass(frozen=True)
@@ -189,13 +192,39 @@ def _function(name: str, doc: str, layout: LaneLayout, body: str) -> str:
     return (f"\n\n@jit\ndef {name}(buf):\n    \"\"\"{doc}\"\"\"\n    for l in range({layout.lanes}):\n{body}\n")
 
 
+def _dynamics_body(structure: TreeStructure, layout: LaneLayout, with_factor: bool) -> str:
+    """The body of the lane forward dynamics: transforms, RNEA bias, CRBA, the ``L^T D L`` solve (as the scalar
+    kernels' ``_forward_dynamics_lines``); with ``with_factor`` the factor's entries are stored too."""
+    n = len(structure.parent) + 5
+    em = _LaneEmitter(layout)
+    tree = UnrolledTree(structure, em)
+    tree.transforms()
+    bias = tree.rnea([0.0] * n)
+    hmat = tree.crba()
+    rhs = [em.sum(term(em.load("tau", i)), term(-1.0, bias[i])) for i in range(n)]
+    x, pivots, multipliers = tree.solve(hmat, rhs)
+    em.line("dmin = np.inf")
+    for pv in pivots:
+        em.line(f"dmin = min(dmin, {pv})")
+    if with_factor:
+        for k in range(n):
+            em.store("low", (k, k), pivots[k])
+        for (i, j), value in sorted(multipliers.items()):
+            em.store("low", (i, j), value)
+    em.line("definite = dmin > 0.0")
+    for i in range(n):
+        em.store("udot", (i,), f"{x[i]} if definite else np.nan")
+    return _with_sincos(em.lines)
+
+
 def lane_source(structure: TreeStructure, lanes: int) -> str:
     """The source of the lane kernels of ``structure`` over ``lanes`` lanes.
 
     The module defines ``kinematics_lanes(buf)`` (reads ``q``, ``u``, ``tree_e``, ``tree_r``; writes ``e``,
     ``r``, ``ew``, ``pw``, ``v`` as the scalar ``kinematics_into``) and ``forward_dynamics_lanes(buf)``
     (reads ``q``, ``u``, ``tau``, ``fext``, ``gravity`` and the tree's values; writes ``udot``, NaN in a lane
-    whose mass matrix is not positive definite), ``buf`` a :class:`LaneLayout` buffer, and ``LANES``.
+    whose mass matrix is not positive definite) and ``forward_dynamics_factor_lanes(buf)`` (the same, and the
+    mass matrix's factor into ``low``), ``buf`` a :class:`LaneLayout` buffer, and ``LANES``.
 
     Parameters
     ----------
@@ -233,23 +262,14 @@ def lane_source(structure: TreeStructure, lanes: int) -> str:
     kinematics = _function("kinematics_lanes", "Every lane's ``kinematics_into``: ``e``, ``r``, ``ew``, ``pw`` and ``v``.",
                            layout, _with_sincos(em.lines))
 
-    em = _LaneEmitter(layout)
-    tree = UnrolledTree(structure, em)
-    tree.transforms()
-    bias = tree.rnea([0.0] * n)
-    hmat = tree.crba()
-    rhs = [em.sum(term(em.load("tau", i)), term(-1.0, bias[i])) for i in range(n)]
-    x, pivots, _ = tree.solve(hmat, rhs)
-    em.line("dmin = np.inf")
-    for pv in pivots:
-        em.line(f"dmin = min(dmin, {pv})")
-    em.line("definite = dmin > 0.0")
-    for i in range(n):
-        em.store("udot", (i,), f"{x[i]} if definite else np.nan")
     dynamics = _function("forward_dynamics_lanes",
                          "Every lane's ``forward_dynamics_into``: ``udot = H^-1 (tau - C)``, NaN where ``H`` is not "
-                         "positive definite.", layout, _with_sincos(em.lines))
-    return header + kinematics + dynamics
+                         "positive definite.", layout, _dynamics_body(structure, layout, with_factor=False))
+    factor = _function("forward_dynamics_factor_lanes",
+                       "Every lane's ``forward_dynamics_factor_into``: ``forward_dynamics_lanes``, and the factor "
+                       "``H = L^T D L`` into ``low`` (``D`` on the diagonal, ``L_ij`` where ``j`` is an ancestor of "
+                       "``i``, other entries untouched).", layout, _dynamics_body(structure, layout, with_factor=True))
+    return header + kinematics + dynamics + factor
 
 
 def lane_kernels(structure: TreeStructure, lanes: int):
