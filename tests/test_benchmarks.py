@@ -47,11 +47,3 @@ def test_the_threshold_benchmark_walks_the_paper_study(bench_run, monkeypatch):
     # each case, method and scenario once
     assert {c["method"] for c in calls} == {"margin", "bisection"}
 
-
-def test_the_lane_benchmark_checks_lanes_against_the_scalar_kernels(monkeypatch):
-    """``benchmarks/lanes.py`` runs (one pass, B = 8) and its sums agree, as ``make bench`` asserts."""
-    monkeypatch.syspath_prepend(str(BENCHMARKS))
-    lanes = importlib.import_module("lanes")
-    out = lanes.measure("reference-etrike", reps=1, lanes=(8,))
-    assert out["lanes"][8]["dynamics_rel_diff"] < 1e-9 and out["lanes"][8]["kinematics_rel_diff"] < 1e-9
-    assert out["lanes"][8]["dynamics_us"] > 0.0 and out["scalar_dynamics_us"] > 0.0

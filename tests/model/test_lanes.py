@@ -7,6 +7,9 @@ generated kernels' to 1e-12 (relative, max norm). How much faster they are is ``
 
 from __future__ import annotations
 
+import importlib
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -128,3 +131,14 @@ def test_lane_counts_below_one_are_refused():
     tree = build_tree(load_vehicle("reference-etrike").params)
     with pytest.raises(ValueError, match="lanes"):
         lane_kernels(structure_of(tree), 0)
+
+
+def test_the_lane_benchmark_checks_lanes_against_the_scalar_kernels(monkeypatch):
+    """``benchmarks/lanes.py`` runs (one pass, B = 8) and its sums agree, as ``make bench`` asserts (here, in the
+    process that compiled these lane kernels, rather than in ``tests/test_benchmarks.py``'s)."""
+    monkeypatch.syspath_prepend(str(Path(__file__).resolve().parents[2] / "benchmarks"))
+    lanes = importlib.import_module("lanes")
+    out = lanes.measure("reference-etrike", reps=1, lanes=(LANES,))
+    figures = out["lanes"][LANES]
+    assert figures["dynamics_rel_diff"] < 1e-9 and figures["kinematics_rel_diff"] < 1e-9
+    assert figures["dynamics_us"] > 0.0 and figures["factor_us"] > 0.0 and out["scalar_factor_us"] > 0.0
