@@ -46,4 +46,3 @@ def test_the_threshold_benchmark_walks_the_paper_study(bench_run, monkeypatch):
     assert len(calls) == 2 * 4 + 3 * 2 * 50  # the DLC search by both methods (a warm-up and 3 timed), then
     # each case, method and scenario once
     assert {c["method"] for c in calls} == {"margin", "bisection"}
-

@@ -119,9 +119,7 @@ def cone_strikes(result) -> list[dict]:
     Computed once per run (:meth:`~trikedyn.simulate.result.Result.derived`): a threshold search asks for them
     twice, for the verdict and for the count. Each call returns its own copies.
     """
-    if hasattr(result, "derived"):
-        return [dict(strike) for strike in result.derived("cone_strikes", lambda: _cone_strikes(result))]
-    return _cone_strikes(result)
+    return [dict(strike) for strike in result.derived("cone_strikes", lambda: _cone_strikes(result))]
 
 
 def _cone_strikes(result) -> list[dict]:

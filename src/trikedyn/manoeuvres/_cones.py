@@ -36,6 +36,14 @@ def _clip(value, lo, hi):
     return value
 
 
+@jit(inline="always")
+def _outside(cx, cy, x, y, c, s, x_rear, x_front, half_width):
+    """How far a cone centre ``(cx, cy)`` lies outside the footprint rectangle along each vehicle axis [m]
+    (both 0 inside it), and the centre in vehicle axes [m]."""
+    bx, by = _in_vehicle_axes(cx, cy, x, y, c, s)
+    return bx - _clip(bx, x_rear, x_front), by - _clip(by, -half_width, half_width), bx, by
+
+
 @jit
 def first_contacts(x, y, c, s, cones, x_rear, x_front, half_width, radius):
     """Index of the first sample at which each cone's base circle overlaps the footprint rectangle (-1: never).
@@ -68,9 +76,7 @@ def first_contacts(x, y, c, s, cones, x_rear, x_front, half_width, radius):
         for j in range(n):
             if first[j] >= 0:
                 continue
-            bx, by = _in_vehicle_axes(cones[j, 0], cones[j, 1], x[k], y[k], c[k], s[k])
-            ex = bx - _clip(bx, x_rear, x_front)
-            ey = by - _clip(by, -half_width, half_width)
+            ex, ey, _, _ = _outside(cones[j, 0], cones[j, 1], x[k], y[k], c[k], s[k], x_rear, x_front, half_width)
             if ex * ex + ey * ey <= r2:
                 first[j] = k
                 left -= 1
@@ -117,9 +123,7 @@ def nearest_clearance(x, y, c, s, cones, x_rear, x_front, half_width, radius):
         inside = False
         low = np.inf
         for j in range(n):
-            bx, by = _in_vehicle_axes(cones[j, 0], cones[j, 1], x[k], y[k], c[k], s[k])
-            ex = bx - _clip(bx, x_rear, x_front)
-            ey = by - _clip(by, -half_width, half_width)
+            ex, ey, _, _ = _outside(cones[j, 0], cones[j, 1], x[k], y[k], c[k], s[k], x_rear, x_front, half_width)
             exs[j] = ex
             eys[j] = ey
             if ex == 0.0 and ey == 0.0:

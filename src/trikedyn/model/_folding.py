@@ -30,13 +30,21 @@ class Emitter:
         """Append one line of code."""
         self.lines.append(self.indent + text)
 
+    def address(self, array, index):
+        """The code of the entry ``array[index]`` (``index`` a tuple of ints)."""
+        return f"{array}[{', '.join(str(i) for i in index)}]"
+
     def load(self, array, *index):
         """The local holding ``array[index]``, loaded at first use."""
         name = array + "_" + "_".join(str(i) for i in index)
         if name not in self.loaded:
             self.loaded.add(name)
-            self.line(f"{name} = {array}[{', '.join(str(i) for i in index)}]")
+            self.line(f"{name} = {self.address(array, index)}")
         return name
+
+    def store(self, array, index, value):
+        """Write ``value`` (a value, or an expression's text) into ``array[index]``."""
+        self.line(f"{self.address(array, index)} = {value}")
 
     def sum(self, *terms):
         """The folded sum of ``terms`` (from :func:`term`, None for zero): a constant, a name or a new local."""

@@ -127,6 +127,50 @@ class UnrolledTree:
             v.append([em.sum(term(xv[k]), term(sub[k], qd)) for k in range(6)])
         return ew, pw, v
 
+    def store_kinematics(self):
+        """Emit the transforms and the kinematics and store them as ``kinematics_into`` writes its outputs: ``e``,
+        ``r`` (the joint transforms), ``ew``, ``pw`` (the world poses) and ``v`` (the body velocities)."""
+        em = self.em
+        self.transforms()
+        ew, pw, v = self.kinematics()
+        for b in range(self.nb):
+            for i in range(3):
+                em.store("r", (b, i), self.r[b][i])
+                em.store("pw", (b, i), pw[b][i])
+                for j in range(3):
+                    em.store("e", (b, i, j), self.e[b][i][j])
+                    em.store("ew", (b, i, j), ew[b][i][j])
+            for k in range(6):
+                em.store("v", (b, k), v[b][k])
+
+    def forward_dynamics(self, factor=None):
+        """Emit ``du/dt = H^-1 (tau - C)``: the transforms, the RNEA bias, the CRBA, the ``L^T D L`` solve, and
+        ``dmin``, the smallest pivot (``H`` is positive definite when it is > 0); with ``factor`` (an array's
+        name) the factor's entries are stored into it (``D`` on the diagonal, ``L_ij`` where ``j`` is an ancestor
+        of ``i``).
+
+        Returns
+        -------
+        list
+            The values of ``du/dt``, valid where ``dmin > 0``.
+        """
+        em = self.em
+        n = self.nb + 5
+        self.transforms()
+        bias = self.rnea([0.0] * n)
+        hmat = self.crba()
+        rhs = [em.sum(term(em.load("tau", i)), term(-1.0, bias[i])) for i in range(n)]
+        x, pivots, multipliers = self.solve(hmat, rhs)
+        em.line("dmin = np.inf")
+        for pv in pivots:
+            em.line(f"dmin = min(dmin, {pv})")
+        if factor is not None:
+            for k in range(n):
+                em.store(factor, (k, k), pivots[k])
+            for (i, j), value in sorted(multipliers.items()):
+                em.store(factor, (i, j), value)
+        return x
+
     def rnea(self, udot, fext_zero=False):
         """Emit ``tau = H udot + C``; ``udot`` a list of values (0.0 folds out). Returns the values of tau."""
         em, s, nb = self.em, self.s, self.nb

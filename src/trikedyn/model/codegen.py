@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from .._jit import FASTMATH
-from ._folding import Emitter, term
+from ._folding import Emitter
 from ._unrolled import UnrolledTree
 
 __all__ = ["GENERATOR_VERSION", "TreeStructure", "cache_dir", "generate_source", "kernels", "kernels_for_tree",
@@ -145,26 +145,12 @@ def _function(name, args, doc, body_lines):
 
 
 def _forward_dynamics_lines(structure, with_factor):
-    """The body of the forward dynamics: transforms, RNEA bias, CRBA, the ``L^T D L`` solve; with
-    ``with_factor`` the factor's entries are stored too."""
-    n = len(structure.parent) + 5
+    """The body of the forward dynamics (:meth:`~trikedyn.model._unrolled.UnrolledTree.forward_dynamics`), then
+    ``out``, or NaN when ``H`` is not positive definite; with ``with_factor`` the factor goes into ``factor``."""
     em = Emitter()
-    tree = UnrolledTree(structure, em)
-    tree.transforms()
-    bias = tree.rnea([0.0] * n)
-    hmat = tree.crba()
-    rhs = [em.sum(term(em.load("tau", i)), term(-1.0, bias[i])) for i in range(n)]
-    x, pivots, multipliers = tree.solve(hmat, rhs)
-    em.line("dmin = np.inf")
-    for pv in pivots:
-        em.line(f"dmin = min(dmin, {pv})")
-    if with_factor:
-        for k in range(n):
-            em.line(f"factor[{k}, {k}] = {pivots[k]}")
-        for (i, j), value in sorted(multipliers.items()):
-            em.line(f"factor[{i}, {j}] = {value}")
+    x = UnrolledTree(structure, em).forward_dynamics("factor" if with_factor else None)
     em.line("if dmin > 0.0:")
-    for i in range(n):
+    for i in range(len(x)):
         em.line(f"    out[{i}] = {x[i]}")
     em.line("else:")
     em.line("    out[:] = np.nan")
@@ -217,18 +203,7 @@ def generate_source(structure: TreeStructure) -> str:
                          em.lines))
 
     em = Emitter()
-    tree = UnrolledTree(structure, em)
-    tree.transforms()
-    ew, pw, v = tree.kinematics()
-    for b in range(nb):
-        for i in range(3):
-            em.line(f"r[{b}, {i}] = {tree.r[b][i]}")
-            em.line(f"pw[{b}, {i}] = {pw[b][i]}")
-            for j in range(3):
-                em.line(f"e[{b}, {i}, {j}] = {tree.e[b][i][j]}")
-                em.line(f"ew[{b}, {i}, {j}] = {ew[b][i][j]}")
-        for k in range(6):
-            em.line(f"v[{b}, {k}] = {v[b][k]}")
+    UnrolledTree(structure, em).store_kinematics()
     src.append(_function("kinematics_into", ["q", "u", "tree_e", "tree_r", "e", "r", "ew", "pw", "v"],
                          "The joint transforms ``e``, ``r``, the world poses ``ew``, ``pw`` [m] and the body velocities "
                          "``v`` [rad/s, m/s] at ``q``, ``u``, as the generic ``joint_transforms_into``, "

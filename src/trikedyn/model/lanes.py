@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._folding import Emitter, term
+from ._folding import Emitter
 from ._unrolled import UnrolledTree
 from .codegen import TreeStructure, load_module
 
@@ -164,17 +164,9 @@ class _LaneEmitter(Emitter):
         super().__init__(indent="        ")
         self.layout = layout
 
-    def load(self, array, *index):
-        """The local holding ``array[index]`` of lane ``l``, loaded at first use."""
-        name = array + "_" + "_".join(str(i) for i in index)
-        if name not in self.loaded:
-            self.loaded.add(name)
-            self.line(f"{name} = buf[{self.layout.row(array, index) * self.layout.lanes} + l]")
-        return name
-
-    def store(self, array, index, value):
-        """Write ``value`` into ``array[index]`` of lane ``l``."""
-        self.line(f"buf[{self.layout.row(array, index) * self.layout.lanes} + l] = {value}")
+    def address(self, array, index):
+        """The code of lane ``l``'s entry ``array[index]``: its row of the buffer."""
+        return f"buf[{self.layout.row(array, index) * self.layout.lanes} + l]"
 
 
 _COS_SIN = re.compile(r"^(\s*)(\w+) = np\.cos\((\w+)\)\n\1(\w+) = np\.sin\(\3\)$", re.MULTILINE)
@@ -193,26 +185,13 @@ def _function(name: str, doc: str, layout: LaneLayout, body: str) -> str:
 
 
 def _dynamics_body(structure: TreeStructure, layout: LaneLayout, with_factor: bool) -> str:
-    """The body of the lane forward dynamics: transforms, RNEA bias, CRBA, the ``L^T D L`` solve (as the scalar
-    kernels' ``_forward_dynamics_lines``); with ``with_factor`` the factor's entries are stored too."""
-    n = len(structure.parent) + 5
+    """The body of the lane forward dynamics (:meth:`~trikedyn.model._unrolled.UnrolledTree.forward_dynamics`),
+    then ``udot``, NaN by a select where ``H`` is not positive definite; with ``with_factor`` the factor goes into
+    ``low``."""
     em = _LaneEmitter(layout)
-    tree = UnrolledTree(structure, em)
-    tree.transforms()
-    bias = tree.rnea([0.0] * n)
-    hmat = tree.crba()
-    rhs = [em.sum(term(em.load("tau", i)), term(-1.0, bias[i])) for i in range(n)]
-    x, pivots, multipliers = tree.solve(hmat, rhs)
-    em.line("dmin = np.inf")
-    for pv in pivots:
-        em.line(f"dmin = min(dmin, {pv})")
-    if with_factor:
-        for k in range(n):
-            em.store("low", (k, k), pivots[k])
-        for (i, j), value in sorted(multipliers.items()):
-            em.store("low", (i, j), value)
+    x = UnrolledTree(structure, em).forward_dynamics("low" if with_factor else None)
     em.line("definite = dmin > 0.0")
-    for i in range(n):
+    for i in range(len(x)):
         em.store("udot", (i,), f"{x[i]} if definite else np.nan")
     return _with_sincos(em.lines)
 
@@ -247,18 +226,7 @@ def lane_source(structure: TreeStructure, lanes: int) -> str:
               f"LANES = {layout.lanes}\nROWS = {layout.rows}\n")
 
     em = _LaneEmitter(layout)
-    tree = UnrolledTree(structure, em)
-    tree.transforms()
-    ew, pw, v = tree.kinematics()
-    for b in range(nb):
-        for i in range(3):
-            em.store("r", (b, i), tree.r[b][i])
-            em.store("pw", (b, i), pw[b][i])
-            for j in range(3):
-                em.store("e", (b, i, j), tree.e[b][i][j])
-                em.store("ew", (b, i, j), ew[b][i][j])
-        for k in range(6):
-            em.store("v", (b, k), v[b][k])
+    UnrolledTree(structure, em).store_kinematics()
     kinematics = _function("kinematics_lanes", "Every lane's ``kinematics_into``: ``e``, ``r``, ``ew``, ``pw`` and ``v``.",
                            layout, _with_sincos(em.lines))
 

@@ -133,7 +133,7 @@ class Result:
         object
             The figure (shared between callers: do not modify it).
         """
-        kept = self.__dict__.setdefault("_derived", {})  # setdefault: a result unpickled from before the memo
+        kept = self._derived
         if key not in kept:
             kept[key] = compute()
         return kept[key]
