@@ -88,6 +88,9 @@ def throughput(specs) -> dict:
                                                                                                          lanes, True))
         out[f"batch_{lanes}_end_to_end_runs_per_core_s"] = len(specs) / best_cpu(
             lambda lanes=lanes: run_prepared(specs, lanes=lanes))
+    if kernel_choice() == "generated":  # the same batch with each lane through the scalar step (the reference)
+        stepwise = BATCH_KERNELS["generated-scalar"](plant)
+        out["batch_8_stepwise_loop_runs_per_core_s"] = len(specs) / best_cpu(lambda: stepwise(*arguments, 8, True))
     n_steps = int(round(DURATION_S / arguments[12]))
     out["scalar_loop_us_per_step"] = 1e6 / out["scalar_loop_runs_per_core_s"] / n_steps
     out["batch_8_loop_us_per_lane_step"] = 1e6 / out["batch_8_loop_runs_per_core_s"] / n_steps

@@ -278,7 +278,8 @@ def main() -> int:
         b = results[f"batch_{kind}_loop_10s"]
         print(f"10 s {kind}-loop runs per core-second (target {results['batch_target_runs_per_core_s']}): scalar loop "
               f"{b['scalar_loop_runs_per_core_s']:.0f} (end to end {b['scalar_end_to_end_runs_per_core_s']:.0f}), lockstep "
-              f"batch of 8 {b['batch_8_loop_runs_per_core_s']:.0f} (end to end {b['batch_8_end_to_end_runs_per_core_s']:.0f})")
+              f"batch of 8 {b['batch_8_loop_runs_per_core_s']:.0f} (end to end {b['batch_8_end_to_end_runs_per_core_s']:.0f}; "
+              f"stepping each lane through the scalar step {b.get('batch_8_stepwise_loop_runs_per_core_s', float('nan')):.0f})")
     ts = results["batch_threshold_search"]
     print(f"threshold searches per core-second ({ts['scenarios']} scenarios of the paper's study; target 40): margin "
           f"{ts['margin_searches_per_core_s']:.1f} ({ts['margin_mean_runs']:.2f} runs each), batched "

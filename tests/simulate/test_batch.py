@@ -34,14 +34,15 @@ def lanes(reference):
 
 
 def _assert_same(batch, scalar):
-    """Same status, the same records (times exactly), states and wheel loads to 1e-9."""
+    """Same status and the same records, bit for bit: times, states, wheel loads, path error (the issue asks
+    1e-9; each lane does its scalar run's arithmetic in the same order, so they are equal)."""
     assert batch.status == scalar.status
     assert batch.time_s.shape == scalar.time_s.shape
     np.testing.assert_array_equal(batch.time_s, scalar.time_s)
-    np.testing.assert_allclose(batch.states, scalar.states, rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(batch.states, scalar.states)
     for name in LOADS:
-        np.testing.assert_allclose(batch.channels[name], scalar.channels[name], rtol=0, atol=1e-9)
-    np.testing.assert_allclose(batch.channels["path_error_m"], scalar.channels["path_error_m"], rtol=0, atol=1e-9)
+        np.testing.assert_array_equal(batch.channels[name], scalar.channels[name])
+    np.testing.assert_array_equal(batch.channels["path_error_m"], scalar.channels["path_error_m"])
 
 
 def test_a_batch_of_eight_equals_eight_scalar_runs(lanes):
@@ -62,6 +63,58 @@ def test_refilled_lanes_give_the_same_runs(lanes):
     vehicles, speeds, scalar = lanes
     for b, s in zip(run_batch(vehicles, "dlc", speeds, lanes=3), scalar, strict=True):
         _assert_same(b, s)
+
+
+@pytest.fixture(scope="module")
+def generated_lanes(lanes):
+    """The eight runs of ``lanes``, the scalar ones on the generated kernels (the suite runs on the generic)."""
+    vehicles, speeds, _ = lanes
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("TRIKEDYN_KERNELS", "generated")
+        return vehicles, speeds, [run(m, "dlc", speed_kmh=v) for m, v in zip(vehicles, speeds, strict=True)]
+
+
+@pytest.mark.parametrize("kernels", ["generated", "generated-scalar"])
+def test_the_lane_batch_and_the_stepwise_batch_give_the_scalar_runs(generated_lanes, kernels):
+    """The generated batch evaluates each stage over the lanes (the lane kernels); ``generated-scalar`` steps
+    each lane through the scalar step. Both give each scalar run on the generated kernels, bit for bit, nine
+    lanes for eight runs included (two groups of the lane kernels, one of them mostly idle)."""
+    from trikedyn.simulate.batch import BATCH_KERNELS, LANE_WIDTH
+
+    vehicles, speeds, scalar = generated_lanes
+    assert BATCH_KERNELS["generated"](vehicles[0].plant).__name__ == "lane_batch_loop"
+    for count in (8, LANE_WIDTH + 1):
+        for b, s in zip(run_batch(vehicles, "dlc", speeds, lanes=count, kernels=kernels), scalar, strict=True):
+            _assert_same(b, s)
+
+
+def test_lanes_near_a_stop_take_the_scalar_substeps(reference):
+    """Thrown onto stops ten times as stiff (the wheel hop needs substeps of 3.7 ms at a 10 ms step), some
+    lanes take the scalar step with substeps while the others step over the lanes: every run equals its
+    scalar run, and the thrown ones did reach their stops."""
+    from trikedyn.params.ops import override
+    from trikedyn.simulate.run import run_model, stop_step
+
+    model = build_model(override(reference, {"suspension.front.bump_stop_stiffness_N_per_m": 5e6,
+                                             "suspension.rear.bump_stop_stiffness_N_per_m": 4e6}))
+    assert stop_step(model)[0] < 0.01
+    eq = static_equilibrium(model.on_flat_road())
+    specs = []
+    for vz in (0.0, -1.5, 0.0, -1.0, -0.5):
+        x0 = rolling_state(model, eq, 30 / 3.6)
+        x0[model.n_dof + 5] = vz
+        specs.append({"model": model, "x0": x0, "inputs": np.zeros((1, 4)), "duration_s": 1.0, "dt": 0.01})
+    scalar = [run_model(**spec, output_rate_hz=100.0, kernels="generated") for spec in specs]
+    bump = model.plant.wheels["bump_travel"]
+    names = ("front", "rear_left", "rear_right")
+    peaks = [[float(np.max(r.channels[f"{w}_travel_m"])) for w in names] for r in scalar]
+    assert all(peak > limit for peak, limit in zip(peaks[1], bump, strict=True))  # every stop hit
+    assert max(peaks[0]) < bump.min()  # the undisturbed lanes stay off them
+    for b, s in zip(run_prepared(specs, lanes=4, kernels="generated"), scalar, strict=True):
+        assert b.status == s.status
+        np.testing.assert_array_equal(b.states, s.states)
+        for name in LOADS:
+            np.testing.assert_array_equal(b.channels[name], s.channels[name])
 
 
 def test_an_open_loop_batch_equals_the_scalar_loop(reference):

@@ -62,8 +62,7 @@ class UnrolledTree:
         em, s = self.em, self.s
         for k, name in ((3, "r"), (4, "p"), (5, "y")):
             angle = em.load("q", k)
-            em.line(f"c{name} = np.cos({angle})")
-            em.line(f"s{name} = np.sin({angle})")
+            em.line(f"s{name}, c{name} = sincos({angle})")
         em.line("rot00 = cy * cp")
         em.line("rot01 = cy * sp * sr - sy * cr")
         em.line("rot02 = cy * sp * cr + sy * sr")
@@ -82,8 +81,7 @@ class UnrolledTree:
             ax = s.jaxis[b]
             if s.jtype[b] == JOINT_REVOLUTE:
                 c, sn, t = f"c_{b}", f"s_{b}", f"t_{b}"
-                em.line(f"{c} = np.cos({qb})")
-                em.line(f"{sn} = np.sin({qb})")
+                em.line(f"{sn}, {c} = sincos({qb})")
                 em.line(f"{t} = 1.0 - {c}")
                 x, y, z = ax
                 rot = [[em.sum(term(t, x * x), term(c)), em.sum(term(t, x * y), term(-z, sn)),

@@ -15,11 +15,10 @@ Measured on the reference machine (AVX-512, numba from the package registry; ``p
 two runs): the forward dynamics of the reference e-trike take 0.073-0.094 us per lane-evaluation in a batch of
 8 against 0.38-0.53 us for the scalar generated kernel (5.2-5.6x; 4 lanes 3.3-4.3x, 16 lanes no better than 8),
 the kinematics 0.093 against 0.28 us (3x: they store 264 numbers a lane), the dynamics keeping the mass matrix's
-factor 0.070 against 0.491 us (7.0x); the tadpole alike (5.5-5.8x, 2.3-2.9x, 5.7x). Every
-lane equals the scalar kernel to 1e-12 (``tests/model/test_lanes.py``; 3e-16 on random states): only the
-arithmetic of ``sincos`` differs from the scalar kernels' (a last-bit difference in a sine or cosine). The
-time loop does not call them yet: the batch integrator of :mod:`trikedyn.simulate.lockstep` advances each lane
-through the scalar step.
+factor 0.070 against 0.491 us (7.0x); the tadpole alike (5.5-5.8x, 2.3-2.9x, 5.7x). Every lane does the
+scalar kernel's arithmetic in the same order (both take their sines and cosines from ``sincos``), so a lane
+equals the scalar kernel bit for bit (``tests/model/test_lanes.py`` asks 1e-12). The lockstep batch evaluates
+every stage of a step over its lanes with them (:mod:`trikedyn.simulate.lane_batch`).
 
 The source is written and cached as the scalar kernels are (:func:`~trikedyn.model.codegen.load_module`,
 ``lanes<key>.py``), keyed by the structure, ``B`` and this module's and :mod:`trikedyn.model.lane_math`'s
@@ -29,7 +28,6 @@ source.
 from __future__ import annotations
 
 import hashlib
-import re
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -39,7 +37,7 @@ from ._folding import Emitter
 from ._unrolled import UnrolledTree
 from .codegen import TreeStructure, load_module
 
-__all__ = ["LANE_ARRAYS", "LaneLayout", "lane_kernels", "lane_source"]
+__all__ = ["LANE_ARRAYS", "LaneLayout", "lane_functions", "lane_kernels", "lane_source"]
 
 LANE_ARRAYS = (
     ("q", "n"), ("u", "n"), ("tau", "n"), ("fext", "nb,6"), ("gravity", "3"),
@@ -169,14 +167,11 @@ class _LaneEmitter(Emitter):
         return f"buf[{self.layout.row(array, index) * self.layout.lanes} + l]"
 
 
-_COS_SIN = re.compile(r"^(\s*)(\w+) = np\.cos\((\w+)\)\n\1(\w+) = np\.sin\(\3\)$", re.MULTILINE)
-
-
-def _with_sincos(lines: list[str]) -> str:
-    """The body with each ``c = np.cos(a)``, ``s = np.sin(a)`` pair as one :func:`sincos` call."""
-    text = _COS_SIN.sub(lambda m: f"{m[1]}{m[4]}, {m[2]} = sincos({m[3]})", "\n".join(lines))
-    if "np.cos(" in text or "np.sin(" in text:
-        raise RuntimeError("the lane kernels call np.cos or np.sin outside a cosine-sine pair")
+def _body(lines: list[str]) -> str:
+    """The body's text; it must call no library sine or cosine (one call keeps the whole loop scalar)."""
+    text = "\n".join(lines)
+    if "np.cos(" in text or "np.sin(" in text or "math." in text:
+        raise RuntimeError("the lane kernels call a library function: the loop over lanes would not vectorise")
     return text
 
 
@@ -193,7 +188,39 @@ def _dynamics_body(structure: TreeStructure, layout: LaneLayout, with_factor: bo
     em.line("definite = dmin > 0.0")
     for i in range(len(x)):
         em.store("udot", (i,), f"{x[i]} if definite else np.nan")
-    return _with_sincos(em.lines)
+    return _body(em.lines)
+
+
+def lane_functions(structure: TreeStructure, lanes: int) -> str:
+    """The lane kernels of ``structure`` over ``lanes`` lanes, as source: the three functions of
+    :func:`lane_source` without the module's header (for a module that imports ``np``, ``jit`` and
+    ``sincos`` itself, as the batch loop's does: :mod:`trikedyn.simulate.batch`).
+
+    Parameters
+    ----------
+    structure : TreeStructure
+        The tree's structure.
+    lanes : int
+        Lanes ``B``, >= 1.
+
+    Returns
+    -------
+    str
+        The functions' text.
+    """
+    layout = LaneLayout(len(structure.parent), int(lanes))
+    em = _LaneEmitter(layout)
+    UnrolledTree(structure, em).store_kinematics()
+    kinematics = _function("kinematics_lanes", "Every lane's ``kinematics_into``: ``e``, ``r``, ``ew``, ``pw`` and ``v``.",
+                           layout, _body(em.lines))
+    dynamics = _function("forward_dynamics_lanes",
+                         "Every lane's ``forward_dynamics_into``: ``udot = H^-1 (tau - C)``, NaN where ``H`` is not "
+                         "positive definite.", layout, _dynamics_body(structure, layout, with_factor=False))
+    factor = _function("forward_dynamics_factor_lanes",
+                       "Every lane's ``forward_dynamics_factor_into``: ``forward_dynamics_lanes``, and the factor "
+                       "``H = L^T D L`` into ``low`` (``D`` on the diagonal, ``L_ij`` where ``j`` is an ancestor of "
+                       "``i``, other entries untouched).", layout, _dynamics_body(structure, layout, with_factor=True))
+    return kinematics + dynamics + factor
 
 
 def lane_source(structure: TreeStructure, lanes: int) -> str:
@@ -218,26 +245,12 @@ def lane_source(structure: TreeStructure, lanes: int) -> str:
         The module's text.
     """
     nb = len(structure.parent)
-    n = nb + 5
     layout = LaneLayout(nb, int(lanes))
     header = (f'"""Generated by trikedyn.model.lanes for one tree structure and {layout.lanes} lanes: do not edit.\n\n'
-              f"Structure key {structure.key()}. Bodies {nb}, degrees of freedom {n}, buffer rows {layout.rows}.\n"
+              f"Structure key {structure.key()}. Bodies {nb}, degrees of freedom {nb + 5}, buffer rows {layout.rows}.\n"
               '"""\n\nimport numpy as np\n\nfrom trikedyn._jit import jit\nfrom trikedyn.model.lane_math import sincos\n\n'
               f"LANES = {layout.lanes}\nROWS = {layout.rows}\n")
-
-    em = _LaneEmitter(layout)
-    UnrolledTree(structure, em).store_kinematics()
-    kinematics = _function("kinematics_lanes", "Every lane's ``kinematics_into``: ``e``, ``r``, ``ew``, ``pw`` and ``v``.",
-                           layout, _with_sincos(em.lines))
-
-    dynamics = _function("forward_dynamics_lanes",
-                         "Every lane's ``forward_dynamics_into``: ``udot = H^-1 (tau - C)``, NaN where ``H`` is not "
-                         "positive definite.", layout, _dynamics_body(structure, layout, with_factor=False))
-    factor = _function("forward_dynamics_factor_lanes",
-                       "Every lane's ``forward_dynamics_factor_into``: ``forward_dynamics_lanes``, and the factor "
-                       "``H = L^T D L`` into ``low`` (``D`` on the diagonal, ``L_ij`` where ``j`` is an ancestor of "
-                       "``i``, other entries untouched).", layout, _dynamics_body(structure, layout, with_factor=True))
-    return header + kinematics + dynamics + factor
+    return header + lane_functions(structure, lanes)
 
 
 def lane_kernels(structure: TreeStructure, lanes: int):

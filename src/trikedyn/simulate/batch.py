@@ -17,9 +17,11 @@ sets it (the step reads some of it back: the last wheel outputs, the blocks). Th
 of the lanes' plants are stacked along a first axis and a lane's :class:`~trikedyn.model.packing.Plant` is
 a view of one slice. The loop runs on the kernels the scalar loop runs on
 (:mod:`trikedyn.simulate.specialised`: generated for the tree by default, compiled again with them,
-:func:`batch_source`), so a lane's record equals the scalar run's. With scalar kernels the batch runs at
-the scalar loop's speed per lane (one call instead of B, one compiled loop for any B); vectorising across
-lanes needs right-hand-side kernels written over the lane index (issue 25).
+:func:`batch_source`), so a lane's record equals the scalar run's. On the generated kernels it goes through
+each step stage by stage across the lanes, the kinematics and forward dynamics of all lanes in one call of the
+lane kernels (:mod:`trikedyn.simulate.lane_batch`, :mod:`trikedyn.model.lanes`); on the generic ones each lane
+goes through the scalar step in turn (:func:`~trikedyn.simulate.lockstep.batch_loop`), at the scalar loop's
+speed per lane.
 """
 
 from __future__ import annotations
@@ -34,6 +36,7 @@ import numpy as np
 
 from ..driver.preview import DRIVER
 from ..model.packing import Plant
+from . import lane_batch
 from .integrator import OPEN_LOOP_DRIVER, OPEN_LOOP_PATH, OPEN_LOOP_SPEED
 from .lockstep import advance_lane, batch_loop, stack_plants
 from .result import Result
@@ -46,10 +49,19 @@ DEFAULT_LANES = 8
 """Lanes of a batch by default."""
 
 
-_COPIED = (advance_lane, batch_loop)
+LANE_WIDTH = 8
+"""Lanes of one call of the lane kernels (a constant of their code): a batch of more lanes runs them in groups
+of this many, one of fewer leaves the rest of its group idle. 8 doubles are an AVX-512 register; 16 lanes
+measured no faster per lane than 8 (:mod:`trikedyn.model.lanes`)."""
+
+_COPIED = (advance_lane, batch_loop, lane_batch._at, lane_batch.set_lane_plant, lane_batch.evaluate_lanes,
+           lane_batch.etd_lanes, lane_batch.lane_batch_loop)
 """The batch functions compiled again on the generated kernels (:func:`batch_source`)."""
 
-_REBOUND = {"evaluate_into", "evaluate_stage_into", "spin_slip_blocks", "etd_step", "rk4_loop", *(f.__name__ for f in _COPIED)}
+_LANE_KERNELS = ("kinematics_lanes", "forward_dynamics_lanes", "forward_dynamics_factor_lanes")
+
+_REBOUND = {"evaluate_into", "evaluate_stage_into", "spin_slip_blocks", "etd_step", "rk4_loop",
+            *(f.__name__ for f in _COPIED), *lane_batch.LANE_GLOBALS, *_LANE_KERNELS}
 """Globals the generated module defines itself."""
 
 _LOCK = threading.Lock()
@@ -64,10 +76,12 @@ def _structure(plant):
 
 
 def batch_source(structure) -> str:
-    """The source of the batch loop on the kernels generated for ``structure``: the scalar loop's module
-    (:func:`~trikedyn.simulate.specialised.loop_source`) and, after it,
-    :func:`~trikedyn.simulate.lockstep.advance_lane` and :func:`~trikedyn.simulate.lockstep.batch_loop` copied
-    verbatim, their other globals imported from :mod:`trikedyn.simulate.lockstep`.
+    """The source of the batch loops on the kernels generated for ``structure``: the scalar loop's module
+    (:func:`~trikedyn.simulate.specialised.loop_source`); the lane kernels over :data:`LANE_WIDTH` lanes
+    (:func:`~trikedyn.model.lanes.lane_functions`) and their buffer's layout (the constants of
+    :data:`~trikedyn.simulate.lane_batch.LANE_GLOBALS`); then :func:`~trikedyn.simulate.lockstep.advance_lane`,
+    :func:`~trikedyn.simulate.lockstep.batch_loop` and the functions of :mod:`trikedyn.simulate.lane_batch`
+    copied verbatim, their other globals imported from their modules.
 
     Parameters
     ----------
@@ -79,18 +93,27 @@ def batch_source(structure) -> str:
     str
         The module's text.
     """
-    names = set()
+    from ..model.lanes import LaneLayout, lane_functions
+
+    layout = LaneLayout(len(structure.parent), LANE_WIDTH)
+    wanted: dict[str, set] = {}
     for func in _COPIED:
         py = func.py_func
-        names |= {n for n in py.__code__.co_names if n in py.__globals__ and n not in _REBOUND and n != "np"}
-    parts = [loop_source(structure), "\n\n# ---- the lockstep batch on these kernels (trikedyn.simulate.lockstep) ----\n",
-             f"from trikedyn.simulate.lockstep import {', '.join(sorted(names))}  # noqa: F401, E402\n"]
+        names = {n for n in py.__code__.co_names if n in py.__globals__ and n not in _REBOUND and n != "np"}
+        wanted.setdefault(py.__module__, set()).update(names)
+    imports = [f"from {module} import {', '.join(sorted(names))}  # noqa: F401, E402"
+               for module, names in sorted(wanted.items()) if names]
+    constants = [f"LANES = {layout.lanes}", f"ROWS = {layout.rows}"]
+    constants += [f"{name} = {layout.start(array)}" for name, array in lane_batch.LANE_GLOBALS.items() if array]
+    parts = [loop_source(structure), "\n\n# ---- the lockstep batches on these kernels (trikedyn.simulate.lockstep, "
+             "trikedyn.simulate.lane_batch) ----\n", "\n".join(imports), "\n\n", "\n".join(constants), "\n",
+             lane_functions(structure, LANE_WIDTH)]
     parts += ["\n\n" + inspect.getsource(func.py_func) for func in _COPIED]
     return "".join(parts)
 
 
-def _generated(plant):
-    """:func:`~trikedyn.simulate.lockstep.batch_loop` on the kernels generated for ``plant``'s tree (written and compiled at first use)."""
+def _module(plant):
+    """The batch module of ``plant``'s tree structure (:func:`batch_source`), written and compiled at first use."""
     from ..model.codegen import load_module
 
     structure = _structure(plant)
@@ -101,12 +124,17 @@ def _generated(plant):
         module = load_module("batch" + hashlib.sha256(source.encode()).hexdigest()[:24], lambda: source)
         with _LOCK:
             _BY_STRUCTURE[structure] = module
-    return module.batch_loop
+    return module
 
 
-BATCH_KERNELS = {"generated": _generated, "generic": lambda plant: batch_loop}
+BATCH_KERNELS = {"generated": lambda plant: _module(plant).lane_batch_loop,
+                 "generated-scalar": lambda plant: _module(plant).batch_loop,
+                 "generic": lambda plant: batch_loop}
 """The batch loop by kernel (the keys of :data:`~trikedyn.simulate.specialised.KERNELS`): on the kernels
-generated for the tree, as the scalar loop by default, or on the generic ones."""
+generated for the tree, with each stage over the lanes (:mod:`trikedyn.simulate.lane_batch`: the default, as the
+scalar loop's kernels), or on the generic ones. ``"generated-scalar"`` is the batch of the generated kernels
+that steps its lanes one after the other through the scalar step (the lane loop's reference, and the
+benchmark's)."""
 
 
 def _padded(tables: list[np.ndarray], width: int) -> tuple[np.ndarray, np.ndarray]:
@@ -200,7 +228,7 @@ def run_prepared(specs: Sequence[dict], *, lanes: int = DEFAULT_LANES, output_ra
     refill : bool
         Refill a lane as soon as its run ends.
     kernels : str, optional
-        ``"generated"`` or ``"generic"`` (:data:`BATCH_KERNELS`); as the scalar loop's when None
+        A key of :data:`BATCH_KERNELS`; as the scalar loop's when None
         (:func:`~trikedyn.simulate.specialised.kernel_choice`).
 
     Returns
@@ -212,7 +240,7 @@ def run_prepared(specs: Sequence[dict], *, lanes: int = DEFAULT_LANES, output_ra
 
     if int(lanes) < 1:
         raise InputError(f"lanes must be >= 1, got {lanes!r}", where="lanes")
-    choice = kernel_choice(kernels)
+    choice = kernels if kernels in BATCH_KERNELS else kernel_choice(kernels)
     jobs, batches = plan(specs, output_rate_hz)
     outs: list = [None] * len(jobs)
     for plant, arguments, members in batches:

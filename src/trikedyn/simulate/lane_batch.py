@@ -1,0 +1,441 @@
+"""The lockstep batch on the lane kernels: each stage of a step evaluated for every lane at once.
+
+:func:`~trikedyn.simulate.lockstep.batch_loop` advances its lanes one after the other through the scalar
+step. :func:`lane_batch_loop` takes the same jobs and returns the same records, but goes through a step stage
+by stage across the lanes: the driver of every lane, then the first right-hand side of every lane
+(:func:`evaluate_lanes`: the generated kinematics over all lanes, each lane's tyres, springs and drive, the
+generated forward dynamics over all lanes), the health watch of every lane, then the exponential step's
+three other stages (:func:`etd_lanes`), each an evaluation over the lanes. The kinematics and the forward
+dynamics, two thirds of a right-hand side, are the lane kernels of :mod:`trikedyn.model.lanes`, vectorised
+across ``LANES`` lanes; the rest is each lane's own compiled code, the scalar loop's.
+
+Every lane does the arithmetic of its scalar run in the same order: the lane kernels are the scalar kernels'
+code over the lanes (both take their sines and cosines from :func:`~trikedyn.model.lane_math.sincos`), and
+:func:`etd_lanes` is :func:`~trikedyn.simulate.integrator.etd_step` stage by stage. A lane's record is
+therefore its scalar run's, bit for bit (``tests/simulate/test_batch.py``). A lane whose step needs substeps
+(a suspension near its stop, :func:`~trikedyn.simulate.integrator.near_a_stop`) takes the scalar step for
+that step, from the first stage already evaluated.
+
+The functions here run only in a module generated for one tree structure and lane count
+(:func:`trikedyn.simulate.batch.batch_source`), which binds the lane kernels and their buffer's layout, the
+names below set to placeholders; :mod:`trikedyn.simulate.batch` holds the orchestration.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._jit import jit
+from ..driver.preview import DRIVER_STATE, driver_step
+from ..model.dynamics import Workspace
+from ..model.inverse_mass import dof_parent
+from ..model.packing import WHEEL_OUT
+from ..model.rhs import euler_rates_into, evaluate_into, interpolate_inputs, workspace, wrenches_into
+from .exponential import (
+    BLOCK_WIDTH,
+    block_functions,
+    spin_slip_blocks_ltdl,
+    stage_pairs,
+    subtract_blocks,
+    third_stage_pairs,
+    update_pairs,
+)
+from .integrator import STATUS_NAN, STATUS_OK, STATUS_PENETRATION, STATUS_ROLLOVER, etd_step, near_a_stop
+from .lockstep import lane_plant
+
+__all__ = ["LANE_GLOBALS", "etd_lanes", "evaluate_lanes", "lane_batch_loop", "lane_workspace", "set_lane_plant",
+           "stacked_workspace"]
+
+# Bound by each generated module: the lane count, the first row of each array of the lane buffer
+# (trikedyn.model.lanes.LaneLayout) and the three lane kernels of its structure.
+LANES = ROWS = 1
+R_Q = R_U = R_TAU = R_FEXT = R_GRAVITY = R_TREE_E = R_TREE_R = R_MASS = R_H = R_IBAR = 0
+R_UDOT = R_E = R_EW = R_PW = R_V = R_LOW = 0
+kinematics_lanes = forward_dynamics_lanes = forward_dynamics_factor_lanes = None
+
+LANE_GLOBALS = {"LANES": None, "ROWS": None, "R_Q": "q", "R_U": "u", "R_TAU": "tau", "R_FEXT": "fext",
+                "R_GRAVITY": "gravity", "R_TREE_E": "tree_e", "R_TREE_R": "tree_r", "R_MASS": "mass", "R_H": "h",
+                "R_IBAR": "ibar", "R_UDOT": "udot", "R_E": "e", "R_EW": "ew", "R_PW": "pw", "R_V": "v",
+                "R_LOW": "low"}
+"""The constants a generated module defines for these functions: ``LANES``, ``ROWS`` and each ``R_*``, the
+first row of its array of :data:`~trikedyn.model.lanes.LANE_ARRAYS`."""
+
+
+@jit(inline="always")
+def _stacked(a, lanes):
+    """An array of ``lanes`` copies of ``a``'s shape, uninitialised (as the workspace's)."""
+    return np.empty((lanes,) + a.shape)
+
+
+@jit
+def stacked_workspace(parent, lanes):
+    """A :data:`~trikedyn.model.dynamics.Workspace` for ``lanes`` lanes: each array of
+    :func:`~trikedyn.model.dynamics.workspace` with a first axis over the lanes (``zero`` zeros).
+
+    One stack of arrays, not a list of workspaces: reading a workspace out of a list holds and releases each
+    of its twenty arrays (about 0.2 us), and the loop reads one several times per lane and stage.
+
+    Parameters
+    ----------
+    parent : numpy.ndarray of int
+        The tree's parent bodies.
+    lanes : int
+        Lanes.
+
+    Returns
+    -------
+    Workspace
+        The stacked arrays.
+    """
+    w = workspace(parent)
+    return Workspace(_stacked(w.e, lanes), _stacked(w.r, lanes), _stacked(w.ew, lanes), _stacked(w.pw, lanes),
+                     _stacked(w.v, lanes), _stacked(w.a, lanes), _stacked(w.f, lanes), _stacked(w.fext, lanes),
+                     _stacked(w.mc, lanes), _stacked(w.hc, lanes), _stacked(w.ic, lanes), _stacked(w.hmat, lanes),
+                     _stacked(w.low, lanes), _stacked(w.vec, lanes), _stacked(w.t6a, lanes), _stacked(w.t6b, lanes),
+                     _stacked(w.t33, lanes), _stacked(w.tau, lanes), _stacked(w.bias, lanes),
+                     np.zeros((lanes,) + w.zero.shape))
+
+
+@jit(inline="always")
+def lane_workspace(s, i):
+    """Lane ``i``'s :data:`~trikedyn.model.dynamics.Workspace` of the stacked ``s`` (:func:`stacked_workspace`):
+    views, nothing copied."""
+    return Workspace(s.e[i], s.r[i], s.ew[i], s.pw[i], s.v[i], s.a[i], s.f[i], s.fext[i], s.mc[i], s.hc[i], s.ic[i],
+                     s.hmat[i], s.low[i], s.vec[i], s.t6a[i], s.t6b[i], s.t33[i], s.tau[i], s.bias[i], s.zero[i])
+
+
+@jit(inline="always")
+def _at(row, lane):
+    """The buffer index of ``row`` at ``lane`` (of its group)."""
+    return row * LANES + lane
+
+
+@jit
+def set_lane_plant(buf, k, p):
+    """The tree's values of plant ``p`` and its gravity [m/s^2] into lane ``k`` of the buffer ``buf``.
+
+    Parameters
+    ----------
+    buf : numpy.ndarray
+        A lane buffer.
+    k : int
+        The lane in the buffer.
+    p : Plant
+        The plant.
+    """
+    nb = p.parent.shape[0]
+    for b in range(nb):
+        for i in range(3):
+            for j in range(3):
+                buf[_at(R_TREE_E + 9 * b + 3 * i + j, k)] = p.tree_e[b, i, j]
+                buf[_at(R_IBAR + 9 * b + 3 * i + j, k)] = p.ibar[b, i, j]
+            buf[_at(R_TREE_R + 3 * b + i, k)] = p.tree_r[b, i]
+            buf[_at(R_H + 3 * b + i, k)] = p.h[b, i]
+        buf[_at(R_MASS + b, k)] = p.mass[b]
+    buf[_at(R_GRAVITY, k)] = 0.0
+    buf[_at(R_GRAVITY + 1, k)] = 0.0
+    buf[_at(R_GRAVITY + 2, k)] = -p.vehicle[0].g
+
+
+@jit
+def evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, xdot, keep_factor):
+    """``xdot[l] = f(ts[l], xs[l], u[l])`` for each lane ``l`` of ``on[:n_on]``: the generated evaluation of
+    the scalar loop (kinematics, :func:`~trikedyn.model.rhs.wrenches_into`, forward dynamics, Euler rates)
+    with the kinematics and the forward dynamics over the lanes.
+
+    Parameters
+    ----------
+    bufs : numpy.ndarray, shape (groups, ROWS * LANES)
+        The lane buffers; lane ``l`` is lane ``l % LANES`` of buffer ``l // LANES``.
+    on : numpy.ndarray of int
+        The lanes evaluated (the first ``n_on``).
+    n_on : int
+    ts : numpy.ndarray
+        Each lane's time [s].
+    xs, u : numpy.ndarray, shapes (lanes, nx), (lanes, 3)
+        Each lane's state and inputs.
+    plants, plant_of, job : Plant, numpy.ndarray
+        The stacked plants, each job's plant and each lane's job.
+    wout : numpy.ndarray, shape (lanes, n_wheels), dtype WHEEL_OUT
+        Written with each lane's wheel outputs.
+    ws : Workspace
+        The lanes' workspaces, stacked (:func:`stacked_workspace`): each lane's ``e[0]``, ``ew``, ``pw``, ``v``,
+        ``tau``, ``fext`` written, and with ``keep_factor`` the factor of the mass matrix in ``low`` (the
+        entries the scalar kernel writes).
+    xdot : numpy.ndarray, shape (lanes, nx)
+        Written with each lane's ``dx/dt``.
+    keep_factor : bool
+        Keep the factor of the mass matrix (the first stage of a step).
+    """
+    nb = plants.parent.shape[1]
+    n = nb + 5
+    for a in range(n_on):
+        lane = on[a]
+        buf, k = bufs[lane // LANES], lane % LANES
+        for i in range(n):
+            buf[_at(R_Q + i, k)] = xs[lane, i]
+            buf[_at(R_U + i, k)] = xs[lane, n + i]
+    for g in range(bufs.shape[0]):
+        kinematics_lanes(bufs[g])
+    for a in range(n_on):
+        lane = on[a]
+        buf, k = bufs[lane // LANES], lane % LANES
+        ew, pw, v, fext, tau = ws.ew[lane], ws.pw[lane], ws.v[lane], ws.fext[lane], ws.tau[lane]
+        for b in range(nb):
+            for i in range(3):
+                for j in range(3):
+                    ew[b, i, j] = buf[_at(R_EW + 9 * b + 3 * i + j, k)]
+                pw[b, i] = buf[_at(R_PW + 3 * b + i, k)]
+            for i in range(6):
+                v[b, i] = buf[_at(R_V + 6 * b + i, k)]
+        for i in range(3):
+            for j in range(3):
+                ws.e[lane, 0, i, j] = buf[_at(R_E + 3 * i + j, k)]
+        pj = plant_of[job[lane]]
+        wrenches_into(ts[lane], xs[lane], u[lane], plants.wheels[pj], plants.tyres[pj], plants.vehicle[pj],
+                      plants.road[pj], wout[lane], ew, pw, v, fext, tau, xdot[lane])
+        for i in range(n):
+            buf[_at(R_TAU + i, k)] = tau[i]
+        for b in range(nb):
+            for i in range(6):
+                buf[_at(R_FEXT + 6 * b + i, k)] = fext[b, i]
+    for g in range(bufs.shape[0]):
+        if keep_factor:
+            forward_dynamics_factor_lanes(bufs[g])
+        else:
+            forward_dynamics_lanes(bufs[g])
+    parent = plants.parent[0]
+    for a in range(n_on):
+        lane = on[a]
+        buf, k = bufs[lane // LANES], lane % LANES
+        for i in range(n):
+            xdot[lane, n + i] = buf[_at(R_UDOT + i, k)]
+        euler_rates_into(xs[lane, :n], xs[lane, n : 2 * n], ws.e[lane, 0], xdot[lane, :n])
+        if keep_factor:
+            for i in range(n):
+                j = i
+                while j != -1:
+                    ws.low[lane, i, j] = buf[_at(R_LOW + n * i + j, k)]
+                    j = dof_parent(parent, j)
+
+
+@jit
+def etd_lanes(bufs, on, n_on, tl, h, x, k1, k2, k3, k4, xs, ts, u, plants, plant_of, job, drivers, inputs, n_inputs,
+              wout, ws, scratch, idx, mat, fn, m_blocks, exponential, finite):
+    """:func:`~trikedyn.simulate.integrator.etd_step` of ``h`` [s] for each lane of ``on[:n_on]`` from its
+    state ``x[l]`` at ``tl[l]`` (``k1[l]``, ``wout[l]`` and the factor in ``ws.low[l]`` evaluated), the three
+    later stages evaluated over the lanes (:func:`evaluate_lanes`); ``finite[l]`` says whether the new state is
+    finite. The other arrays are each lane's loop memory, as :func:`lane_batch_loop` holds it."""
+    nx = x.shape[1]
+    half = 0.5 * h
+    for a in range(n_on):
+        lane = on[a]
+        j = job[lane]
+        m = 0
+        if exponential:
+            m = spin_slip_blocks_ltdl(lane_plant(plants, plant_of[j]), wout[lane], ws.low[lane], scratch[lane],
+                                      idx[lane], mat[lane])
+        m_blocks[lane] = m
+        block_functions(mat[lane], m, h, fn[lane])
+        for i in range(nx):  # a = x + h/2 phi1(hL/2) N_n
+            xs[lane, i] = x[lane, i] + half * k1[lane, i]
+        stage_pairs(fn[lane], idx[lane], m, x[lane], k1[lane], half, xs[lane])
+        if drivers[j].on <= 0.0:
+            u[lane, 0], u[lane, 1], u[lane, 2] = interpolate_inputs(tl[lane] + half, inputs[j, :n_inputs[j]])
+        ts[lane] = tl[lane] + half
+    evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, k2, False)
+    for a in range(n_on):
+        lane = on[a]
+        m = m_blocks[lane]
+        subtract_blocks(mat[lane], idx[lane], m, xs[lane], x[lane], k2[lane])
+        for i in range(nx):  # b = x + h/2 phi1(hL/2) N_a
+            xs[lane, i] = x[lane, i] + half * k2[lane, i]
+        stage_pairs(fn[lane], idx[lane], m, x[lane], k2[lane], half, xs[lane])
+    evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, k3, False)
+    for a in range(n_on):
+        lane = on[a]
+        j = job[lane]
+        m = m_blocks[lane]
+        subtract_blocks(mat[lane], idx[lane], m, xs[lane], x[lane], k3[lane])
+        for i in range(nx):  # c = x + exp(hL/2) (a - x) + h/2 phi1(hL/2) (2 N_b - N_n)
+            xs[lane, i] = x[lane, i] + h * k3[lane, i]
+        third_stage_pairs(fn[lane], idx[lane], m, x[lane], k1[lane], k3[lane], half, xs[lane])
+        if drivers[j].on <= 0.0:
+            u[lane, 0], u[lane, 1], u[lane, 2] = interpolate_inputs(tl[lane] + h, inputs[j, :n_inputs[j]])
+        ts[lane] = tl[lane] + h
+    evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, k4, False)
+    for a in range(n_on):
+        lane = on[a]
+        m = m_blocks[lane]
+        subtract_blocks(mat[lane], idx[lane], m, xs[lane], x[lane], k4[lane])
+        # x + h (W1 N_n + W2 (N_a + N_b) + W3 N_c), the weights 1/6, 1/3, 1/6 outside the blocks
+        for i in range(nx):
+            xs[lane, i] = x[lane, i] + h * (k1[lane, i] / 6.0 + (k2[lane, i] + k3[lane, i]) / 3.0 + k4[lane, i] / 6.0)
+        update_pairs(fn[lane], idx[lane], m, x[lane], k1[lane], k2[lane], k3[lane], k4[lane], h, xs[lane])
+        ok = True
+        for i in range(nx):
+            x[lane, i] = xs[lane, i]
+            if not np.isfinite(x[lane, i]):
+                ok = False
+        finite[lane] = ok
+
+
+@jit
+def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_path, speeds, n_speeds, drivers,
+                    stop_dts, dt, record_every, exponential, lanes, refill):
+    """:func:`~trikedyn.simulate.lockstep.batch_loop` (the same arguments, the same returns, each job's
+    record its scalar run's) with each stage of a step evaluated over the lanes (see the module docstring)."""
+    n_jobs, nx = x0s.shape
+    n_rec = n_steps.max() // record_every + 1
+    nw = plants.wheels.shape[1]
+    times = np.zeros((n_jobs, n_rec))
+    states = np.zeros((n_jobs, n_rec, nx))
+    derivs = np.zeros((n_jobs, n_rec, nx))
+    wheels = np.zeros((n_jobs, n_rec, nw), WHEEL_OUT)
+    commands = np.zeros((n_jobs, n_rec, 3))
+    status = np.zeros(n_jobs, np.int64)
+    recorded = np.zeros(n_jobs, np.int64)
+    t_stop = np.zeros(n_jobs)
+    memory = np.zeros((n_jobs, 1), DRIVER_STATE)  # each job's driver memory, from zero
+    delays = np.zeros(n_jobs, np.int64)
+    for j in range(n_jobs):
+        delays[j] = drivers[j].delay_steps + 2 if drivers[j].on > 0.0 else 1
+    delay_lines = np.zeros((n_jobs, delays.max()))
+    n_lanes = max(1, min(lanes, n_jobs))
+    n = plants.parent.shape[1] + 5
+    # the lane buffers: an idle lane computes on the first plant's values (finite arithmetic, result unread)
+    bufs = np.zeros((-(-n_lanes // LANES), ROWS * LANES))
+    for lane in range(bufs.shape[0] * LANES):
+        set_lane_plant(bufs[lane // LANES], lane % LANES, lane_plant(plants, 0))
+    # what a lane carries from step to step, as batch_loop
+    job = np.full(n_lanes, -1, np.int64)
+    x = np.zeros((n_lanes, nx))
+    step = np.zeros(n_lanes, np.int64)
+    ws = stacked_workspace(plants.parent[0], n_lanes)
+    blank = np.zeros(nw, WHEEL_OUT)
+    wout = np.zeros((n_lanes, nw), WHEEL_OUT)
+    u = np.zeros((n_lanes, 3))
+    xs = np.empty((n_lanes, nx))
+    k1 = np.empty((n_lanes, nx))
+    k2 = np.empty((n_lanes, nx))
+    k3 = np.empty((n_lanes, nx))
+    k4 = np.empty((n_lanes, nx))
+    idx = np.zeros((n_lanes, nw, 2), np.int64)
+    mat = np.zeros((n_lanes, nw, 4))
+    fn = np.zeros((n_lanes, nw, BLOCK_WIDTH))
+    scratch = np.empty((n_lanes, n))
+    # the lanes of this step (busy, then those on the lane step), their times and outcomes
+    on = np.empty(n_lanes, np.int64)
+    regular = np.empty(n_lanes, np.int64)
+    tl = np.zeros(n_lanes)
+    ts = np.zeros(n_lanes)
+    m_blocks = np.zeros(n_lanes, np.int64)
+    finite = np.ones(n_lanes, np.bool_)
+    waiting = 0
+    busy = 0
+    while True:
+        if busy == 0 or refill:  # fill the free lanes
+            for b in range(n_lanes):
+                if job[b] < 0 and waiting < n_jobs:
+                    job[b] = waiting
+                    x[b] = x0s[waiting]
+                    step[b] = 0
+                    for k in range(nw):
+                        wout[b, k] = blank[k]
+                    u[b] = 0.0
+                    idx[b] = 0
+                    mat[b] = 0.0
+                    fn[b] = 0.0
+                    set_lane_plant(bufs[b // LANES], b % LANES, lane_plant(plants, plant_of[waiting]))
+                    waiting += 1
+                    busy += 1
+        if busy == 0:
+            break
+        # the commands, then the first stage, of every busy lane
+        n_on = 0
+        for b in range(n_lanes):
+            j = job[b]
+            if j < 0:
+                continue
+            on[n_on] = b
+            n_on += 1
+            t = 0.0 + step[b] * dt
+            tl[b] = t
+            d = drivers[j]
+            if d.on > 0.0:
+                veh = plants.vehicle[plant_of[j], 0]
+                u[b, 0], u[b, 1], u[b, 2] = driver_step(t, dt, x[b, 0], x[b, 1], x[b, 5], x[b, n + 2], x[b, n + 3],
+                                                        paths[j, :n_path[j]], speeds[j, :n_speeds[j]], d, veh,
+                                                        memory[j], delay_lines[j, :delays[j]], inputs[j, :n_inputs[j]])
+            else:
+                u[b, 0], u[b, 1], u[b, 2] = interpolate_inputs(t, inputs[j, :n_inputs[j]])
+        evaluate_lanes(bufs, on, n_on, tl, x, u, plants, plant_of, job, wout, ws, k1, True)
+        # records and the health watch; a lane near a stop takes the scalar step with substeps
+        n_regular = 0
+        for a in range(n_on):
+            b = on[a]
+            j = job[b]
+            p = lane_plant(plants, plant_of[j])
+            t = tl[b]
+            rec = recorded[j]
+            if (step[b] % record_every == 0 or status[j] != STATUS_OK) and rec < n_rec:
+                times[j, rec] = t
+                states[j, rec] = x[b]
+                derivs[j, rec] = k1[b]
+                for k in range(nw):
+                    wheels[j, rec, k] = wout[b, k]
+                commands[j, rec, 0], commands[j, rec, 1], commands[j, rec, 2] = u[b, 0], u[b, 1], u[b, 2]
+                recorded[j] = rec + 1
+            ended = status[j] != STATUS_OK or step[b] == n_steps[j]
+            if not ended:
+                for k in range(nw):
+                    if wout[b, k].deflection > p.vehicle[0].penetration_limit * p.wheels[k].radius:
+                        status[j] = STATUS_PENETRATION
+                        ended = True
+                        break
+            if ended:
+                t_stop[j] = t
+                job[b] = -1
+                busy -= 1
+                continue
+            n_sub = 1
+            if stop_dts[j] > 0.0 and dt > stop_dts[j] and near_a_stop(x[b], p, n, dt):
+                n_sub = int(np.ceil(dt / stop_dts[j]))
+            if n_sub == 1:
+                regular[n_regular] = b
+                n_regular += 1
+                continue
+            closed = drivers[j].on > 0.0
+            h = dt / n_sub
+            wb = lane_workspace(ws, b)
+            ok = True
+            for i in range(n_sub):
+                ti = t + i * h
+                if i > 0:  # the substep's first stage (the step's first is k1, recorded above)
+                    if not closed:
+                        u[b, 0], u[b, 1], u[b, 2] = interpolate_inputs(ti, inputs[j, :n_inputs[j]])
+                    evaluate_into(ti, x[b], u[b], p, wout[b], wb, k1[b])
+                ok = etd_step(x[b], ti, h, k1[b], u[b], p, closed, inputs[j, :n_inputs[j]], wout[b], wb, xs[b],
+                              k2[b], k3[b], k4[b], scratch[b], idx[b], mat[b], fn[b], exponential)
+                if not ok:
+                    break
+            finite[b] = ok
+        if n_regular > 0:
+            etd_lanes(bufs, regular, n_regular, tl, dt, x, k1, k2, k3, k4, xs, ts, u, plants, plant_of, job, drivers,
+                      inputs, n_inputs, wout, ws, scratch, idx, mat, fn, m_blocks, exponential, finite)
+        for a in range(n_on):
+            b = on[a]
+            j = job[b]
+            if j < 0:
+                continue
+            step[b] += 1
+            t = 0.0 + step[b] * dt
+            if not finite[b]:
+                status[j] = STATUS_NAN
+                t_stop[j] = t
+                job[b] = -1
+                busy -= 1
+            elif abs(x[b, 3]) > plants.vehicle[plant_of[j], 0].roll_limit or \
+                    abs(x[b, 4]) > plants.vehicle[plant_of[j], 0].roll_limit:
+                status[j] = STATUS_ROLLOVER  # recorded at the lane's next step, which then ends the job
+    return times, states, derivs, wheels, commands, status, recorded, t_stop
