@@ -171,34 +171,34 @@ def evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, x
     n = nb + 5
     for a in range(n_on):
         lane = on[a]
-        buf, k = bufs[lane // LANES], lane % LANES
+        g, k = lane // LANES, lane % LANES
         for i in range(n):
-            buf[_at(R_Q + i, k)] = xs[lane, i]
-            buf[_at(R_U + i, k)] = xs[lane, n + i]
+            bufs[g, _at(R_Q + i, k)] = xs[lane, i]
+            bufs[g, _at(R_U + i, k)] = xs[lane, n + i]
     for g in range(bufs.shape[0]):
         kinematics_lanes(bufs[g])
     for a in range(n_on):
         lane = on[a]
-        buf, k = bufs[lane // LANES], lane % LANES
+        g, k = lane // LANES, lane % LANES
         ew, pw, v, fext, tau = ws.ew[lane], ws.pw[lane], ws.v[lane], ws.fext[lane], ws.tau[lane]
         for b in range(nb):
             for i in range(3):
                 for j in range(3):
-                    ew[b, i, j] = buf[_at(R_EW + 9 * b + 3 * i + j, k)]
-                pw[b, i] = buf[_at(R_PW + 3 * b + i, k)]
+                    ew[b, i, j] = bufs[g, _at(R_EW + 9 * b + 3 * i + j, k)]
+                pw[b, i] = bufs[g, _at(R_PW + 3 * b + i, k)]
             for i in range(6):
-                v[b, i] = buf[_at(R_V + 6 * b + i, k)]
+                v[b, i] = bufs[g, _at(R_V + 6 * b + i, k)]
         for i in range(3):
             for j in range(3):
-                ws.e[lane, 0, i, j] = buf[_at(R_E + 3 * i + j, k)]
+                ws.e[lane, 0, i, j] = bufs[g, _at(R_E + 3 * i + j, k)]
         pj = plant_of[job[lane]]
         wrenches_into(ts[lane], xs[lane], u[lane], plants.wheels[pj], plants.tyres[pj], plants.vehicle[pj],
                       plants.road[pj], wout[lane], ew, pw, v, fext, tau, xdot[lane])
         for i in range(n):
-            buf[_at(R_TAU + i, k)] = tau[i]
+            bufs[g, _at(R_TAU + i, k)] = tau[i]
         for b in range(nb):
             for i in range(6):
-                buf[_at(R_FEXT + 6 * b + i, k)] = fext[b, i]
+                bufs[g, _at(R_FEXT + 6 * b + i, k)] = fext[b, i]
     for g in range(bufs.shape[0]):
         if keep_factor:
             forward_dynamics_factor_lanes(bufs[g])
@@ -207,15 +207,15 @@ def evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, x
     parent = plants.parent[0]
     for a in range(n_on):
         lane = on[a]
-        buf, k = bufs[lane // LANES], lane % LANES
+        g, k = lane // LANES, lane % LANES
         for i in range(n):
-            xdot[lane, n + i] = buf[_at(R_UDOT + i, k)]
+            xdot[lane, n + i] = bufs[g, _at(R_UDOT + i, k)]
         euler_rates_into(xs[lane, :n], xs[lane, n : 2 * n], ws.e[lane, 0], xdot[lane, :n])
         if keep_factor:
             for i in range(n):
                 j = i
                 while j != -1:
-                    ws.low[lane, i, j] = buf[_at(R_LOW + n * i + j, k)]
+                    ws.low[lane, i, j] = bufs[g, _at(R_LOW + n * i + j, k)]
                     j = dof_parent(parent, j)
 
 
@@ -231,15 +231,16 @@ def etd_lanes(bufs, on, n_on, tl, h, x, k1, k2, k3, k4, xs, ts, u, plants, plant
     for a in range(n_on):
         lane = on[a]
         j = job[lane]
+        x_, xs_, k1_, fn_, idx_, mat_ = x[lane], xs[lane], k1[lane], fn[lane], idx[lane], mat[lane]
         m = 0
         if exponential:
-            m = spin_slip_blocks_ltdl(lane_plant(plants, plant_of[j]), wout[lane], ws.low[lane], scratch[lane],
-                                      idx[lane], mat[lane])
+            m = spin_slip_blocks_ltdl(lane_plant(plants, plant_of[j]), wout[lane], ws.low[lane], scratch[lane], idx_,
+                                      mat_)
         m_blocks[lane] = m
-        block_functions(mat[lane], m, h, fn[lane])
+        block_functions(mat_, m, h, fn_)
         for i in range(nx):  # a = x + h/2 phi1(hL/2) N_n
-            xs[lane, i] = x[lane, i] + half * k1[lane, i]
-        stage_pairs(fn[lane], idx[lane], m, x[lane], k1[lane], half, xs[lane])
+            xs_[i] = x_[i] + half * k1_[i]
+        stage_pairs(fn_, idx_, m, x_, k1_, half, xs_)
         if drivers[j].on <= 0.0:
             u[lane, 0], u[lane, 1], u[lane, 2] = interpolate_inputs(tl[lane] + half, inputs[j, :n_inputs[j]])
         ts[lane] = tl[lane] + half
@@ -247,19 +248,21 @@ def etd_lanes(bufs, on, n_on, tl, h, x, k1, k2, k3, k4, xs, ts, u, plants, plant
     for a in range(n_on):
         lane = on[a]
         m = m_blocks[lane]
-        subtract_blocks(mat[lane], idx[lane], m, xs[lane], x[lane], k2[lane])
+        x_, xs_, k2_, idx_ = x[lane], xs[lane], k2[lane], idx[lane]
+        subtract_blocks(mat[lane], idx_, m, xs_, x_, k2_)
         for i in range(nx):  # b = x + h/2 phi1(hL/2) N_a
-            xs[lane, i] = x[lane, i] + half * k2[lane, i]
-        stage_pairs(fn[lane], idx[lane], m, x[lane], k2[lane], half, xs[lane])
+            xs_[i] = x_[i] + half * k2_[i]
+        stage_pairs(fn[lane], idx_, m, x_, k2_, half, xs_)
     evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, k3, False)
     for a in range(n_on):
         lane = on[a]
         j = job[lane]
         m = m_blocks[lane]
-        subtract_blocks(mat[lane], idx[lane], m, xs[lane], x[lane], k3[lane])
+        x_, xs_, k3_, idx_ = x[lane], xs[lane], k3[lane], idx[lane]
+        subtract_blocks(mat[lane], idx_, m, xs_, x_, k3_)
         for i in range(nx):  # c = x + exp(hL/2) (a - x) + h/2 phi1(hL/2) (2 N_b - N_n)
-            xs[lane, i] = x[lane, i] + h * k3[lane, i]
-        third_stage_pairs(fn[lane], idx[lane], m, x[lane], k1[lane], k3[lane], half, xs[lane])
+            xs_[i] = x_[i] + h * k3_[i]
+        third_stage_pairs(fn[lane], idx_, m, x_, k1[lane], k3_, half, xs_)
         if drivers[j].on <= 0.0:
             u[lane, 0], u[lane, 1], u[lane, 2] = interpolate_inputs(tl[lane] + h, inputs[j, :n_inputs[j]])
         ts[lane] = tl[lane] + h
@@ -267,15 +270,16 @@ def etd_lanes(bufs, on, n_on, tl, h, x, k1, k2, k3, k4, xs, ts, u, plants, plant
     for a in range(n_on):
         lane = on[a]
         m = m_blocks[lane]
-        subtract_blocks(mat[lane], idx[lane], m, xs[lane], x[lane], k4[lane])
+        x_, xs_, k1_, k2_, k3_, k4_ = x[lane], xs[lane], k1[lane], k2[lane], k3[lane], k4[lane]
+        subtract_blocks(mat[lane], idx[lane], m, xs_, x_, k4_)
         # x + h (W1 N_n + W2 (N_a + N_b) + W3 N_c), the weights 1/6, 1/3, 1/6 outside the blocks
         for i in range(nx):
-            xs[lane, i] = x[lane, i] + h * (k1[lane, i] / 6.0 + (k2[lane, i] + k3[lane, i]) / 3.0 + k4[lane, i] / 6.0)
-        update_pairs(fn[lane], idx[lane], m, x[lane], k1[lane], k2[lane], k3[lane], k4[lane], h, xs[lane])
+            xs_[i] = x_[i] + h * (k1_[i] / 6.0 + (k2_[i] + k3_[i]) / 3.0 + k4_[i] / 6.0)
+        update_pairs(fn[lane], idx[lane], m, x_, k1_, k2_, k3_, k4_, h, xs_)
         ok = True
         for i in range(nx):
-            x[lane, i] = xs[lane, i]
-            if not np.isfinite(x[lane, i]):
+            x_[i] = xs_[i]
+            if not np.isfinite(x_[i]):
                 ok = False
         finite[lane] = ok
 
@@ -375,7 +379,7 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
         for a in range(n_on):
             b = on[a]
             j = job[b]
-            p = lane_plant(plants, plant_of[j])
+            pj = plant_of[j]
             t = tl[b]
             rec = recorded[j]
             if (step[b] % record_every == 0 or status[j] != STATUS_OK) and rec < n_rec:
@@ -389,7 +393,7 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
             ended = status[j] != STATUS_OK or step[b] == n_steps[j]
             if not ended:
                 for k in range(nw):
-                    if wout[b, k].deflection > p.vehicle[0].penetration_limit * p.wheels[k].radius:
+                    if wout[b, k].deflection > plants.vehicle[pj, 0].penetration_limit * plants.wheels[pj, k].radius:
                         status[j] = STATUS_PENETRATION
                         ended = True
                         break
@@ -399,12 +403,13 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
                 busy -= 1
                 continue
             n_sub = 1
-            if stop_dts[j] > 0.0 and dt > stop_dts[j] and near_a_stop(x[b], p, n, dt):
+            if stop_dts[j] > 0.0 and dt > stop_dts[j] and near_a_stop(x[b], lane_plant(plants, pj), n, dt):
                 n_sub = int(np.ceil(dt / stop_dts[j]))
             if n_sub == 1:
                 regular[n_regular] = b
                 n_regular += 1
                 continue
+            p = lane_plant(plants, pj)
             closed = drivers[j].on > 0.0
             h = dt / n_sub
             wb = lane_workspace(ws, b)
