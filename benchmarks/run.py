@@ -239,7 +239,7 @@ def main() -> int:
     k = results["forward_dynamics_generated_vs_generic"]
     print(f"forward dynamics, generic {k['generic_us']:.2f} us, generated for the tree {k['generated_us']:.2f} us: {k['speedup']:.1f}x")
     lk = results["lane_kernels"]
-    print(f"lane kernels (not yet in the time loop): scalar generated forward dynamics {lk['scalar_dynamics_us']:.3f} us, "
+    print(f"lane kernels (the lockstep batch's kinematics and dynamics): scalar generated forward dynamics {lk['scalar_dynamics_us']:.3f} us, "
           f"kinematics {lk['scalar_kinematics_us']:.3f} us, dynamics keeping the factor {lk['scalar_factor_us']:.3f} us; "
           "per lane-evaluation " + ", ".join(
               f"B={b} {v['dynamics_us']:.3f}/{v['kinematics_us']:.3f}/{v['factor_us']:.3f} us "
