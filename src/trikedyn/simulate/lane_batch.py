@@ -98,8 +98,20 @@ def stacked_workspace(parent, lanes):
 
 @jit(inline="always")
 def lane_workspace(s, i):
-    """Lane ``i``'s :data:`~trikedyn.model.dynamics.Workspace` of the stacked ``s`` (:func:`stacked_workspace`):
-    views, nothing copied."""
+    """Lane ``i``'s :data:`~trikedyn.model.dynamics.Workspace` of the stacked ``s``: views, nothing copied.
+
+    Parameters
+    ----------
+    s : Workspace
+        The stacked workspaces (:func:`stacked_workspace`).
+    i : int
+        The lane.
+
+    Returns
+    -------
+    Workspace
+        Lane ``i``'s arrays, as :func:`~trikedyn.model.dynamics.workspace` makes them.
+    """
     return Workspace(s.e[i], s.r[i], s.ew[i], s.pw[i], s.v[i], s.a[i], s.f[i], s.fext[i], s.mc[i], s.hc[i], s.ic[i],
                      s.hmat[i], s.low[i], s.vec[i], s.t6a[i], s.t6b[i], s.t33[i], s.tau[i], s.bias[i], s.zero[i])
 
@@ -222,10 +234,41 @@ def evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, x
 @jit
 def etd_lanes(bufs, on, n_on, tl, h, x, k1, k2, k3, k4, xs, ts, u, plants, plant_of, job, drivers, inputs, n_inputs,
               wout, ws, scratch, idx, mat, fn, m_blocks, exponential, finite):
-    """:func:`~trikedyn.simulate.integrator.etd_step` of ``h`` [s] for each lane of ``on[:n_on]`` from its
-    state ``x[l]`` at ``tl[l]`` (``k1[l]``, ``wout[l]`` and the factor in ``ws.low[l]`` evaluated), the three
-    later stages evaluated over the lanes (:func:`evaluate_lanes`); ``finite[l]`` says whether the new state is
-    finite. The other arrays are each lane's loop memory, as :func:`lane_batch_loop` holds it."""
+    """:func:`~trikedyn.simulate.integrator.etd_step` of ``h`` [s] for each lane of ``on[:n_on]``, the three
+    later stages evaluated over the lanes (:func:`evaluate_lanes`), in place.
+
+    Parameters
+    ----------
+    bufs : numpy.ndarray
+        The lane buffers (:func:`evaluate_lanes`).
+    on : numpy.ndarray of int
+        The lanes stepped (the first ``n_on``).
+    n_on : int
+    tl : numpy.ndarray
+        Each lane's time at the start of the step [s].
+    h : float
+        Step [s].
+    x : numpy.ndarray, shape (lanes, nx)
+        Each lane's state, advanced in place.
+    k1 : numpy.ndarray, shape (lanes, nx)
+        Each lane's first stage ``f(tl, x)``, evaluated (with ``wout`` and the factor in ``ws.low``).
+    k2, k3, k4, xs, ts : numpy.ndarray
+        The other stages, the stage states and the stage times [s]: scratch.
+    u : numpy.ndarray, shape (lanes, 3)
+        Each lane's inputs (steer [rad], drive [N m], brake [N m]); an open-loop lane's are interpolated at the
+        stage times.
+    plants, plant_of, job, drivers : Plant, numpy.ndarray
+        The stacked plants, each job's plant, each lane's job, each job's driver (``on = 0``: open loop).
+    inputs, n_inputs : numpy.ndarray
+        Each job's input table and its length.
+    wout, ws, scratch, idx, mat, fn, m_blocks
+        Each lane's wheel outputs, stacked workspace and exponential blocks (their state indices, ``L`` [1/s],
+        functions, count), as :func:`lane_batch_loop` holds them.
+    exponential : bool
+        ETDRK4 (True) or classical RK4.
+    finite : numpy.ndarray of bool
+        Written: whether each lane's new state is finite.
+    """
     nx = x.shape[1]
     half = 0.5 * h
     for a in range(n_on):
@@ -287,8 +330,30 @@ def etd_lanes(bufs, on, n_on, tl, h, x, k1, k2, k3, k4, xs, ts, u, plants, plant
 @jit
 def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_path, speeds, n_speeds, drivers,
                     stop_dts, dt, record_every, exponential, lanes, refill):
-    """:func:`~trikedyn.simulate.lockstep.batch_loop` (the same arguments, the same returns, each job's
-    record its scalar run's) with each stage of a step evaluated over the lanes (see the module docstring)."""
+    """:func:`~trikedyn.simulate.lockstep.batch_loop` with each stage of a step evaluated over the lanes (see the
+    module docstring): the same arguments, the same returns, each job's record its scalar run's bit for bit.
+
+    Parameters
+    ----------
+    x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_path, speeds, n_speeds, drivers, stop_dts
+        The jobs, as :func:`~trikedyn.simulate.lockstep.batch_loop` takes them (states, steps, stacked plants,
+        input tables, path rows, target speeds, drivers, largest substeps near a stop [s]).
+    dt : float
+        Step [s].
+    record_every : int
+        Steps between records.
+    exponential : bool
+        ETDRK4 (True) or classical RK4.
+    lanes : int
+        Lanes (runs advanced together); the lane kernels run on groups of ``LANES``.
+    refill : bool
+        A lane whose job ended takes the next job waiting.
+
+    Returns
+    -------
+    times, states, derivatives, wheels, commands, status, n_recorded, t_stop
+        As :func:`~trikedyn.simulate.lockstep.batch_loop`'s.
+    """
     n_jobs, nx = x0s.shape
     n_rec = n_steps.max() // record_every + 1
     nw = plants.wheels.shape[1]
