@@ -2,12 +2,10 @@
 
 :func:`~trikedyn.simulate.lockstep.batch_loop` advances its lanes one after the other through the scalar
 step. :func:`lane_batch_loop` takes the same jobs and returns the same records, but goes through a step stage
-by stage across the lanes: the driver of every lane, then the first right-hand side of every lane
-(:func:`evaluate_lanes`: the generated kinematics over all lanes, each lane's tyres, springs and drive, the
-generated forward dynamics over all lanes), the health watch of every lane, then the exponential step's
-three other stages (:func:`etd_lanes`), each an evaluation over the lanes. The kinematics and the forward
-dynamics, two thirds of a right-hand side, are the lane kernels of :mod:`trikedyn.model.lanes`, vectorised
-across ``LANES`` lanes; the rest is each lane's own compiled code, the scalar loop's.
+by stage across the lanes: every lane's driver, then every lane's first right-hand side (:func:`evaluate_lanes`:
+the kinematics and forward dynamics of all lanes by the lane kernels of :mod:`trikedyn.model.lanes`, two thirds
+of a right-hand side, vectorised; each lane's tyres, springs and drive its own), every lane's health watch,
+then the exponential step's three other stages (:func:`etd_lanes`), each an evaluation over the lanes.
 
 Every lane does the arithmetic of its scalar run in the same order: the lane kernels are the scalar kernels'
 code over the lanes (both take their sines and cosines from :func:`~trikedyn.model.lane_math.sincos`), and
@@ -16,9 +14,8 @@ therefore its scalar run's, bit for bit (``tests/simulate/test_batch.py``). A la
 (a suspension near its stop, :func:`~trikedyn.simulate.integrator.near_a_stop`) takes the scalar step for
 that step, from the first stage already evaluated.
 
-The functions here run only in a module generated for one tree structure and lane count
-(:func:`trikedyn.simulate.batch.batch_source`), which binds the lane kernels and their buffer's layout, the
-names below set to placeholders; :mod:`trikedyn.simulate.batch` holds the orchestration.
+The functions run only in a module generated for one tree structure (:func:`trikedyn.simulate.batch.batch_source`),
+which binds the lane kernels and their buffer's layout (placeholders here).
 """
 
 from __future__ import annotations
@@ -27,10 +24,10 @@ import numpy as np
 
 from .._jit import jit
 from ..driver.preview import DRIVER_STATE, driver_step
-from ..model.dynamics import Workspace
 from ..model.inverse_mass import dof_parent
+from ..model.lane_workspace import lane_workspace, stacked_workspace
 from ..model.packing import WHEEL_OUT
-from ..model.rhs import euler_rates_into, evaluate_into, interpolate_inputs, workspace, wrenches_into
+from ..model.rhs import euler_rates_into, evaluate_into, interpolate_inputs, wrenches_into
 from .exponential import (
     BLOCK_WIDTH,
     block_functions,
@@ -43,14 +40,12 @@ from .exponential import (
 from .integrator import STATUS_NAN, STATUS_OK, STATUS_PENETRATION, STATUS_ROLLOVER, etd_step, near_a_stop
 from .lockstep import lane_plant
 
-__all__ = ["LANE_GLOBALS", "etd_lanes", "evaluate_lanes", "lane_batch_loop", "lane_workspace", "set_lane_plant",
-           "stacked_workspace"]
+__all__ = ["LANE_GLOBALS", "etd_lanes", "evaluate_lanes", "lane_batch_loop", "set_lane_plant"]
 
-# Bound by each generated module: the lane count, the first row of each array of the lane buffer
-# (trikedyn.model.lanes.LaneLayout) and the three lane kernels of its structure.
+# bound by each generated module: the lane count, each array's first row in the buffer, the lane kernels
 LANES = ROWS = 1
-R_Q = R_U = R_TAU = R_FEXT = R_GRAVITY = R_TREE_E = R_TREE_R = R_MASS = R_H = R_IBAR = 0
-R_UDOT = R_E = R_EW = R_PW = R_V = R_LOW = 0
+R_Q = R_U = R_TAU = R_FEXT = R_GRAVITY = R_TREE_E = R_TREE_R = R_MASS = R_H = R_IBAR = R_UDOT = R_E = R_EW = R_PW = 0
+R_V = R_LOW = 0
 kinematics_lanes = forward_dynamics_lanes = forward_dynamics_factor_lanes = None
 
 LANE_GLOBALS = {"LANES": None, "ROWS": None, "R_Q": "q", "R_U": "u", "R_TAU": "tau", "R_FEXT": "fext",
@@ -59,61 +54,6 @@ LANE_GLOBALS = {"LANES": None, "ROWS": None, "R_Q": "q", "R_U": "u", "R_TAU": "t
                 "R_LOW": "low"}
 """The constants a generated module defines for these functions: ``LANES``, ``ROWS`` and each ``R_*``, the
 first row of its array of :data:`~trikedyn.model.lanes.LANE_ARRAYS`."""
-
-
-@jit(inline="always")
-def _stacked(a, lanes):
-    """An array of ``lanes`` copies of ``a``'s shape, uninitialised (as the workspace's)."""
-    return np.empty((lanes,) + a.shape)
-
-
-@jit
-def stacked_workspace(parent, lanes):
-    """A :data:`~trikedyn.model.dynamics.Workspace` for ``lanes`` lanes: each array of
-    :func:`~trikedyn.model.dynamics.workspace` with a first axis over the lanes (``zero`` zeros).
-
-    One stack of arrays, not a list of workspaces: reading a workspace out of a list holds and releases each
-    of its twenty arrays (about 0.2 us), and the loop reads one several times per lane and stage.
-
-    Parameters
-    ----------
-    parent : numpy.ndarray of int
-        The tree's parent bodies.
-    lanes : int
-        Lanes.
-
-    Returns
-    -------
-    Workspace
-        The stacked arrays.
-    """
-    w = workspace(parent)
-    return Workspace(_stacked(w.e, lanes), _stacked(w.r, lanes), _stacked(w.ew, lanes), _stacked(w.pw, lanes),
-                     _stacked(w.v, lanes), _stacked(w.a, lanes), _stacked(w.f, lanes), _stacked(w.fext, lanes),
-                     _stacked(w.mc, lanes), _stacked(w.hc, lanes), _stacked(w.ic, lanes), _stacked(w.hmat, lanes),
-                     _stacked(w.low, lanes), _stacked(w.vec, lanes), _stacked(w.t6a, lanes), _stacked(w.t6b, lanes),
-                     _stacked(w.t33, lanes), _stacked(w.tau, lanes), _stacked(w.bias, lanes),
-                     np.zeros((lanes,) + w.zero.shape))
-
-
-@jit(inline="always")
-def lane_workspace(s, i):
-    """Lane ``i``'s :data:`~trikedyn.model.dynamics.Workspace` of the stacked ``s``: views, nothing copied.
-
-    Parameters
-    ----------
-    s : Workspace
-        The stacked workspaces (:func:`stacked_workspace`).
-    i : int
-        The lane.
-
-    Returns
-    -------
-    Workspace
-        Lane ``i``'s arrays, as :func:`~trikedyn.model.dynamics.workspace` makes them.
-    """
-    return Workspace(s.e[i], s.r[i], s.ew[i], s.pw[i], s.v[i], s.a[i], s.f[i], s.fext[i], s.mc[i], s.hc[i], s.ic[i],
-                     s.hmat[i], s.low[i], s.vec[i], s.t6a[i], s.t6b[i], s.t33[i], s.tau[i], s.bias[i], s.zero[i])
 
 
 @jit(inline="always")
@@ -171,9 +111,9 @@ def evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, x
     wout : numpy.ndarray, shape (lanes, n_wheels), dtype WHEEL_OUT
         Written with each lane's wheel outputs.
     ws : Workspace
-        The lanes' workspaces, stacked (:func:`stacked_workspace`): each lane's ``e[0]``, ``ew``, ``pw``, ``v``,
-        ``tau``, ``fext`` written, and with ``keep_factor`` the factor of the mass matrix in ``low`` (the
-        entries the scalar kernel writes).
+        The lanes' workspaces, stacked (:func:`~trikedyn.model.lane_workspace.stacked_workspace`): each lane's
+        ``e[0]``, ``ew``, ``pw``, ``v``, ``tau``, ``fext`` written, and with ``keep_factor`` the factor of the
+        mass matrix in ``low`` (the entries the scalar kernel writes).
     xdot : numpy.ndarray, shape (lanes, nx)
         Written with each lane's ``dx/dt``.
     keep_factor : bool
@@ -505,7 +445,6 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
                 t_stop[j] = t
                 job[b] = -1
                 busy -= 1
-            elif abs(x[b, 3]) > plants.vehicle[plant_of[j], 0].roll_limit or \
-                    abs(x[b, 4]) > plants.vehicle[plant_of[j], 0].roll_limit:
+            elif max(abs(x[b, 3]), abs(x[b, 4])) > plants.vehicle[plant_of[j], 0].roll_limit:
                 status[j] = STATUS_ROLLOVER  # recorded at the lane's next step, which then ends the job
     return times, states, derivs, wheels, commands, status, recorded, t_stop

@@ -40,7 +40,7 @@ from ..errors import InputError
 from ..model.codegen import TreeStructure, generate_source, load_module
 from . import integrator
 
-__all__ = ["KERNELS", "KERNELS_ENV", "kernel_choice", "loop_module", "loop_source", "time_loop"]
+__all__ = ["KERNELS", "KERNELS_ENV", "kernel_choice", "loop_module", "loop_source", "structure_loop_module", "time_loop"]
 
 KERNELS_ENV = "TRIKEDYN_KERNELS"
 """The environment variable that selects the kernels when no argument does."""
@@ -145,8 +145,23 @@ def loop_module(plant):
     module
         Its ``rk4_loop`` is :func:`trikedyn.simulate.integrator.rk4_loop` on the generated kernels.
     """
-    structure = TreeStructure.of(plant.parent, plant.jtype, plant.jaxis, plant.tree_e, plant.tree_r, plant.h,
-                                 plant.ibar)
+    return structure_loop_module(TreeStructure.of(plant.parent, plant.jtype, plant.jaxis, plant.tree_e, plant.tree_r,
+                                                  plant.h, plant.ibar))
+
+
+def structure_loop_module(structure: TreeStructure):
+    """:func:`loop_module` of a tree structure.
+
+    Parameters
+    ----------
+    structure : TreeStructure
+        The tree's structure.
+
+    Returns
+    -------
+    module
+        The loop module (see :func:`loop_source`).
+    """
     with _LOCK:
         module = _BY_STRUCTURE.get(structure)
     if module is None:
