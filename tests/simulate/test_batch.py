@@ -98,9 +98,9 @@ def test_the_stepwise_batch_on_the_generated_kernels_gives_the_scalar_runs(gener
         _assert_same(b, s)
 
 
-def test_lanes_near_a_stop_take_the_scalar_substeps(reference):
+def test_lanes_near_a_stop_take_their_substeps_alone(reference):
     """Thrown onto stops ten times as stiff (the wheel hop needs substeps of 3.7 ms at a 10 ms step), some
-    lanes take the scalar step with substeps while the others step over the lanes: every run equals its
+    lanes take their substeps alone while the others step together: every run equals its
     scalar run, and the thrown ones did reach their stops."""
     from trikedyn.params.ops import override
     from trikedyn.simulate.run import run_model, stop_step

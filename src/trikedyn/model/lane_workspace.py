@@ -1,9 +1,9 @@
 """The workspaces of a batch's lanes: the scratch arrays of :func:`~trikedyn.model.dynamics.workspace`, one
-stack per array with the lanes on its first axis, and each lane's workspace as views of them.
+stack per array with the lanes on its first axis (``ws.ew[lane]`` is lane ``lane``'s ``ew``).
 
 One stack of arrays rather than a list of workspaces: reading a workspace out of a list holds and releases each
-of its twenty arrays (about 0.2 us), and the lockstep batch (:mod:`trikedyn.simulate.lane_batch`) reads one
-several times per lane and stage.
+of its twenty arrays (about 0.2 us), and the lockstep batch (:mod:`trikedyn.simulate.lane_batch`) reads the
+lanes' arrays several times per lane and stage.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ import numpy as np
 from .._jit import jit
 from .dynamics import Workspace, workspace
 
-__all__ = ["lane_workspace", "stacked_workspace"]
+__all__ = ["stacked_workspace"]
 
 
 @jit(inline="always")
@@ -46,23 +46,3 @@ def stacked_workspace(parent, lanes):
                      _stacked(w.low, lanes), _stacked(w.vec, lanes), _stacked(w.t6a, lanes), _stacked(w.t6b, lanes),
                      _stacked(w.t33, lanes), _stacked(w.tau, lanes), _stacked(w.bias, lanes),
                      np.zeros((lanes,) + w.zero.shape))
-
-
-@jit(inline="always")
-def lane_workspace(s, i):
-    """Lane ``i``'s :data:`~trikedyn.model.dynamics.Workspace` of the stacked ``s``: views, nothing copied.
-
-    Parameters
-    ----------
-    s : Workspace
-        The stacked workspaces (:func:`stacked_workspace`).
-    i : int
-        The lane.
-
-    Returns
-    -------
-    Workspace
-        Lane ``i``'s arrays, as :func:`~trikedyn.model.dynamics.workspace` makes them.
-    """
-    return Workspace(s.e[i], s.r[i], s.ew[i], s.pw[i], s.v[i], s.a[i], s.f[i], s.fext[i], s.mc[i], s.hc[i], s.ic[i],
-                     s.hmat[i], s.low[i], s.vec[i], s.t6a[i], s.t6b[i], s.t33[i], s.tau[i], s.bias[i], s.zero[i])

@@ -11,8 +11,8 @@ Every lane does the arithmetic of its scalar run in the same order: the lane ker
 code over the lanes (both take their sines and cosines from :func:`~trikedyn.model.lane_math.sincos`), and
 :func:`etd_lanes` is :func:`~trikedyn.simulate.integrator.etd_step` stage by stage. A lane's record is
 therefore its scalar run's, bit for bit (``tests/simulate/test_batch.py``). A lane whose step needs substeps
-(a suspension near its stop, :func:`~trikedyn.simulate.integrator.near_a_stop`) takes the scalar step for
-that step, from the first stage already evaluated.
+(a suspension near its stop, :func:`~trikedyn.simulate.integrator.near_a_stop`) takes them alone, each the
+same lane step, at the times the scalar loop takes them.
 
 The functions run only in a module generated for one tree structure (:func:`trikedyn.simulate.batch.batch_source`),
 which binds the lane kernels and their buffer's layout (placeholders here).
@@ -25,9 +25,9 @@ import numpy as np
 from .._jit import jit
 from ..driver.preview import DRIVER_STATE, driver_step
 from ..model.inverse_mass import dof_parent
-from ..model.lane_workspace import lane_workspace, stacked_workspace
+from ..model.lane_workspace import stacked_workspace
 from ..model.packing import WHEEL_OUT
-from ..model.rhs import euler_rates_into, evaluate_into, interpolate_inputs, wrenches_into
+from ..model.rhs import euler_rates_into, interpolate_inputs, wrenches_into
 from .exponential import (
     BLOCK_WIDTH,
     block_functions,
@@ -37,7 +37,7 @@ from .exponential import (
     third_stage_pairs,
     update_pairs,
 )
-from .integrator import STATUS_NAN, STATUS_OK, STATUS_PENETRATION, STATUS_ROLLOVER, etd_step, near_a_stop
+from .integrator import STATUS_NAN, STATUS_OK, STATUS_PENETRATION, STATUS_ROLLOVER, near_a_stop
 from .lockstep import lane_plant
 
 __all__ = ["LANE_GLOBALS", "etd_lanes", "evaluate_lanes", "lane_batch_loop", "set_lane_plant"]
@@ -340,6 +340,8 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
     ts = np.zeros(n_lanes)
     m_blocks = np.zeros(n_lanes, np.int64)
     finite = np.ones(n_lanes, np.bool_)
+    alone = np.zeros(1, np.int64)
+    tsub = np.zeros(n_lanes)
     waiting = 0
     busy = 0
     while True:
@@ -379,7 +381,7 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
             else:
                 u[b, 0], u[b, 1], u[b, 2] = interpolate_inputs(t, inputs[j, :n_inputs[j]])
         evaluate_lanes(bufs, on, n_on, tl, x, u, plants, plant_of, job, wout, ws, k1, True)
-        # records and the health watch; a lane near a stop takes the scalar step with substeps
+        # records and the health watch; a lane near a stop takes its substeps alone
         n_regular = 0
         for a in range(n_on):
             b = on[a]
@@ -414,22 +416,19 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
                 regular[n_regular] = b
                 n_regular += 1
                 continue
-            p = lane_plant(plants, pj)
-            closed = drivers[j].on > 0.0
+            # near a stop: substeps of this lane alone, each the same lane step (the step's first stage is k1)
             h = dt / n_sub
-            wb = lane_workspace(ws, b)
-            ok = True
+            alone[0] = b
             for i in range(n_sub):
-                ti = t + i * h
-                if i > 0:  # the substep's first stage (the step's first is k1, recorded above)
-                    if not closed:
-                        u[b, 0], u[b, 1], u[b, 2] = interpolate_inputs(ti, inputs[j, :n_inputs[j]])
-                    evaluate_into(ti, x[b], u[b], p, wout[b], wb, k1[b])
-                ok = etd_step(x[b], ti, h, k1[b], u[b], p, closed, inputs[j, :n_inputs[j]], wout[b], wb, xs[b],
-                              k2[b], k3[b], k4[b], scratch[b], idx[b], mat[b], fn[b], exponential)
-                if not ok:
+                tsub[b] = t + i * h
+                if i > 0:
+                    if drivers[j].on <= 0.0:
+                        u[b, 0], u[b, 1], u[b, 2] = interpolate_inputs(tsub[b], inputs[j, :n_inputs[j]])
+                    evaluate_lanes(bufs, alone, 1, tsub, x, u, plants, plant_of, job, wout, ws, k1, True)
+                etd_lanes(bufs, alone, 1, tsub, h, x, k1, k2, k3, k4, xs, ts, u, plants, plant_of, job, drivers, inputs,
+                          n_inputs, wout, ws, scratch, idx, mat, fn, m_blocks, exponential, finite)
+                if not finite[b]:
                     break
-            finite[b] = ok
         if n_regular > 0:
             etd_lanes(bufs, regular, n_regular, tl, dt, x, k1, k2, k3, k4, xs, ts, u, plants, plant_of, job, drivers,
                       inputs, n_inputs, wout, ws, scratch, idx, mat, fn, m_blocks, exponential, finite)
