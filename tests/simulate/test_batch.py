@@ -20,20 +20,25 @@ from trikedyn.simulate.run import input_table, simulate, time_step
 LOADS = ("front_fz_N", "rear_left_fz_N", "rear_right_fz_N")
 
 
-@pytest.fixture(scope="module")
-def lanes(reference):
+def eight_lanes(reference):
     """Eight closed-loop double lane changes: six speeds of reference-etrike (the two fastest roll over
-    early) and two parameter variants (100 kg of freight; rear and front springs 1.5 times as stiff)."""
+    early) and two parameter variants (100 kg of freight; rear and front springs 1.5 times as stiff), as
+    (models, speeds [km/h])."""
     base = build_model(reference)
     freight = build_model(with_freight(reference, 100.0))
     stiff = build_model(scale_suspension(reference, stiffness=1.5))
-    vehicles = [base] * 6 + [freight, stiff]
-    speeds = [20.0, 35.0, 45.0, 50.0, 58.0, 70.0, 40.0, 48.0]
+    return [base] * 6 + [freight, stiff], [20.0, 35.0, 45.0, 50.0, 58.0, 70.0, 40.0, 48.0]
+
+
+@pytest.fixture(scope="module")
+def lanes(reference):
+    """:func:`eight_lanes` and their scalar runs."""
+    vehicles, speeds = eight_lanes(reference)
     scalar = [run(m, "dlc", speed_kmh=v) for m, v in zip(vehicles, speeds, strict=True)]
     return vehicles, speeds, scalar
 
 
-def _assert_same(batch, scalar):
+def assert_same_records(batch, scalar):
     """Same status and the same records, bit for bit: times, states, wheel loads, path error (the issue asks
     1e-9; each lane does its scalar run's arithmetic in the same order, so they are equal)."""
     assert batch.status == scalar.status
@@ -54,7 +59,7 @@ def test_a_batch_of_eight_equals_eight_scalar_runs(lanes):
     batch = run_batch(vehicles, "dlc", speeds, lanes=8)
     assert len(batch) == 8
     for b, s in zip(batch, scalar, strict=True):
-        _assert_same(b, s)
+        assert_same_records(b, s)
         assert b.meta["target_speed_kmh"] == s.meta["target_speed_kmh"]
 
 
@@ -62,69 +67,7 @@ def test_refilled_lanes_give_the_same_runs(lanes):
     """Three lanes for eight runs: each lane takes the next run when its own ends."""
     vehicles, speeds, scalar = lanes
     for b, s in zip(run_batch(vehicles, "dlc", speeds, lanes=3), scalar, strict=True):
-        _assert_same(b, s)
-
-
-@pytest.fixture(scope="module")
-def generated_lanes(lanes):
-    """The eight runs of ``lanes``, the scalar ones on the generated kernels (the suite runs on the generic:
-    the two kernel sets differ in the last bits, which grow to 2e-6 on a lane that rolls over)."""
-    vehicles, speeds, _ = lanes
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setenv("TRIKEDYN_KERNELS", "generated")
-        return vehicles, speeds, [run(m, "dlc", speed_kmh=v) for m, v in zip(vehicles, speeds, strict=True)]
-
-
-def test_the_lane_batch_gives_the_scalar_runs_bit_for_bit(generated_lanes):
-    """On the generated kernels the batch evaluates each stage over its lanes (the lane kernels): each run
-    equals the scalar run bit for bit, nine lanes for eight runs included (two groups of the lane kernels,
-    one mostly idle)."""
-    from trikedyn.simulate.batch import BATCH_KERNELS, LANE_WIDTH
-
-    vehicles, speeds, scalar = generated_lanes
-    assert BATCH_KERNELS["generated"](vehicles[0].plant).__name__ == "lane_batch_loop"
-    for count in (8, LANE_WIDTH + 1):
-        for b, s in zip(run_batch(vehicles, "dlc", speeds, lanes=count, kernels="generated"), scalar, strict=True):
-            _assert_same(b, s)
-
-
-@pytest.mark.slow
-def test_the_stepwise_batch_on_the_generated_kernels_gives_the_scalar_runs(generated_lanes):
-    """``generated-scalar``, the batch stepping each lane through the scalar step on the generated kernels (the
-    lane batch's reference and the benchmark's), gives each scalar run bit for bit (slow: it compiles another
-    loop, about 30 s on a cold cache)."""
-    vehicles, speeds, scalar = generated_lanes
-    for b, s in zip(run_batch(vehicles, "dlc", speeds, lanes=8, kernels="generated-scalar"), scalar, strict=True):
-        _assert_same(b, s)
-
-
-def test_lanes_near_a_stop_take_their_substeps_alone(reference):
-    """Thrown onto stops ten times as stiff (the wheel hop needs substeps of 3.7 ms at a 10 ms step), some
-    lanes take their substeps alone while the others step together: every run equals its
-    scalar run, and the thrown ones did reach their stops."""
-    from trikedyn.params.ops import override
-    from trikedyn.simulate.run import run_model, stop_step
-
-    model = build_model(override(reference, {"suspension.front.bump_stop_stiffness_N_per_m": 5e6,
-                                             "suspension.rear.bump_stop_stiffness_N_per_m": 4e6}))
-    assert stop_step(model)[0] < 0.01
-    eq = static_equilibrium(model.on_flat_road())
-    specs = []
-    for vz in (0.0, -1.5, 0.0, -1.0, -0.5):
-        x0 = rolling_state(model, eq, 30 / 3.6)
-        x0[model.n_dof + 5] = vz
-        specs.append({"model": model, "x0": x0, "inputs": np.zeros((1, 4)), "duration_s": 1.0, "dt": 0.01})
-    scalar = [run_model(**spec, output_rate_hz=100.0, kernels="generated") for spec in specs]
-    bump = model.plant.wheels["bump_travel"]
-    names = ("front", "rear_left", "rear_right")
-    peaks = [[float(np.max(r.channels[f"{w}_travel_m"])) for w in names] for r in scalar]
-    assert all(peak > limit for peak, limit in zip(peaks[1], bump, strict=True))  # every stop hit
-    assert max(peaks[0]) < bump.min()  # the undisturbed lanes stay off them
-    for b, s in zip(run_prepared(specs, lanes=4, kernels="generated"), scalar, strict=True):
-        assert b.status == s.status
-        np.testing.assert_array_equal(b.states, s.states)
-        for name in LOADS:
-            np.testing.assert_array_equal(b.channels[name], s.channels[name])
+        assert_same_records(b, s)
 
 
 def test_an_open_loop_batch_equals_the_scalar_loop(reference):
@@ -238,4 +181,4 @@ def test_the_batch_runs_on_the_scalar_loops_kernels(reference, monkeypatch):
     scalar = [run(model, "dlc", speed_kmh=v) for v in speeds]
     assert not scalar[1].success
     for b, s in zip(run_batch(model, "dlc", speeds), scalar, strict=True):
-        _assert_same(b, s)
+        assert_same_records(b, s)

@@ -4,7 +4,9 @@ The generic loop (RNEA, CRBA, Cholesky over any tree) is the reference. On both 
 double lane change and an open-loop sine steer with drive torque give the same states and wheel loads with
 either loop, to 1e-9 of each quantity's largest magnitude over the run (at least 1 in its unit: m, rad, m/s,
 rad/s, N); they agree to ~1e-13 (the generated code sums in another order). The exponential integrator's
-``(H^-1)_ss`` from the generated ``L^T D L`` factor equals the inverse of the mass matrix's diagonal.
+``(H^-1)_ss`` from the generated ``L^T D L`` factor equals the inverse of the mass matrix's diagonal. The
+lockstep batch on the generated kernels (the lane batch) gives each run of the generated loop bit for bit: its
+tests are here, in the process that compiles the generated loop anyway (on a cold cache, ~50 s saved).
 """
 
 from __future__ import annotations
@@ -20,9 +22,14 @@ import pytest
 
 import trikedyn as td
 from trikedyn.errors import InputError
+from trikedyn.model.statics import rolling_state, static_equilibrium
 from trikedyn.model.vehicle import build_model
 from trikedyn.simulate import integrator
+from trikedyn.simulate.batch import run_batch, run_prepared
+from trikedyn.simulate.closed_loop import run
 from trikedyn.simulate.specialised import KERNELS_ENV, kernel_choice, loop_module, time_loop
+
+from .test_batch import LOADS, assert_same_records, eight_lanes
 
 PRESETS = ["reference-etrike", "reference-tadpole"]
 TOLERANCE = 1e-9
@@ -181,3 +188,69 @@ def test_a_fresh_process_loads_the_compiled_loop(monkeypatch):
     assert done.returncode == 0, done.stderr
     probe = json.loads(done.stdout.strip().splitlines()[-1])
     assert probe["ok"] and probe["hits"] >= 1 and probe["misses"] == 0  # numba's cache, not a compilation
+
+
+# ------------------------------------------------------------------------------------------------------------
+# the lockstep batch on the generated kernels (trikedyn.simulate.lane_batch): each lane its scalar run, bit for bit
+# ------------------------------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def generated_lanes(reference):
+    """The eight runs of :func:`~tests.simulate.test_batch.eight_lanes`, the scalar ones on the generated kernels
+    (the suite runs on the generic: the two kernel sets differ in the last bits, which grow to 2e-6 on a lane
+    that rolls over). Here, in the file that compiles the generated loop anyway."""
+    vehicles, speeds = eight_lanes(reference)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("TRIKEDYN_KERNELS", "generated")
+        return vehicles, speeds, [run(m, "dlc", speed_kmh=v) for m, v in zip(vehicles, speeds, strict=True)]
+
+
+def test_the_lane_batch_gives_the_scalar_runs_bit_for_bit(generated_lanes):
+    """On the generated kernels the batch evaluates each stage over its lanes (the lane kernels): each run
+    equals the scalar run bit for bit, nine lanes for eight runs included (two groups of the lane kernels,
+    one mostly idle)."""
+    from trikedyn.simulate.batch import BATCH_KERNELS, LANE_WIDTH
+
+    vehicles, speeds, scalar = generated_lanes
+    assert BATCH_KERNELS["generated"](vehicles[0].plant).__name__ == "lane_batch_loop"
+    for count in (8, LANE_WIDTH + 1):
+        for b, s in zip(run_batch(vehicles, "dlc", speeds, lanes=count, kernels="generated"), scalar, strict=True):
+            assert_same_records(b, s)
+
+
+@pytest.mark.slow
+def test_the_stepwise_batch_on_the_generated_kernels_gives_the_scalar_runs(generated_lanes):
+    """``generated-scalar``, the batch stepping each lane through the scalar step on the generated kernels (the
+    lane batch's reference and the benchmark's), gives each scalar run bit for bit (slow: it compiles another
+    loop, about 30 s on a cold cache)."""
+    vehicles, speeds, scalar = generated_lanes
+    for b, s in zip(run_batch(vehicles, "dlc", speeds, lanes=8, kernels="generated-scalar"), scalar, strict=True):
+        assert_same_records(b, s)
+
+
+def test_lanes_near_a_stop_take_their_substeps_alone(reference):
+    """Thrown onto stops ten times as stiff (the wheel hop needs substeps of 3.7 ms at a 10 ms step), some
+    lanes take their substeps alone while the others step together: every run equals its
+    scalar run, and the thrown ones did reach their stops."""
+    from trikedyn.params.ops import override
+    from trikedyn.simulate.run import run_model, stop_step
+
+    model = build_model(override(reference, {"suspension.front.bump_stop_stiffness_N_per_m": 5e6,
+                                             "suspension.rear.bump_stop_stiffness_N_per_m": 4e6}))
+    assert stop_step(model)[0] < 0.01
+    eq = static_equilibrium(model.on_flat_road())
+    specs = []
+    for vz in (0.0, -1.5, 0.0, -1.0, -0.5):
+        x0 = rolling_state(model, eq, 30 / 3.6)
+        x0[model.n_dof + 5] = vz
+        specs.append({"model": model, "x0": x0, "inputs": np.zeros((1, 4)), "duration_s": 1.0, "dt": 0.01})
+    scalar = [run_model(**spec, output_rate_hz=100.0, kernels="generated") for spec in specs]
+    bump = model.plant.wheels["bump_travel"]
+    names = ("front", "rear_left", "rear_right")
+    peaks = [[float(np.max(r.channels[f"{w}_travel_m"])) for w in names] for r in scalar]
+    assert all(peak > limit for peak, limit in zip(peaks[1], bump, strict=True))  # every stop hit
+    assert max(peaks[0]) < bump.min()  # the undisturbed lanes stay off them
+    for b, s in zip(run_prepared(specs, lanes=4, kernels="generated"), scalar, strict=True):
+        assert b.status == s.status
+        np.testing.assert_array_equal(b.states, s.states)
+        for name in LOADS:
+            np.testing.assert_array_equal(b.channels[name], s.channels[name])
