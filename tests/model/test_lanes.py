@@ -58,6 +58,7 @@ def test_every_lanes_forward_dynamics_equals_the_scalar_kernel(batch):
         scalar.forward_dynamics_into(q, u, tau, fext, tuple(GRAVITY), tree.tree_e, tree.tree_r, tree.mass, tree.h,
                                      tree.ibar, ref)
         assert rel_err(layout.view(buf, "udot")[:, lane], ref) < 1e-12
+        np.testing.assert_array_equal(layout.view(buf, "udot")[:, lane], ref)  # the same arithmetic: equal
 
 
 def test_every_lanes_kinematics_equal_the_scalar_kernel(batch):
