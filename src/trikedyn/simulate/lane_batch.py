@@ -10,7 +10,7 @@ then the exponential step's three other stages (:func:`etd_lanes`), each an eval
 Every lane does the arithmetic of its scalar run in the same order: the lane kernels are the scalar kernels'
 code over the lanes (both take their sines and cosines from :func:`~trikedyn.model.lane_math.sincos`), and
 :func:`etd_lanes` is :func:`~trikedyn.simulate.integrator.etd_step` stage by stage. A lane's record is
-therefore its scalar run's, bit for bit (``tests/simulate/test_batch.py``). A lane whose step needs substeps
+therefore its scalar run's, bit for bit (``tests/simulate/test_specialised.py``). A lane whose step needs substeps
 (a suspension near its stop, :func:`~trikedyn.simulate.integrator.near_a_stop`) takes them alone, each the
 same lane step, at the times the scalar loop takes them.
 
