@@ -15,7 +15,7 @@ therefore its scalar run's, bit for bit (``tests/simulate/test_specialised.py``)
 same lane step, at the times the scalar loop takes them.
 
 The functions run only in a module generated for one tree structure (:func:`trikedyn.simulate.batch.batch_source`),
-which binds the lane kernels and their buffer's layout (placeholders here).
+which binds the lane kernels and their buffer's layout; here those names hold neutral values (never run).
 """
 
 from __future__ import annotations
@@ -23,13 +23,12 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
-from ..driver.preview import DRIVER_STATE, driver_step
+from ..driver.preview import driver_step
 from ..model.inverse_mass import dof_parent
 from ..model.lane_workspace import stacked_workspace
 from ..model.packing import WHEEL_OUT
 from ..model.rhs import euler_rates_into, interpolate_inputs, wrenches_into
 from .exponential import (
-    BLOCK_WIDTH,
     block_functions,
     spin_slip_blocks_ltdl,
     stage_pairs,
@@ -38,11 +37,11 @@ from .exponential import (
     update_pairs,
 )
 from .integrator import STATUS_NAN, STATUS_OK, STATUS_PENETRATION, STATUS_ROLLOVER, near_a_stop
-from .lockstep import lane_plant
+from .lockstep import batch_records, lane_memory, lane_plant, start_job
 
 __all__ = ["LANE_GLOBALS", "etd_lanes", "evaluate_lanes", "lane_batch_loop", "set_lane_plant"]
 
-# bound by each generated module: the lane count, each array's first row in the buffer, the lane kernels
+# set by each generated module: the lane count, each array's first row in the buffer, the lane kernels
 LANES = ROWS = 1
 R_Q = R_U = R_TAU = R_FEXT = R_GRAVITY = R_TREE_E = R_TREE_R = R_MASS = R_H = R_IBAR = R_UDOT = R_E = R_EW = R_PW = 0
 R_V = R_LOW = 0
@@ -295,44 +294,19 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
         As :func:`~trikedyn.simulate.lockstep.batch_loop`'s.
     """
     n_jobs, nx = x0s.shape
-    n_rec = n_steps.max() // record_every + 1
     nw = plants.wheels.shape[1]
-    times = np.zeros((n_jobs, n_rec))
-    states = np.zeros((n_jobs, n_rec, nx))
-    derivs = np.zeros((n_jobs, n_rec, nx))
-    wheels = np.zeros((n_jobs, n_rec, nw), WHEEL_OUT)
-    commands = np.zeros((n_jobs, n_rec, 3))
-    status = np.zeros(n_jobs, np.int64)
-    recorded = np.zeros(n_jobs, np.int64)
-    t_stop = np.zeros(n_jobs)
-    memory = np.zeros((n_jobs, 1), DRIVER_STATE)  # each job's driver memory, from zero
-    delays = np.zeros(n_jobs, np.int64)
-    for j in range(n_jobs):
-        delays[j] = drivers[j].delay_steps + 2 if drivers[j].on > 0.0 else 1
-    delay_lines = np.zeros((n_jobs, delays.max()))
-    n_lanes = max(1, min(lanes, n_jobs))
     n = plants.parent.shape[1] + 5
+    times, states, derivs, wheels, commands, status, recorded, t_stop, memory, delays, delay_lines = \
+        batch_records(x0s, n_steps, record_every, nw, drivers)
+    n_lanes = max(1, min(lanes, n_jobs))
     # the lane buffers: an idle lane computes on the first plant's values (finite arithmetic, result unread)
     bufs = np.zeros((-(-n_lanes // LANES), ROWS * LANES))
     for lane in range(bufs.shape[0] * LANES):
         set_lane_plant(bufs[lane // LANES], lane % LANES, lane_plant(plants, 0))
-    # what a lane carries from step to step, as batch_loop
-    job = np.full(n_lanes, -1, np.int64)
-    x = np.zeros((n_lanes, nx))
-    step = np.zeros(n_lanes, np.int64)
+    # what a lane carries from step to step, as batch_loop, the workspaces stacked
+    job, x, step, wout, u, xs, k1, k2, k3, k4, idx, mat, fn, scratch = lane_memory(n_lanes, nx, nw, n)
     ws = stacked_workspace(plants.parent[0], n_lanes)
     blank = np.zeros(nw, WHEEL_OUT)
-    wout = np.zeros((n_lanes, nw), WHEEL_OUT)
-    u = np.zeros((n_lanes, 3))
-    xs = np.empty((n_lanes, nx))
-    k1 = np.empty((n_lanes, nx))
-    k2 = np.empty((n_lanes, nx))
-    k3 = np.empty((n_lanes, nx))
-    k4 = np.empty((n_lanes, nx))
-    idx = np.zeros((n_lanes, nw, 2), np.int64)
-    mat = np.zeros((n_lanes, nw, 4))
-    fn = np.zeros((n_lanes, nw, BLOCK_WIDTH))
-    scratch = np.empty((n_lanes, n))
     # the lanes of this step (busy, then those on the lane step), their times and outcomes
     on = np.empty(n_lanes, np.int64)
     regular = np.empty(n_lanes, np.int64)
@@ -348,15 +322,7 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
         if busy == 0 or refill:  # fill the free lanes
             for b in range(n_lanes):
                 if job[b] < 0 and waiting < n_jobs:
-                    job[b] = waiting
-                    x[b] = x0s[waiting]
-                    step[b] = 0
-                    for k in range(nw):
-                        wout[b, k] = blank[k]
-                    u[b] = 0.0
-                    idx[b] = 0
-                    mat[b] = 0.0
-                    fn[b] = 0.0
+                    start_job(b, waiting, x0s[waiting], blank, job, x, step, wout, u, idx, mat, fn)
                     set_lane_plant(bufs[b // LANES], b % LANES, lane_plant(plants, plant_of[waiting]))
                     waiting += 1
                     busy += 1
@@ -389,7 +355,7 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
             pj = plant_of[j]
             t = tl[b]
             rec = recorded[j]
-            if (step[b] % record_every == 0 or status[j] != STATUS_OK) and rec < n_rec:
+            if (step[b] % record_every == 0 or status[j] != STATUS_OK) and rec < times.shape[1]:
                 times[j, rec] = t
                 states[j, rec] = x[b]
                 derivs[j, rec] = k1[b]

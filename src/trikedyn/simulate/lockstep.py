@@ -20,7 +20,7 @@ from ..model.rhs import evaluate_into, interpolate_inputs, workspace
 from .exponential import BLOCK_WIDTH
 from .integrator import STATUS_NAN, STATUS_OK, STATUS_PENETRATION, STATUS_ROLLOVER, etd_step, near_a_stop
 
-__all__ = ["advance_lane", "batch_loop", "lane_plant", "stack_plants"]
+__all__ = ["advance_lane", "batch_loop", "batch_records", "lane_memory", "lane_plant", "stack_plants", "start_job"]
 
 _PLANT_FIELDS = ("parent", "jtype", "jaxis", "tree_e", "tree_r", "mass", "h", "ibar", "wheels", "tyres", "vehicle",
                  "road")
@@ -157,6 +157,91 @@ def advance_lane(j, x, p, dt, record_every, n_steps, rec, status, inputs, path, 
 
 
 @jit
+def batch_records(x0s, n_steps, record_every, nw, drivers):
+    """The records of a batch's jobs (zeros) and each job's driver memory, as :func:`batch_loop` and
+    :func:`~trikedyn.simulate.lane_batch.lane_batch_loop` keep them.
+
+    Parameters
+    ----------
+    x0s : numpy.ndarray, shape (J, nx)
+        Initial states.
+    n_steps : numpy.ndarray of int, shape (J,)
+        Steps of each job.
+    record_every : int
+        Steps between records.
+    nw : int
+        Wheels.
+    drivers : numpy.ndarray, shape (J,), dtype DRIVER
+        Each job's driver.
+
+    Returns
+    -------
+    times, states, derivs, wheels, commands, status, recorded, t_stop : numpy.ndarray
+        The records (see :func:`batch_loop`'s returns).
+    memory, delays, delay_lines : numpy.ndarray
+        Each job's driver memory, delay-line length and past steer demands [rad].
+    """
+    n_jobs, nx = x0s.shape
+    n_rec = n_steps.max() // record_every + 1
+    memory = np.zeros((n_jobs, 1), DRIVER_STATE)  # each job's driver memory, from zero
+    delays = np.zeros(n_jobs, np.int64)
+    for j in range(n_jobs):
+        delays[j] = drivers[j].delay_steps + 2 if drivers[j].on > 0.0 else 1
+    return (np.zeros((n_jobs, n_rec)), np.zeros((n_jobs, n_rec, nx)), np.zeros((n_jobs, n_rec, nx)),
+            np.zeros((n_jobs, n_rec, nw), WHEEL_OUT), np.zeros((n_jobs, n_rec, 3)), np.zeros(n_jobs, np.int64),
+            np.zeros(n_jobs, np.int64), np.zeros(n_jobs), memory, delays, np.zeros((n_jobs, delays.max())))
+
+
+@jit
+def lane_memory(n_lanes, nx, nw, n):
+    """What each lane carries from step to step but its workspace: job (-1: none), state, step count, wheel
+    outputs, inputs, stage vectors, exponential blocks (indices, ``L``, functions) and scratch.
+
+    Parameters
+    ----------
+    n_lanes, nx, nw, n : int
+        Lanes, state size, wheels, degrees of freedom.
+
+    Returns
+    -------
+    job, x, step, wout, u, xs, k1, k2, k3, k4, idx, mat, fn, scratch : numpy.ndarray
+        One row per lane.
+    """
+    return (np.full(n_lanes, -1, np.int64), np.zeros((n_lanes, nx)), np.zeros(n_lanes, np.int64),
+            np.zeros((n_lanes, nw), WHEEL_OUT), np.zeros((n_lanes, 3)), np.empty((n_lanes, nx)),
+            np.empty((n_lanes, nx)), np.empty((n_lanes, nx)), np.empty((n_lanes, nx)), np.empty((n_lanes, nx)),
+            np.zeros((n_lanes, nw, 2), np.int64), np.zeros((n_lanes, nw, 4)), np.zeros((n_lanes, nw, BLOCK_WIDTH)),
+            np.empty((n_lanes, n)))
+
+
+@jit(inline="always")
+def start_job(b, j, x0, blank, job, x, step, wout, u, idx, mat, fn):
+    """Lane ``b`` takes job ``j`` from the state ``x0``, its memory set as the scalar loop sets it for a run (the
+    step reads the last wheel outputs, ``blank`` before the first, and the blocks back).
+
+    Parameters
+    ----------
+    b, j : int
+        The lane and the job.
+    x0 : numpy.ndarray
+        The job's initial state.
+    blank : numpy.ndarray, dtype WHEEL_OUT
+        Zeroed wheel outputs, one per wheel.
+    job, x, step, wout, u, idx, mat, fn : numpy.ndarray
+        The lanes' memory (:func:`lane_memory`), row ``b`` set.
+    """
+    job[b] = j
+    x[b] = x0
+    step[b] = 0
+    for k in range(blank.shape[0]):
+        wout[b, k] = blank[k]
+    u[b] = 0.0
+    idx[b] = 0
+    mat[b] = 0.0
+    fn[b] = 0.0
+
+
+@jit
 def batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_path, speeds, n_speeds, drivers,
                stop_dts, dt, record_every, exponential, lanes, refill):
     """Run the jobs in lockstep on ``lanes`` lanes, every job from ``t = 0`` with the step ``dt`` [s].
@@ -206,57 +291,23 @@ def batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_path, 
         As :func:`~trikedyn.simulate.integrator.rk4_loop`'s, one row per job (``r`` the longest job's records).
     """
     n_jobs, nx = x0s.shape
-    n_rec = n_steps.max() // record_every + 1
     nw = plants.wheels.shape[1]
-    times = np.zeros((n_jobs, n_rec))
-    states = np.zeros((n_jobs, n_rec, nx))
-    derivs = np.zeros((n_jobs, n_rec, nx))
-    wheels = np.zeros((n_jobs, n_rec, nw), WHEEL_OUT)
-    commands = np.zeros((n_jobs, n_rec, 3))
-    status = np.zeros(n_jobs, np.int64)
-    recorded = np.zeros(n_jobs, np.int64)
-    t_stop = np.zeros(n_jobs)
-    memory = np.zeros((n_jobs, 1), DRIVER_STATE)  # each job's driver memory, from zero
-    delays = np.zeros(n_jobs, np.int64)
-    for j in range(n_jobs):
-        delays[j] = drivers[j].delay_steps + 2 if drivers[j].on > 0.0 else 1
-    delay_lines = np.zeros((n_jobs, delays.max()))
-    # what a lane carries from step to step
-    n_lanes = max(1, min(lanes, n_jobs))
-    job = np.full(n_lanes, -1, np.int64)
-    x = np.zeros((n_lanes, nx))
-    step = np.zeros(n_lanes, np.int64)
-    # each lane's loop memory, as the scalar loop's (set afresh for each job: the step reads some of it back)
     n = plants.parent.shape[1] + 5
+    times, states, derivs, wheels, commands, status, recorded, t_stop, memory, delays, delay_lines = \
+        batch_records(x0s, n_steps, record_every, nw, drivers)
+    # what a lane carries from step to step, as the scalar loop (set afresh for each job)
+    n_lanes = max(1, min(lanes, n_jobs))
+    job, x, step, wout, u, xs, k1, k2, k3, k4, idx, mat, fn, scratch = lane_memory(n_lanes, nx, nw, n)
     wss = [workspace(plants.parent[0]) for _ in range(n_lanes)]
     blank = np.zeros(nw, WHEEL_OUT)
-    wout = np.zeros((n_lanes, nw), WHEEL_OUT)
-    u = np.zeros((n_lanes, 3))
-    xs = np.empty((n_lanes, nx))
-    k1 = np.empty((n_lanes, nx))
-    k2 = np.empty((n_lanes, nx))
-    k3 = np.empty((n_lanes, nx))
-    k4 = np.empty((n_lanes, nx))
-    idx = np.zeros((n_lanes, nw, 2), np.int64)
-    mat = np.zeros((n_lanes, nw, 4))
-    fn = np.zeros((n_lanes, nw, BLOCK_WIDTH))
-    scratch = np.empty((n_lanes, n))
     waiting = 0
     busy = 0
     while True:
         if busy == 0 or refill:  # fill the free lanes
             for b in range(n_lanes):
                 if job[b] < 0 and waiting < n_jobs:
-                    job[b] = waiting
-                    x[b] = x0s[waiting]
-                    step[b] = 0
+                    start_job(b, waiting, x0s[waiting], blank, job, x, step, wout, u, idx, mat, fn)
                     wss[b] = workspace(plants.parent[0])
-                    for k in range(nw):
-                        wout[b, k] = blank[k]
-                    u[b] = 0.0
-                    idx[b] = 0
-                    mat[b] = 0.0
-                    fn[b] = 0.0
                     waiting += 1
                     busy += 1
         if busy == 0:
