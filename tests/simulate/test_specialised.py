@@ -217,6 +217,26 @@ def test_the_lane_batch_gives_the_scalar_runs_bit_for_bit(generated_lanes):
             assert_same_records(b, s)
 
 
+def test_a_batch_of_few_runs_goes_through_the_scalar_loop(generated_lanes, monkeypatch):
+    """A lane step computes the kernels of every lane: fewer runs than ``FEWEST_LANES`` (or fewer lanes) go
+    through the scalar loop, run after run, never the lane loop, and give the scalar runs."""
+    from trikedyn.simulate import batch
+
+    vehicles, speeds, scalar = generated_lanes
+
+    def refused(plant):
+        raise AssertionError("the lane loop ran a batch of fewer than FEWEST_LANES runs")
+
+    monkeypatch.setitem(batch.BATCH_KERNELS, "generated", refused)
+    few = batch.FEWEST_LANES - 1
+    for b, s in zip(run_batch(vehicles[:few], "dlc", speeds[:few], kernels="generated"), scalar, strict=False):
+        assert_same_records(b, s)
+    for b, s in zip(run_batch(vehicles[5:], "dlc", speeds[5:], lanes=few, kernels="generated"), scalar[5:], strict=True):
+        assert_same_records(b, s)
+    with pytest.raises(AssertionError, match="FEWEST_LANES"):
+        run_batch(vehicles[:4], "dlc", speeds[:4], kernels="generated")
+
+
 @pytest.mark.slow
 def test_the_stepwise_batch_on_the_generated_kernels_gives_the_scalar_runs(generated_lanes):
     """``generated-scalar``, the batch stepping each lane through the scalar step on the generated kernels (the

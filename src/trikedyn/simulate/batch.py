@@ -41,9 +41,9 @@ from .integrator import OPEN_LOOP_DRIVER, OPEN_LOOP_PATH, OPEN_LOOP_SPEED
 from .lockstep import advance_lane, batch_loop, stack_plants
 from .result import Result
 from .run import loop_result, loop_steps, stop_step
-from .specialised import kernel_choice, structure_loop_module
+from .specialised import kernel_choice, structure_loop_module, time_loop
 
-__all__ = ["BATCH_KERNELS", "DEFAULT_LANES", "batch_source", "plan", "run_batch", "run_prepared"]
+__all__ = ["BATCH_KERNELS", "DEFAULT_LANES", "FEWEST_LANES", "batch_source", "plan", "run_batch", "run_prepared"]
 
 DEFAULT_LANES = 8
 """Lanes of a batch by default."""
@@ -53,6 +53,12 @@ LANE_WIDTH = 8
 """Lanes of one call of the lane kernels (a constant of their code): a batch of more lanes runs them in groups
 of this many, one of fewer leaves the rest of its group idle. 8 doubles are an AVX-512 register; 16 lanes
 measured no faster per lane than 8 (:mod:`trikedyn.model.lanes`)."""
+
+FEWEST_LANES = 4
+"""Fewest runs that go through the lane loop together: a lane step computes the kernels of all
+:data:`LANE_WIDTH` lanes, so a batch of fewer runs than this is run by the scalar loop, one run after the other
+(the same records, bit for bit). Measured (``python benchmarks/batch.py``): a batch of 8 costs about 6.8 ms
+plus 4.8 ms per busy lane for a 10 s run, the scalar loop about 6.5 ms a run, even at 4 lanes."""
 
 _COPIED = (advance_lane, batch_loop, lane_batch._at, lane_batch.set_lane_plant, lane_batch.evaluate_lanes,
            lane_batch.etd_lanes, lane_batch.lane_batch_loop)
@@ -223,7 +229,8 @@ def run_prepared(specs: Sequence[dict], *, lanes: int = DEFAULT_LANES, output_ra
     """Run prepared runs in lockstep batches and return one :class:`Result` each, in order.
 
     Runs that cannot share a batch (another step, topology or tyre model) go in batches of their own
-    (:func:`plan`).
+    (:func:`plan`); on the generated kernels, a batch of fewer than :data:`FEWEST_LANES` runs (or ``lanes``)
+    goes through the scalar loop, run after run.
 
     Parameters
     ----------
@@ -255,6 +262,10 @@ def run_prepared(specs: Sequence[dict], *, lanes: int = DEFAULT_LANES, output_ra
     jobs, batches = plan(specs, output_rate_hz)
     outs: list = [None] * len(jobs)
     for plant, arguments, members in batches:
+        if choice == "generated" and min(int(lanes), len(members)) < FEWEST_LANES:
+            for row, i in enumerate(members):
+                outs[i] = _scalar_run(jobs[i], arguments, row)
+            continue
         res = BATCH_KERNELS[choice](plant)(*arguments, int(lanes), bool(refill))
         times, states, derivs, wheels, commands, status, recorded, t_stop = res
         for row, i in enumerate(members):
@@ -264,6 +275,15 @@ def run_prepared(specs: Sequence[dict], *, lanes: int = DEFAULT_LANES, output_ra
     return [loop_result(spec["model"], out, dt=jobs[i]["dt"], raise_on_failure=raise_on_failure,
                         meta=spec.get("meta"), extra=spec.get("extra"), manoeuvre=spec.get("manoeuvre"))
             for i, (spec, out) in enumerate(zip(specs, outs, strict=True))]
+
+
+def _scalar_run(job: dict, arguments: tuple, row: int) -> tuple:
+    """One job of a batch by the scalar loop on the generated kernels (a batch under :data:`FEWEST_LANES`)."""
+    every, exponential, stops = arguments[-2], arguments[-1], arguments[11]
+    plant = job["model"].plant
+    return time_loop(plant, "generated")(job["x0"], 0.0, job["dt"], job["n_steps"], every, job["inputs"],
+                                         np.ascontiguousarray(job["path"]), np.ascontiguousarray(job["speeds"]),
+                                         job["driver"], plant, exponential, stops[row])
 
 
 def run_batch(vehicle, manoeuvre="dlc", speeds_kmh: float | Sequence[float] = 30.0, *, driver=None,

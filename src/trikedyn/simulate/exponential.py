@@ -277,7 +277,7 @@ def _phis_at_pair(s, q, close, conjugate):
     return e1, f1, f2, f3, e2, g1, g2, g3, de, d1, d2, d3
 
 
-@jit(inline="always")
+@jit
 def block_functions(mat, m, h, out):
     """For each of the first ``m`` blocks ``L`` of ``mat``: :data:`BLOCK_WIDTH` numbers into ``out``
     (``exp(h L / 2)``, ``phi_1(h L / 2)``, then the three ETDRK4 weights of ``h L``).

@@ -204,8 +204,9 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
         evaluate_into(t, x, u, p, wout, ws, k1)
         if (step % record_every == 0 or status != STATUS_OK) and rec < n_rec:
             times[rec] = t
-            states[rec] = x
-            derivs[rec] = k1
+            for i in range(nx):  # element by element: a row assignment compiles numba's shape check (~2 s)
+                states[rec, i] = x[i]
+                derivs[rec, i] = k1[i]
             for k in range(nw):
                 wheels[rec, k] = wout[k]
             commands[rec, 0], commands[rec, 1], commands[rec, 2] = u[0], u[1], u[2]

@@ -357,8 +357,9 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
             rec = recorded[j]
             if (step[b] % record_every == 0 or status[j] != STATUS_OK) and rec < times.shape[1]:
                 times[j, rec] = t
-                states[j, rec] = x[b]
-                derivs[j, rec] = k1[b]
+                for i in range(nx):
+                    states[j, rec, i] = x[b, i]
+                    derivs[j, rec, i] = k1[b, i]
                 for k in range(nw):
                     wheels[j, rec, k] = wout[b, k]
                 commands[j, rec, 0], commands[j, rec, 1], commands[j, rec, 2] = u[b, 0], u[b, 1], u[b, 2]

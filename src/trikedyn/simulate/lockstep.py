@@ -122,8 +122,9 @@ def advance_lane(j, x, p, dt, record_every, n_steps, rec, status, inputs, path, 
     evaluate_into(t, x, u, p, wout, ws, k1)
     if (step % record_every == 0 or status != STATUS_OK) and rec < times.shape[1]:
         times[j, rec] = t
-        states[j, rec] = x
-        derivs[j, rec] = k1
+        for i in range(x.shape[0]):
+            states[j, rec, i] = x[i]
+            derivs[j, rec, i] = k1[i]
         for k in range(nw):
             wheels[j, rec, k] = wout[k]
         commands[j, rec, 0], commands[j, rec, 1], commands[j, rec, 2] = u[0], u[1], u[2]

@@ -156,7 +156,7 @@ def _residual(dr, br, ar, cos_a):
     return dr / math.sqrt(1.0 + (br * ar) ** 2) * cos_a
 
 
-@jit(inline="always")
+@jit
 def _evaluate(fz, kappa, alpha, gamma, vcx, c, combined):
     """Fx, Fy, Mz, Mx, My and the clamp mask; combined slip (4.E50)-(4.E78) or pure slip."""
     if fz <= 0.0:  # out of contact (NaN goes on, to be seen)
