@@ -210,6 +210,7 @@ def etd_lanes(bufs, on, n_on, tl, h, x, k1, k2, k3, k4, xs, ts, u, plants, plant
     """
     nx = x.shape[1]
     half = 0.5 * h
+    no_factor = np.bool_(False)  # typed, not a literal: each literal argument value would compile the callee again
     for a in range(n_on):
         lane = on[a]
         j = job[lane]
@@ -226,7 +227,7 @@ def etd_lanes(bufs, on, n_on, tl, h, x, k1, k2, k3, k4, xs, ts, u, plants, plant
         if drivers[j].on <= 0.0:
             u[lane, 0], u[lane, 1], u[lane, 2] = interpolate_inputs(tl[lane] + half, inputs[j, :n_inputs[j]])
         ts[lane] = tl[lane] + half
-    evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, k2, False)
+    evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, k2, no_factor)
     for a in range(n_on):
         lane = on[a]
         m = m_blocks[lane]
@@ -235,7 +236,7 @@ def etd_lanes(bufs, on, n_on, tl, h, x, k1, k2, k3, k4, xs, ts, u, plants, plant
         for i in range(nx):  # b = x + h/2 phi1(hL/2) N_a
             xs_[i] = x_[i] + half * k2_[i]
         stage_pairs(fn[lane], idx_, m, x_, k2_, half, xs_)
-    evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, k3, False)
+    evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, k3, no_factor)
     for a in range(n_on):
         lane = on[a]
         j = job[lane]
@@ -248,7 +249,7 @@ def etd_lanes(bufs, on, n_on, tl, h, x, k1, k2, k3, k4, xs, ts, u, plants, plant
         if drivers[j].on <= 0.0:
             u[lane, 0], u[lane, 1], u[lane, 2] = interpolate_inputs(tl[lane] + h, inputs[j, :n_inputs[j]])
         ts[lane] = tl[lane] + h
-    evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, k4, False)
+    evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, k4, no_factor)
     for a in range(n_on):
         lane = on[a]
         m = m_blocks[lane]
@@ -315,6 +316,7 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
     m_blocks = np.zeros(n_lanes, np.int64)
     finite = np.ones(n_lanes, np.bool_)
     alone = np.zeros(1, np.int64)
+    one, keep_factor = np.int64(1), np.bool_(True)  # typed, not literals (each literal value: another compilation)
     tsub = np.zeros(n_lanes)
     waiting = 0
     busy = 0
@@ -346,7 +348,7 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
                                                         memory[j], delay_lines[j, :delays[j]], inputs[j, :n_inputs[j]])
             else:
                 u[b, 0], u[b, 1], u[b, 2] = interpolate_inputs(t, inputs[j, :n_inputs[j]])
-        evaluate_lanes(bufs, on, n_on, tl, x, u, plants, plant_of, job, wout, ws, k1, True)
+        evaluate_lanes(bufs, on, np.int64(n_on), tl, x, u, plants, plant_of, job, wout, ws, k1, keep_factor)
         # records and the health watch; a lane near a stop takes its substeps alone
         n_regular = 0
         for a in range(n_on):
@@ -391,13 +393,13 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
                 if i > 0:
                     if drivers[j].on <= 0.0:
                         u[b, 0], u[b, 1], u[b, 2] = interpolate_inputs(tsub[b], inputs[j, :n_inputs[j]])
-                    evaluate_lanes(bufs, alone, 1, tsub, x, u, plants, plant_of, job, wout, ws, k1, True)
-                etd_lanes(bufs, alone, 1, tsub, h, x, k1, k2, k3, k4, xs, ts, u, plants, plant_of, job, drivers, inputs,
+                    evaluate_lanes(bufs, alone, one, tsub, x, u, plants, plant_of, job, wout, ws, k1, keep_factor)
+                etd_lanes(bufs, alone, one, tsub, h, x, k1, k2, k3, k4, xs, ts, u, plants, plant_of, job, drivers, inputs,
                           n_inputs, wout, ws, scratch, idx, mat, fn, m_blocks, exponential, finite)
                 if not finite[b]:
                     break
         if n_regular > 0:
-            etd_lanes(bufs, regular, n_regular, tl, dt, x, k1, k2, k3, k4, xs, ts, u, plants, plant_of, job, drivers,
+            etd_lanes(bufs, regular, np.int64(n_regular), tl, dt, x, k1, k2, k3, k4, xs, ts, u, plants, plant_of, job, drivers,
                       inputs, n_inputs, wout, ws, scratch, idx, mat, fn, m_blocks, exponential, finite)
         for a in range(n_on):
             b = on[a]

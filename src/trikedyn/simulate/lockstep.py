@@ -232,7 +232,8 @@ def start_job(b, j, x0, blank, job, x, step, wout, u, idx, mat, fn):
         The lanes' memory (:func:`lane_memory`), row ``b`` set.
     """
     job[b] = j
-    x[b] = x0
+    for i in range(x0.shape[0]):  # element by element: a row assignment compiles numba's shape-check error path
+        x[b, i] = x0[i]
     step[b] = 0
     for k in range(blank.shape[0]):
         wout[b, k] = blank[k]
