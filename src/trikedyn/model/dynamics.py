@@ -148,7 +148,7 @@ def joint_transforms_into(q, parent, jtype, jaxis, tree_e, tree_r, e, r, rot):
                     e[b, i, j] = te[i, j]
 
 
-@jit
+@jit(inline="always")
 def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar, ws, tau, have_velocities=False):
     """Inverse dynamics: ``tau = H udot + C(q, u, f_ext)`` (RNEA, gravity as a base acceleration).
 
@@ -226,7 +226,7 @@ def rnea_into(e, r, u, udot, fext, gravity, parent, jtype, jaxis, mass, h, ibar,
         tau[k] = f[0, k]
 
 
-@jit
+@jit(inline="always")
 def crba_into(e, r, parent, jtype, jaxis, mass, h, ibar, ws):
     """Joint-space mass matrix ``H(q)`` into ``ws.hmat`` by the composite-rigid-body algorithm.
 
