@@ -57,8 +57,8 @@ measured no faster per lane than 8 (:mod:`trikedyn.model.lanes`)."""
 FEWEST_LANES = 4
 """Fewest runs that go through the lane loop together: a lane step computes the kernels of all
 :data:`LANE_WIDTH` lanes, so a batch of fewer runs than this is run by the scalar loop, one run after the other
-(the same records, bit for bit). Measured (``python benchmarks/batch.py``): a batch of 8 costs about 6.8 ms
-plus 4.8 ms per busy lane for a 10 s run, the scalar loop about 6.5 ms a run, even at 4 lanes."""
+(the same records, bit for bit). Measured (``python benchmarks/batch.py``): a batch costs about 6.8 ms plus
+4.8 ms per busy lane for 10 s runs, the scalar loop about 6.5 ms a run: they break even at about 4 runs."""
 
 _COPIED = (advance_lane, batch_loop, lane_batch._at, lane_batch.set_lane_plant, lane_batch.evaluate_lanes,
            lane_batch.etd_lanes, lane_batch.lane_batch_loop)
@@ -188,7 +188,7 @@ def plan(specs: Sequence[dict], output_rate_hz: float = 100.0) -> tuple[list[dic
     Returns
     -------
     jobs : list of dict
-        Per spec: ``model``, ``dt`` [s], ``n_steps``, ...
+        Per spec: ``model``, ``dt`` [s], ``n_steps``, ``every``, ``exponential``, ``stop_dt`` [s], ...
     batches : list of tuple
         ``(plant, arguments, members)``: a plant of the batch (its kernels), the arguments of
         :func:`~trikedyn.simulate.lockstep.batch_loop` but ``lanes`` and ``refill``, the specs' indices.
@@ -202,7 +202,8 @@ def plan(specs: Sequence[dict], output_rate_hz: float = 100.0) -> tuple[list[dic
         jobs.append({"model": model, "x0": x0, "dt": dt, "n_steps": n_steps, "inputs": np.asarray(spec["inputs"], float),
                      "path": np.asarray(spec["path"], float) if closed else OPEN_LOOP_PATH,
                      "speeds": np.asarray(spec["speed_profile"], float) if closed else OPEN_LOOP_SPEED,
-                     "driver": spec["driver"] if closed else OPEN_LOOP_DRIVER})
+                     "driver": spec["driver"] if closed else OPEN_LOOP_DRIVER, "every": every,
+                     "exponential": integrator == "etdrk4", "stop_dt": stop_step(model)[0]})
         groups.setdefault(_group_key(model, dt, every, integrator == "etdrk4"), []).append(i)
     batches = []
     for (dt, every, exponential, *_), members in groups.items():
@@ -219,7 +220,7 @@ def plan(specs: Sequence[dict], output_rate_hz: float = 100.0) -> tuple[list[dic
         drivers = np.concatenate([np.asarray(job["driver"], DRIVER).reshape(1) for job in part])
         arguments = (np.stack([job["x0"] for job in part]), np.array([job["n_steps"] for job in part], np.int64),
                      stack_plants(plants), np.array(plant_of, np.int64), inputs, n_inputs, paths, n_path, speeds,
-                     n_speeds, drivers, np.array([stop_step(job["model"])[0] for job in part]), dt, every, exponential)
+                     n_speeds, drivers, np.array([job["stop_dt"] for job in part]), dt, every, exponential)
         batches.append((plants[0], arguments, members))
     return jobs, batches
 
@@ -263,8 +264,8 @@ def run_prepared(specs: Sequence[dict], *, lanes: int = DEFAULT_LANES, output_ra
     outs: list = [None] * len(jobs)
     for plant, arguments, members in batches:
         if choice == "generated" and min(int(lanes), len(members)) < FEWEST_LANES:
-            for row, i in enumerate(members):
-                outs[i] = _scalar_run(jobs[i], arguments, row)
+            for i in members:
+                outs[i] = _scalar_run(jobs[i])
             continue
         res = BATCH_KERNELS[choice](plant)(*arguments, int(lanes), bool(refill))
         times, states, derivs, wheels, commands, status, recorded, t_stop = res
@@ -277,13 +278,12 @@ def run_prepared(specs: Sequence[dict], *, lanes: int = DEFAULT_LANES, output_ra
             for i, (spec, out) in enumerate(zip(specs, outs, strict=True))]
 
 
-def _scalar_run(job: dict, arguments: tuple, row: int) -> tuple:
-    """One job of a batch by the scalar loop on the generated kernels (a batch under :data:`FEWEST_LANES`)."""
-    every, exponential, stops = arguments[-2], arguments[-1], arguments[11]
+def _scalar_run(job: dict) -> tuple:
+    """One job of :func:`plan` by the scalar loop on the generated kernels (a batch under :data:`FEWEST_LANES`)."""
     plant = job["model"].plant
-    return time_loop(plant, "generated")(job["x0"], 0.0, job["dt"], job["n_steps"], every, job["inputs"],
+    return time_loop(plant, "generated")(job["x0"], 0.0, job["dt"], job["n_steps"], job["every"], job["inputs"],
                                          np.ascontiguousarray(job["path"]), np.ascontiguousarray(job["speeds"]),
-                                         job["driver"], plant, exponential, stops[row])
+                                         job["driver"], plant, job["exponential"], job["stop_dt"])
 
 
 def run_batch(vehicle, manoeuvre="dlc", speeds_kmh: float | Sequence[float] = 30.0, *, driver=None,
