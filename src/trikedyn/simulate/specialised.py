@@ -11,13 +11,22 @@ tree structure (:class:`~trikedyn.model.codegen.TreeStructure`) this module writ
   measured no faster: 0.418 against 0.408 us), then the Euler rates: the generic :func:`~trikedyn.model.rhs.evaluate_into` with
   its kinematics and dynamics replaced; and ``evaluate_stage_into``, the same on ``forward_dynamics_into``
   (no factor kept: the inner stages of a step, whose factor nobody reads; storing it cost ~0.19 us of the
-  dynamics' 0.52 us, three times a step); both inlined where the loop calls them (numba passes a tuple
-  argument's every array member by member, and ``p`` and ``ws`` are tuples of arrays: the loop ran 9-11 %
-  faster inlined, identical to the last bit, for 1-6 s more of its ~45 s cold compile per tree structure);
+  dynamics' 0.52 us, three times a step). The loop's first stage inlines ``evaluate_into`` (numba passes a
+  tuple argument's every array member by member, and ``p`` and ``ws`` are tuples of arrays: calling it cost
+  the loop 9-11 %);
+* ``etd_step``: :func:`~trikedyn.simulate.integrator.etd_step` on these kernels, the same arithmetic in the same
+  order, compiled on its own (one call a step), with the plant's and the workspace's arrays taken out of their
+  tuples once (:data:`_HOIST`) and its three inner right-hand sides written out in place (:func:`_stage`), not
+  inlined. numba counts references to arrays: an inlined function binds each array argument, every member of
+  a tuple argument included, to a new variable and so increments and later decrements its count (two atomic
+  instructions), and LLVM's reference-count pruning removes few of these pairs in a function as branchy as a
+  step. With ``evaluate_stage_into`` inlined three times a step, ``NRT_incref``/``NRT_decref`` were 13 % of a
+  profile of the loop (``perf``, the 10 s lane change); written out, 6 %, and the loop 6.14-6.20 ms against
+  6.59-6.69 (best of 25, alternated, identical to the last bit);
 * ``spin_slip_blocks`` bound to :func:`~trikedyn.simulate.exponential.spin_slip_blocks_ltdl` (the
-  exponential integrator's ``(H^-1)_ss`` from that factor);
-* the source of :func:`~trikedyn.simulate.integrator.etd_step` and :func:`~trikedyn.simulate.integrator.rk4_loop`
-  copied verbatim, their other globals imported from their own modules.
+  exponential integrator's ``(H^-1)_ss`` from that factor; the batch's generated module imports it);
+* the source of :func:`~trikedyn.simulate.integrator.rk4_loop` copied verbatim, its other globals imported from
+  their own modules.
 
 It goes to the generated kernels' cache folder (:func:`~trikedyn.model.codegen.cache_dir`) as
 ``loop<hash of its text>.py``, so an edited integrator or generator is another file, and compiles with
@@ -45,50 +54,113 @@ __all__ = ["KERNELS", "KERNELS_ENV", "kernel_choice", "loop_module", "loop_sourc
 KERNELS_ENV = "TRIKEDYN_KERNELS"
 """The environment variable that selects the kernels when no argument does."""
 
-_COPIED = (integrator.etd_step, integrator.rk4_loop)
-"""The loop functions compiled again in each generated module, in this order."""
+_COPIED = (integrator.rk4_loop,)
+"""The loop functions compiled again in each generated module."""
 
 _REBOUND = {"evaluate_into", "evaluate_stage_into", "spin_slip_blocks", "etd_step", "rk4_loop"}
 """The globals the generated module defines itself (the rest are imported)."""
 
-_GLUE = '''
+_HOIST = """\
+    tree_e, tree_r, mass, hh, ibar = p.tree_e, p.tree_r, p.mass, p.h, p.ibar
+    wheels, tyres, vehicle, road, parent = p.wheels, p.tyres, p.vehicle, p.road, p.parent
+    e, r, ew, pw, v, fext, tau, low = ws.e, ws.r, ws.ew, ws.pw, ws.v, ws.fext, ws.tau, ws.low
+    gravity = (0.0, 0.0, -vehicle[0].g)
+"""
+"""The plant's and the workspace's arrays a right-hand side reads, taken out of their tuples once."""
 
-# ---- the right-hand side and the loop on these kernels (trikedyn.simulate.specialised) ----------------
+
+def _stage(t: str, x: str, out: str, factor: bool) -> str:
+    """The text of one right-hand side ``out = f(t, x)`` on the generated kernels, written out in place: the
+    kinematics, :func:`~trikedyn.model.rhs.wrenches_into`, the forward dynamics (keeping the ``L^T D L`` factor
+    in ``low`` with ``factor``), the Euler rates."""
+    q, qd = f"{x}[:N_DOF]", f"{x}[N_DOF : 2 * N_DOF]"
+    dynamics = (f"forward_dynamics_factor_into({q}, {qd}, tau, fext, gravity, tree_e, tree_r, mass, hh, ibar, "
+                f"{out}[N_DOF : 2 * N_DOF], low)" if factor else
+                f"forward_dynamics_into({q}, {qd}, tau, fext, gravity, tree_e, tree_r, mass, hh, ibar, "
+                f"{out}[N_DOF : 2 * N_DOF])")
+    return (f"    kinematics_into({q}, {qd}, tree_e, tree_r, e, r, ew, pw, v)\n"
+            f"    wrenches_into({t}, {x}, u, wheels, tyres, vehicle, road, wout, ew, pw, v, fext, tau, {out})\n"
+            f"    {dynamics}\n"
+            f"    euler_rates_into({q}, {qd}, e[0], {out}[:N_DOF])\n")
+
+
+_GLUE = f'''
+
+# ---- the right-hand side and the step on these kernels (trikedyn.simulate.specialised) ----------------
 
 
 @jit(inline="always")
 def evaluate_into(t, x, u, p, wout, ws, xdot):
     """``xdot = f(t, x, u, p)``: the generated kinematics, the forces of :func:`trikedyn.model.rhs.wrenches_into`,
     then ``du/dt`` by the generated kernel (its ``L^T D L`` factor into ``ws.low``), then ``dq/dt``."""
-    q = x[:N_DOF]
-    qd = x[N_DOF : 2 * N_DOF]
-    kinematics_into(q, qd, p.tree_e, p.tree_r, ws.e, ws.r, ws.ew, ws.pw, ws.v)
-    wrenches_into(t, x, u, p.wheels, p.tyres, p.vehicle, p.road, wout, ws.ew, ws.pw, ws.v, ws.fext, ws.tau, xdot)
-    forward_dynamics_factor_into(q, qd, ws.tau, ws.fext, (0.0, 0.0, -p.vehicle[0].g), p.tree_e, p.tree_r, p.mass,
-                                 p.h, p.ibar, xdot[N_DOF : 2 * N_DOF], ws.low)
-    euler_rates_into(q, qd, ws.e[0], xdot[:N_DOF])
-
+{_HOIST}{_stage("t", "x", "xdot", True)}
 
 @jit(inline="always")
 def evaluate_stage_into(t, x, u, p, wout, ws, xdot):
     """``evaluate_into`` without storing the factor of the mass matrix (an inner stage of a step: only the
     first stage's factor is read)."""
-    q = x[:N_DOF]
-    qd = x[N_DOF : 2 * N_DOF]
-    kinematics_into(q, qd, p.tree_e, p.tree_r, ws.e, ws.r, ws.ew, ws.pw, ws.v)
-    wrenches_into(t, x, u, p.wheels, p.tyres, p.vehicle, p.road, wout, ws.ew, ws.pw, ws.v, ws.fext, ws.tau, xdot)
-    forward_dynamics_into(q, qd, ws.tau, ws.fext, (0.0, 0.0, -p.vehicle[0].g), p.tree_e, p.tree_r, p.mass, p.h,
-                          p.ibar, xdot[N_DOF : 2 * N_DOF])
-    euler_rates_into(q, qd, ws.e[0], xdot[:N_DOF])
-
+{_HOIST}{_stage("t", "x", "xdot", False)}
 
 spin_slip_blocks = spin_slip_blocks_ltdl
+
+
+@jit
+def etd_step(x, t, h, k1, u, p, closed, inputs, wout, ws, xs, k2, k3, k4, scratch, idx, mat, fn, exponential):
+    """:func:`trikedyn.simulate.integrator.etd_step` on these kernels, the same arithmetic in the same order,
+    with the plant's and the workspace's arrays taken out of their tuples once and the three inner stages'
+    right-hand sides written out in place (see :mod:`trikedyn.simulate.specialised`)."""
+{_HOIST}    nx = x.shape[0]
+    half = 0.5 * h
+    m = 0
+    if exponential:
+        for k in range(wheels.shape[0]):
+            spin_slip_block(wheels, tyres, vehicle, parent.shape[0] + 5, k, wout[k],
+                            ltdl_inverse_diagonal(low, parent, 5 + wheels[k].wheel_body, scratch), idx, mat)
+        m = wheels.shape[0]
+    block_functions(mat, m, h, fn)
+    for i in range(nx):  # a = x + h/2 phi1(hL/2) N_n
+        xs[i] = x[i] + half * k1[i]
+    stage_pairs(fn, idx, m, x, k1, half, xs)
+    if not closed:
+        u[0], u[1], u[2] = interpolate_inputs(t + half, inputs)
+{_stage("t + half", "xs", "k2", False)}\
+    subtract_blocks(mat, idx, m, xs, x, k2)
+    for i in range(nx):  # b = x + h/2 phi1(hL/2) N_a
+        xs[i] = x[i] + half * k2[i]
+    stage_pairs(fn, idx, m, x, k2, half, xs)
+{_stage("t + half", "xs", "k3", False)}\
+    subtract_blocks(mat, idx, m, xs, x, k3)
+    for i in range(nx):  # c = x + exp(hL/2) (a - x) + h/2 phi1(hL/2) (2 N_b - N_n)
+        xs[i] = x[i] + h * k3[i]
+    third_stage_pairs(fn, idx, m, x, k1, k3, half, xs)
+    if not closed:
+        u[0], u[1], u[2] = interpolate_inputs(t + h, inputs)
+{_stage("t + h", "xs", "k4", False)}\
+    subtract_blocks(mat, idx, m, xs, x, k4)
+    # x + h (W1 N_n + W2 (N_a + N_b) + W3 N_c), the weights 1/6, 1/3, 1/6 outside the blocks
+    for i in range(nx):
+        xs[i] = x[i] + h * (k1[i] / 6.0 + (k2[i] + k3[i]) / 3.0 + k4[i] / 6.0)
+    update_pairs(fn, idx, m, x, k1, k2, k3, k4, h, xs)
+    finite = True
+    for i in range(nx):
+        x[i] = xs[i]
+        if not np.isfinite(x[i]):
+            finite = False
+    return finite
 '''
 
 _GLUE_IMPORTS = {
     "wrenches_into": "trikedyn.model.rhs",
     "euler_rates_into": "trikedyn.model.rhs",
+    "interpolate_inputs": "trikedyn.model.rhs",
+    "ltdl_inverse_diagonal": "trikedyn.model.inverse_mass",
     "spin_slip_blocks_ltdl": "trikedyn.simulate.exponential",
+    "spin_slip_block": "trikedyn.simulate.exponential",
+    "block_functions": "trikedyn.simulate.exponential",
+    "stage_pairs": "trikedyn.simulate.exponential",
+    "subtract_blocks": "trikedyn.simulate.exponential",
+    "third_stage_pairs": "trikedyn.simulate.exponential",
+    "update_pairs": "trikedyn.simulate.exponential",
 }
 
 _LOCK = threading.Lock()
@@ -103,7 +175,7 @@ def _imports(defined: set) -> list[str]:
     for func in _COPIED:
         py = func.py_func
         for name in py.__code__.co_names:
-            if name in py.__globals__ and name not in _REBOUND and name != "np":
+            if name in py.__globals__ and name not in _REBOUND and name not in _GLUE_IMPORTS and name != "np":
                 if name in defined:
                     raise RuntimeError(f"the generated kernels define {name!r}, a global of {py.__name__}")
                 wanted.setdefault(py.__module__, set()).add(name)
