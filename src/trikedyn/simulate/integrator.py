@@ -47,11 +47,13 @@ OPEN_LOOP = (OPEN_LOOP_PATH, OPEN_LOOP_SPEED, OPEN_LOOP_DRIVER)
 
 
 @jit(inline="always")
-def near_a_stop(x, p, n, dt):
+def near_a_stop(x, wheels, n, dt):
     """Whether a suspension is on a bump or rebound stop, or within reach of one over a step of ``dt`` [s]
-    at twice its present travel rate (a stop is a stiff one-sided spring: its wheel hop is the fastest mode)."""
-    for k in range(p.wheels.shape[0]):
-        w = p.wheels[k]
+    at twice its present travel rate (a stop is a stiff one-sided spring: its wheel hop is the fastest mode).
+    It takes the plant's ``wheels``, not the plant: an inlined function's tuple argument costs a reference
+    count on every array of the tuple (:mod:`trikedyn.simulate.specialised`)."""
+    for k in range(wheels.shape[0]):
+        w = wheels[k]
         sb = w.spring_body
         travel = w.motion_ratio * x[5 + sb]
         reach = 2.0 * abs(w.motion_ratio * x[n + 5 + sb]) * dt + 1e-3
@@ -174,6 +176,7 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
     commands = np.empty((n_rec, 3))
     d = drv[0]
     veh = p.vehicle[0]
+    plant_wheels = p.wheels  # taken out of the plant once, not at every step
     closed = d.on > 0.0
     dstate = np.zeros(1, DRIVER_STATE)  # the driver's memory: an array the loop owns (not a bare record)
     delay_line = np.zeros(d.delay_steps + 2) if closed else np.zeros(1)
@@ -214,10 +217,10 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
         if status != STATUS_OK or step == n_steps:
             break
         for k in range(nw):
-            if wout[k].deflection > veh.penetration_limit * p.wheels[k].radius:
+            if wout[k].deflection > veh.penetration_limit * plant_wheels[k].radius:
                 return times, states, derivs, wheels, commands, STATUS_PENETRATION, rec, t
         n_sub = 1
-        if stop_dt > 0.0 and dt > stop_dt and near_a_stop(x, p, n, dt):
+        if stop_dt > 0.0 and dt > stop_dt and near_a_stop(x, plant_wheels, n, dt):
             n_sub = int(np.ceil(dt / stop_dt))
         h = dt / n_sub
         finite = True

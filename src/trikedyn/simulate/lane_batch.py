@@ -379,7 +379,7 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
                 busy -= 1
                 continue
             n_sub = 1
-            if stop_dts[j] > 0.0 and dt > stop_dts[j] and near_a_stop(x[b], lane_plant(plants, pj), n, dt):
+            if stop_dts[j] > 0.0 and dt > stop_dts[j] and near_a_stop(x[b], plants.wheels[pj], n, dt):
                 n_sub = int(np.ceil(dt / stop_dts[j]))
             if n_sub == 1:
                 regular[n_regular] = b

@@ -135,7 +135,7 @@ def advance_lane(j, x, p, dt, record_every, n_steps, rec, status, inputs, path, 
         if wout[k].deflection > veh.penetration_limit * p.wheels[k].radius:
             return rec, STATUS_PENETRATION, True, t
     n_sub = 1
-    if stop_dt > 0.0 and dt > stop_dt and near_a_stop(x, p, n, dt):
+    if stop_dt > 0.0 and dt > stop_dt and near_a_stop(x, p.wheels, n, dt):
         n_sub = int(np.ceil(dt / stop_dt))
     h = dt / n_sub
     finite = True
