@@ -26,6 +26,7 @@ import math
 
 import numpy as np
 
+from .._borrow import borrowed
 from .._jit import jit
 from ..tyre.interface import wheel_wrench
 from .cholesky import cholesky_solve_into
@@ -184,9 +185,9 @@ def wrenches_into(t, x, u, wheels, tyres, vehicle, road, wout, ew, pw, v, fext, 
     n = nb + 5
     nw = wheels.shape[0]
     veh = vehicle[0]
-    q = x[:n]
-    qd = x[n : 2 * n]
-    slip = x[2 * n :]
+    q = borrowed(x[:n])
+    qd = borrowed(x[n : 2 * n])
+    slip = borrowed(x[2 * n :])
     fext[:, :] = 0.0
     tau[:] = 0.0
     steer_cmd, drive_cmd, brake_cmd = u[0], u[1], u[2]
@@ -208,11 +209,11 @@ def wrenches_into(t, x, u, wheels, tyres, vehicle, road, wout, ew, pw, v, fext, 
         wb = w.wheel_body
         out = wout[k]
         fwx, fwy, fwz, mwx, mwy, mwz, dkappa, dtan = wheel_wrench(
-            w, tyres[k], veh, road[0], ew[wb], pw[wb, 0], pw[wb, 1], pw[wb, 2], v[wb], slip[2 * k],
-            slip[2 * k + 1], out)
+            w, borrowed(tyres[k]), veh, road[0], borrowed(ew[wb]), pw[wb, 0], pw[wb, 1], pw[wb, 2], borrowed(v[wb]),
+            slip[2 * k], slip[2 * k + 1], out)
         xdot[slip_off + 2 * k] = dkappa
         xdot[slip_off + 2 * k + 1] = dtan
-        eb = ew[wb]
+        eb = borrowed(ew[wb])
         for i in range(3):
             fext[wb, i] = eb[i, 0] * mwx + eb[i, 1] * mwy + eb[i, 2] * mwz
             fext[wb, 3 + i] = eb[i, 0] * fwx + eb[i, 1] * fwy + eb[i, 2] * fwz

@@ -14,6 +14,10 @@ therefore its scalar run's, bit for bit (``tests/simulate/test_specialised.py``)
 (a suspension near its stop, :func:`~trikedyn.simulate.integrator.near_a_stop`) takes them alone, each the
 same lane step, at the times the scalar loop takes them.
 
+Each lane's rows of the stacked arrays are views that count no references (:func:`~trikedyn._borrow.borrowed`):
+taken a dozen times a lane and a stage, counted views were 12 % of a profile of the batch, 3 % after (and the
+batch 176-192 runs/core-s against 158-174, ``benchmarks/batch.py``'s closed loop on 8 lanes, alternated).
+
 The functions run only in a module generated for one tree structure (:func:`trikedyn.simulate.batch.batch_source`),
 which binds the lane kernels and their buffer's layout; here those names hold neutral values (never run).
 """
@@ -22,6 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._borrow import borrowed
 from .._jit import jit
 from ..driver.preview import driver_step
 from ..model.inverse_mass import dof_parent
@@ -131,7 +136,8 @@ def evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, x
     for a in range(n_on):
         lane = on[a]
         g, k = lane // LANES, lane % LANES
-        ew, pw, v, fext, tau = ws.ew[lane], ws.pw[lane], ws.v[lane], ws.fext[lane], ws.tau[lane]
+        ew, pw, v = borrowed(ws.ew[lane]), borrowed(ws.pw[lane]), borrowed(ws.v[lane])
+        fext, tau = borrowed(ws.fext[lane]), borrowed(ws.tau[lane])
         for b in range(nb):
             for i in range(3):
                 for j in range(3):
@@ -143,8 +149,9 @@ def evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, x
             for j in range(3):
                 ws.e[lane, 0, i, j] = bufs[g, _at(R_E + 3 * i + j, k)]
         pj = plant_of[job[lane]]
-        wrenches_into(ts[lane], xs[lane], u[lane], plants.wheels[pj], plants.tyres[pj], plants.vehicle[pj],
-                      plants.road[pj], wout[lane], ew, pw, v, fext, tau, xdot[lane])
+        wrenches_into(ts[lane], borrowed(xs[lane]), borrowed(u[lane]), borrowed(plants.wheels[pj]),
+                      borrowed(plants.tyres[pj]), borrowed(plants.vehicle[pj]), borrowed(plants.road[pj]),
+                      borrowed(wout[lane]), ew, pw, v, fext, tau, borrowed(xdot[lane]))
         for i in range(n):
             bufs[g, _at(R_TAU + i, k)] = tau[i]
         for b in range(nb):
@@ -161,7 +168,8 @@ def evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, x
         g, k = lane // LANES, lane % LANES
         for i in range(n):
             xdot[lane, n + i] = bufs[g, _at(R_UDOT + i, k)]
-        euler_rates_into(xs[lane, :n], xs[lane, n : 2 * n], ws.e[lane, 0], xdot[lane, :n])
+        euler_rates_into(borrowed(xs[lane, :n]), borrowed(xs[lane, n : 2 * n]), borrowed(ws.e[lane, 0]),
+                         borrowed(xdot[lane, :n]))
         if keep_factor:
             for i in range(n):
                 j = i
@@ -214,51 +222,54 @@ def etd_lanes(bufs, on, n_on, tl, h, x, k1, k2, k3, k4, xs, ts, u, plants, plant
     for a in range(n_on):
         lane = on[a]
         j = job[lane]
-        x_, xs_, k1_, fn_, idx_, mat_ = x[lane], xs[lane], k1[lane], fn[lane], idx[lane], mat[lane]
+        x_, xs_, k1_ = borrowed(x[lane]), borrowed(xs[lane]), borrowed(k1[lane])
+        fn_, idx_, mat_ = borrowed(fn[lane]), borrowed(idx[lane]), borrowed(mat[lane])
         m = 0
         if exponential:
-            m = spin_slip_blocks_ltdl(lane_plant(plants, plant_of[j]), wout[lane], ws.low[lane], scratch[lane], idx_,
-                                      mat_)
+            m = spin_slip_blocks_ltdl(lane_plant(plants, plant_of[j]), borrowed(wout[lane]), borrowed(ws.low[lane]),
+                                      borrowed(scratch[lane]), idx_, mat_)
         m_blocks[lane] = m
         block_functions(mat_, m, h, fn_)
         for i in range(nx):  # a = x + h/2 phi1(hL/2) N_n
             xs_[i] = x_[i] + half * k1_[i]
         stage_pairs(fn_, idx_, m, x_, k1_, half, xs_)
         if drivers[j].on <= 0.0:
-            u[lane, 0], u[lane, 1], u[lane, 2] = interpolate_inputs(tl[lane] + half, inputs[j, :n_inputs[j]])
+            u[lane, 0], u[lane, 1], u[lane, 2] = interpolate_inputs(tl[lane] + half,
+                                                                    borrowed(inputs[j, :n_inputs[j]]))
         ts[lane] = tl[lane] + half
     evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, k2, no_factor)
     for a in range(n_on):
         lane = on[a]
         m = m_blocks[lane]
-        x_, xs_, k2_, idx_ = x[lane], xs[lane], k2[lane], idx[lane]
-        subtract_blocks(mat[lane], idx_, m, xs_, x_, k2_)
+        x_, xs_, k2_, idx_ = borrowed(x[lane]), borrowed(xs[lane]), borrowed(k2[lane]), borrowed(idx[lane])
+        subtract_blocks(borrowed(mat[lane]), idx_, m, xs_, x_, k2_)
         for i in range(nx):  # b = x + h/2 phi1(hL/2) N_a
             xs_[i] = x_[i] + half * k2_[i]
-        stage_pairs(fn[lane], idx_, m, x_, k2_, half, xs_)
+        stage_pairs(borrowed(fn[lane]), idx_, m, x_, k2_, half, xs_)
     evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, k3, no_factor)
     for a in range(n_on):
         lane = on[a]
         j = job[lane]
         m = m_blocks[lane]
-        x_, xs_, k3_, idx_ = x[lane], xs[lane], k3[lane], idx[lane]
-        subtract_blocks(mat[lane], idx_, m, xs_, x_, k3_)
+        x_, xs_, k3_, idx_ = borrowed(x[lane]), borrowed(xs[lane]), borrowed(k3[lane]), borrowed(idx[lane])
+        subtract_blocks(borrowed(mat[lane]), idx_, m, xs_, x_, k3_)
         for i in range(nx):  # c = x + exp(hL/2) (a - x) + h/2 phi1(hL/2) (2 N_b - N_n)
             xs_[i] = x_[i] + h * k3_[i]
-        third_stage_pairs(fn[lane], idx_, m, x_, k1[lane], k3_, half, xs_)
+        third_stage_pairs(borrowed(fn[lane]), idx_, m, x_, borrowed(k1[lane]), k3_, half, xs_)
         if drivers[j].on <= 0.0:
-            u[lane, 0], u[lane, 1], u[lane, 2] = interpolate_inputs(tl[lane] + h, inputs[j, :n_inputs[j]])
+            u[lane, 0], u[lane, 1], u[lane, 2] = interpolate_inputs(tl[lane] + h, borrowed(inputs[j, :n_inputs[j]]))
         ts[lane] = tl[lane] + h
     evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, k4, no_factor)
     for a in range(n_on):
         lane = on[a]
         m = m_blocks[lane]
-        x_, xs_, k1_, k2_, k3_, k4_ = x[lane], xs[lane], k1[lane], k2[lane], k3[lane], k4[lane]
-        subtract_blocks(mat[lane], idx[lane], m, xs_, x_, k4_)
+        x_, xs_, k1_ = borrowed(x[lane]), borrowed(xs[lane]), borrowed(k1[lane])
+        k2_, k3_, k4_ = borrowed(k2[lane]), borrowed(k3[lane]), borrowed(k4[lane])
+        subtract_blocks(borrowed(mat[lane]), borrowed(idx[lane]), m, xs_, x_, k4_)
         # x + h (W1 N_n + W2 (N_a + N_b) + W3 N_c), the weights 1/6, 1/3, 1/6 outside the blocks
         for i in range(nx):
             xs_[i] = x_[i] + h * (k1_[i] / 6.0 + (k2_[i] + k3_[i]) / 3.0 + k4_[i] / 6.0)
-        update_pairs(fn[lane], idx[lane], m, x_, k1_, k2_, k3_, k4_, h, xs_)
+        update_pairs(borrowed(fn[lane]), borrowed(idx[lane]), m, x_, k1_, k2_, k3_, k4_, h, xs_)
         ok = True
         for i in range(nx):
             x_[i] = xs_[i]

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from .._borrow import borrowed
 from .._jit import jit
 from ..driver.preview import DRIVER_STATE, driver_step
 from ..model.packing import WHEEL_OUT, Plant
@@ -45,7 +46,8 @@ def stack_plants(plants: Sequence[Plant]) -> Plant:
 
 @jit(inline="always")
 def lane_plant(s, i):
-    """The plant ``i`` of the stacked plants ``s`` (:func:`stack_plants`): a view, nothing copied.
+    """The plant ``i`` of the stacked plants ``s`` (:func:`stack_plants`): a view, nothing copied, that counts
+    no references (:func:`~trikedyn._borrow.borrowed`: valid while ``s`` lives, as it does through a batch).
 
     Parameters
     ----------
@@ -59,8 +61,9 @@ def lane_plant(s, i):
     Plant
         Plant ``i``.
     """
-    return Plant(s.parent[i], s.jtype[i], s.jaxis[i], s.tree_e[i], s.tree_r[i], s.mass[i], s.h[i], s.ibar[i],
-                 s.wheels[i], s.tyres[i], s.vehicle[i], s.road[i])
+    return Plant(borrowed(s.parent[i]), borrowed(s.jtype[i]), borrowed(s.jaxis[i]), borrowed(s.tree_e[i]),
+                 borrowed(s.tree_r[i]), borrowed(s.mass[i]), borrowed(s.h[i]), borrowed(s.ibar[i]),
+                 borrowed(s.wheels[i]), borrowed(s.tyres[i]), borrowed(s.vehicle[i]), borrowed(s.road[i]))
 
 
 @jit

@@ -22,7 +22,9 @@ tree structure (:class:`~trikedyn.model.codegen.TreeStructure`) this module writ
   instructions), and LLVM's reference-count pruning removes few of these pairs in a function as branchy as a
   step. With ``evaluate_stage_into`` inlined three times a step, ``NRT_incref``/``NRT_decref`` were 13 % of a
   profile of the loop (``perf``, the 10 s lane change); written out, 6 %, and the loop 6.14-6.20 ms against
-  6.59-6.69 (best of 25, alternated, identical to the last bit);
+  6.59-6.69 (best of 25, alternated, identical to the last bit). The arrays taken out of the tuples and the
+  slices of the state are views that count no references (:func:`~trikedyn._borrow.borrowed`; so are the
+  views :func:`~trikedyn.model.rhs.wrenches_into` takes): 2.6 % of the profile left;
 * ``spin_slip_blocks`` bound to :func:`~trikedyn.simulate.exponential.spin_slip_blocks_ltdl` (the
   exponential integrator's ``(H^-1)_ss`` from that factor; the batch's generated module imports it);
 * the source of :func:`~trikedyn.simulate.integrator.rk4_loop` copied verbatim, its other globals imported from
@@ -61,9 +63,10 @@ _REBOUND = {"evaluate_into", "evaluate_stage_into", "spin_slip_blocks", "etd_ste
 """The globals the generated module defines itself (the rest are imported)."""
 
 _HOIST = """\
-    tree_e, tree_r, mass, hh, ibar = p.tree_e, p.tree_r, p.mass, p.h, p.ibar
-    wheels, tyres, vehicle, road, parent = p.wheels, p.tyres, p.vehicle, p.road, p.parent
-    e, r, ew, pw, v, fext, tau, low = ws.e, ws.r, ws.ew, ws.pw, ws.v, ws.fext, ws.tau, ws.low
+    tree_e, tree_r, mass, hh, ibar = borrowed(p.tree_e), borrowed(p.tree_r), borrowed(p.mass), borrowed(p.h), borrowed(p.ibar)
+    wheels, tyres, vehicle, road, parent = borrowed(p.wheels), borrowed(p.tyres), borrowed(p.vehicle), borrowed(p.road), borrowed(p.parent)
+    e, r, ew, pw, v = borrowed(ws.e), borrowed(ws.r), borrowed(ws.ew), borrowed(ws.pw), borrowed(ws.v)
+    fext, tau, low = borrowed(ws.fext), borrowed(ws.tau), borrowed(ws.low)
     gravity = (0.0, 0.0, -vehicle[0].g)
 """
 """The plant's and the workspace's arrays a right-hand side reads, taken out of their tuples once."""
@@ -73,15 +76,15 @@ def _stage(t: str, x: str, out: str, factor: bool) -> str:
     """The text of one right-hand side ``out = f(t, x)`` on the generated kernels, written out in place: the
     kinematics, :func:`~trikedyn.model.rhs.wrenches_into`, the forward dynamics (keeping the ``L^T D L`` factor
     in ``low`` with ``factor``), the Euler rates."""
-    q, qd = f"{x}[:N_DOF]", f"{x}[N_DOF : 2 * N_DOF]"
+    q, qd = f"borrowed({x}[:N_DOF])", f"borrowed({x}[N_DOF : 2 * N_DOF])"
     dynamics = (f"forward_dynamics_factor_into({q}, {qd}, tau, fext, gravity, tree_e, tree_r, mass, hh, ibar, "
-                f"{out}[N_DOF : 2 * N_DOF], low)" if factor else
+                f"borrowed({out}[N_DOF : 2 * N_DOF]), low)" if factor else
                 f"forward_dynamics_into({q}, {qd}, tau, fext, gravity, tree_e, tree_r, mass, hh, ibar, "
-                f"{out}[N_DOF : 2 * N_DOF])")
+                f"borrowed({out}[N_DOF : 2 * N_DOF]))")
     return (f"    kinematics_into({q}, {qd}, tree_e, tree_r, e, r, ew, pw, v)\n"
             f"    wrenches_into({t}, {x}, u, wheels, tyres, vehicle, road, wout, ew, pw, v, fext, tau, {out})\n"
             f"    {dynamics}\n"
-            f"    euler_rates_into({q}, {qd}, e[0], {out}[:N_DOF])\n")
+            f"    euler_rates_into({q}, {qd}, borrowed(e[0]), borrowed({out}[:N_DOF]))\n")
 
 
 _GLUE = f'''
@@ -150,6 +153,7 @@ def etd_step(x, t, h, k1, u, p, closed, inputs, wout, ws, xs, k2, k3, k4, scratc
 '''
 
 _GLUE_IMPORTS = {
+    "borrowed": "trikedyn._borrow",
     "wrenches_into": "trikedyn.model.rhs",
     "euler_rates_into": "trikedyn.model.rhs",
     "interpolate_inputs": "trikedyn.model.rhs",
