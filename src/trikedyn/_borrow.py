@@ -40,6 +40,7 @@ def borrowed(typingctx, array):
         return None
 
     def codegen(context, builder, signature, args):
+        """The view's struct: the source's data, shape and strides, a null owner."""
         source = context.make_array(signature.args[0])(context, builder, value=args[0])
         view = context.make_array(signature.return_type)(context, builder)
         view.meminfo = cgutils.get_null_value(view.meminfo.type)
