@@ -214,6 +214,33 @@ TAYLOR_RADIUS = 0.5
 
 
 @jit(inline="always")
+def _small(z):
+    """``|z| < TAYLOR_RADIUS``, compared squared (no ``hypot``)."""
+    return z.real * z.real + z.imag * z.imag < TAYLOR_RADIUS * TAYLOR_RADIUS
+
+
+@jit(inline="always")
+def _phis_with(z, e):
+    """:func:`phi_functions` of ``z`` given ``e = e^z`` (used only where ``|z|`` is not small)."""
+    if _small(z):
+        p4 = 0j
+        term = 1.0 / 24.0  # 1/4!
+        power = 1.0 + 0j
+        for j in range(18):
+            p4 += power * term
+            term /= j + 5.0
+            power *= z
+        p3 = 1.0 / 6.0 + z * p4
+        p2 = 0.5 + z * p3
+        p1 = 1.0 + z * p2
+        return 1.0 + z * p1, p1, p2, p3, p4
+    p1 = (e - 1.0) / z
+    p2 = (p1 - 1.0) / z
+    p3 = (p2 - 0.5) / z
+    return e, p1, p2, p3, (p3 - 1.0 / 6.0) / z
+
+
+@jit(inline="always")
 def phi_functions(z):
     """``(e^z, phi_1(z), phi_2(z), phi_3(z), phi_4(z))`` of a complex ``z``;
     ``phi_k(z) = sum_j z^j / (j + k)!``, ``phi_(k+1)(z) = (phi_k(z) - 1 / k!) / z``.
@@ -228,23 +255,15 @@ def phi_functions(z):
     tuple of complex
         ``e^z, phi_1(z) ... phi_4(z)`` (a Taylor series for small ``|z|``).
     """
-    if abs(z) < TAYLOR_RADIUS:
-        p4 = 0j
-        term = 1.0 / 24.0  # 1/4!
-        power = 1.0 + 0j
-        for j in range(18):
-            p4 += power * term
-            term /= j + 5.0
-            power *= z
-        p3 = 1.0 / 6.0 + z * p4
-        p2 = 0.5 + z * p3
-        p1 = 1.0 + z * p2
-        return 1.0 + z * p1, p1, p2, p3, p4
-    e = cmath.exp(z)
-    p1 = (e - 1.0) / z
-    p2 = (p1 - 1.0) / z
-    p3 = (p2 - 0.5) / z
-    return e, p1, p2, p3, (p3 - 1.0 / 6.0) / z
+    return _phis_with(z, 0j if _small(z) else cmath.exp(z))
+
+
+@jit(inline="always")
+def _phis_half_and_full(z):
+    """:func:`phi_functions` at ``z / 2`` and at ``z`` from one exponential: ``e^z = (e^(z/2))^2``."""
+    half = 0.5 * z
+    eh = 0j if _small(z) else cmath.exp(half)
+    return _phis_with(half, eh), _phis_with(z, eh * eh)
 
 
 @jit(inline="always")
@@ -262,19 +281,20 @@ def _matrix_function(g1, g2, dg, close, a, b, c, d, s, q, out, col):
 
 @jit(inline="always")
 def _phis_at_pair(s, q, close, conjugate):
-    """``phi_functions`` at ``s + q`` and ``s - q``, and their derivatives ``phi_k' = phi_k - k phi_(k+1)``
-    at ``s`` when the two nearly coincide (else zeros). A complex pair needs one evaluation: the other is
-    its conjugate."""
-    e1, f1, f2, f3, _ = phi_functions(s + q)
+    """The phi functions at the eigenvalues ``s + q`` and ``s - q`` of ``h L`` and at their halves (those of
+    ``h L / 2``), and at ``s`` (and ``s / 2``) when the two nearly coincide (for the derivatives
+    ``phi_k' = phi_k - k phi_(k+1)``; else zeros). A complex pair needs one evaluation: the other is its
+    conjugate. Each eigenvalue takes one exponential, at its half, squared for the whole."""
+    h1, f1 = _phis_half_and_full(s + q)
     if conjugate:
-        e2, g1, g2, g3 = e1.conjugate(), f1.conjugate(), f2.conjugate(), f3.conjugate()
+        h2 = (h1[0].conjugate(), h1[1].conjugate(), h1[2].conjugate(), h1[3].conjugate(), h1[4].conjugate())
+        f2 = (f1[0].conjugate(), f1[1].conjugate(), f1[2].conjugate(), f1[3].conjugate(), f1[4].conjugate())
     else:
-        e2, g1, g2, g3, _ = phi_functions(s - q)
-    de, d1, d2, d3 = 0j, 0j, 0j, 0j
+        h2, f2 = _phis_half_and_full(s - q)
+    hd, fd = (0j, 0j, 0j, 0j, 0j), (0j, 0j, 0j, 0j, 0j)
     if close:
-        de, t1, t2, t3, t4 = phi_functions(s)
-        d1, d2, d3 = t1 - t2, t2 - 2.0 * t3, t3 - 3.0 * t4
-    return e1, f1, f2, f3, e2, g1, g2, g3, de, d1, d2, d3
+        hd, fd = _phis_half_and_full(s)
+    return h1, h2, hd, f1, f2, fd
 
 
 @jit
@@ -298,20 +318,22 @@ def block_functions(mat, m, h, out):
         s = 0.5 * (a + d)
         disc = 0.25 * (a - d) * (a - d) + b * c
         q = cmath.sqrt(complex(disc, 0.0))
-        close = abs(q) < 1e-7 * (1.0 + abs(s))
+        bound = 1e-7 * (1.0 + abs(s))
+        close = q.real * q.real + q.imag * q.imag < bound * bound  # |q| small, compared squared (no hypot)
         conjugate = disc < 0.0 and not close
         row = out[j]
-        # h L / 2: eigenvalues (s +- q) / 2
-        e1, p11, _, _, e2, p12, _, _, de, dp1, _, _ = _phis_at_pair(complex(0.5 * s, 0.0), 0.5 * q, close, conjugate)
-        _matrix_function(e1, e2, de, close, 0.5 * a, 0.5 * b, 0.5 * c, 0.5 * d, 0.5 * s, 0.5 * q, row, 0)
-        _matrix_function(p11, p12, dp1, close, 0.5 * a, 0.5 * b, 0.5 * c, 0.5 * d, 0.5 * s, 0.5 * q, row, 4)
+        h1, h2, hd, f1, f2, fd = _phis_at_pair(complex(s, 0.0), q, close, conjugate)
+        # h L / 2: eigenvalues (s +- q) / 2; the derivatives phi_k' = phi_k - k phi_(k+1) at s / 2
+        _matrix_function(h1[0], h2[0], hd[0], close, 0.5 * a, 0.5 * b, 0.5 * c, 0.5 * d, 0.5 * s, 0.5 * q, row, 0)
+        _matrix_function(h1[1], h2[1], hd[1] - hd[2], close, 0.5 * a, 0.5 * b, 0.5 * c, 0.5 * d, 0.5 * s, 0.5 * q,
+                         row, 4)
         # h L: eigenvalues s +- q
-        _, f1, f2, f3, _, g1, g2, g3, _, d1, d2, d3 = _phis_at_pair(complex(s, 0.0), q, close, conjugate)
-        _matrix_function(f1 - 3.0 * f2 + 4.0 * f3, g1 - 3.0 * g2 + 4.0 * g3, d1 - 3.0 * d2 + 4.0 * d3, close,
-                         a, b, c, d, s, q, row, 8)
-        _matrix_function(2.0 * f2 - 4.0 * f3, 2.0 * g2 - 4.0 * g3, 2.0 * d2 - 4.0 * d3, close, a, b, c, d, s, q,
-                         row, 12)
-        _matrix_function(4.0 * f3 - f2, 4.0 * g3 - g2, 4.0 * d3 - d2, close, a, b, c, d, s, q, row, 16)
+        d1, d2, d3 = fd[1] - fd[2], fd[2] - 2.0 * fd[3], fd[3] - 3.0 * fd[4]
+        _matrix_function(f1[1] - 3.0 * f1[2] + 4.0 * f1[3], f2[1] - 3.0 * f2[2] + 4.0 * f2[3],
+                         d1 - 3.0 * d2 + 4.0 * d3, close, a, b, c, d, s, q, row, 8)
+        _matrix_function(2.0 * f1[2] - 4.0 * f1[3], 2.0 * f2[2] - 4.0 * f2[3], 2.0 * d2 - 4.0 * d3, close, a, b, c,
+                         d, s, q, row, 12)
+        _matrix_function(4.0 * f1[3] - f1[2], 4.0 * f2[3] - f2[2], 4.0 * d3 - d2, close, a, b, c, d, s, q, row, 16)
 
 
 @jit(inline="always")
