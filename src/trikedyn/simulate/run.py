@@ -26,7 +26,7 @@ from .integrator import (
     STATUS_TEXT,
 )
 from .result import Result
-from .specialised import kernel_choice, time_loop
+from .specialised import model_time_loop
 
 __all__ = ["INTEGRATORS", "TyreRangeWarning", "automatic_step", "input_table", "loop_result", "loop_steps",
            "max_stable_step", "run_model", "simulate", "stop_step", "time_step"]
@@ -291,11 +291,7 @@ def run_model(model: VehicleModel, x0: np.ndarray, inputs: np.ndarray, *, durati
     dt, every, n_steps = loop_steps(model, x0, duration_s, dt, output_rate_hz, integrator)
     exponential = integrator == "etdrk4"
     closed = path is not None
-    choice = kernel_choice(kernels)
-    key = ("time_loop", choice)  # the loop depends on the tree's structure only, which a model keeps
-    if key not in model.cache:
-        model.cache[key] = time_loop(model.plant, choice)
-    out = model.cache[key](
+    out = model_time_loop(model, kernels)(
         x0, 0.0, dt, n_steps, every, inputs,
         np.ascontiguousarray(path) if closed else OPEN_LOOP_PATH,
         np.ascontiguousarray(speed_profile) if closed else OPEN_LOOP_SPEED,
