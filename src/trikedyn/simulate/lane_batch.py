@@ -116,8 +116,8 @@ def evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, x
         Written with each lane's wheel outputs.
     ws : Workspace
         The lanes' workspaces, stacked (:func:`~trikedyn.model.lane_workspace.stacked_workspace`): each lane's
-        ``e[0]``, ``ew``, ``pw``, ``v``, ``tau``, ``fext`` written, and with ``keep_factor`` the factor of the
-        mass matrix in ``low`` (the entries the scalar kernel writes).
+        ``e[0]``, ``tau``, the chassis' and the wheels' rows of ``ew``, ``pw``, ``v`` and ``fext`` written, and with
+        ``keep_factor`` the factor of the mass matrix in ``low`` (the entries the scalar kernel writes).
     xdot : numpy.ndarray, shape (lanes, nx)
         Written with each lane's ``dx/dt``.
     keep_factor : bool
@@ -138,7 +138,14 @@ def evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, x
         g, k = lane // LANES, lane % LANES
         ew, pw, v = borrowed(ws.ew[lane]), borrowed(ws.pw[lane]), borrowed(ws.v[lane])
         fext, tau = borrowed(ws.fext[lane]), borrowed(ws.tau[lane])
-        for b in range(nb):
+        pj = plant_of[job[lane]]
+        wheels = borrowed(plants.wheels[pj])
+        nw = wheels.shape[0]
+        # only the bodies wrenches_into reads and loads: the chassis (its drag) and each wheel (its tyre); the
+        # buffer's other external wrenches stay zero (a force on another body breaks the lanes' equality with
+        # the scalar runs, which tests/simulate/test_specialised.py asserts)
+        for c in range(nw + 1):
+            b = 0 if c == nw else wheels[c].wheel_body
             for i in range(3):
                 for j in range(3):
                     ew[b, i, j] = bufs[g, _at(R_EW + 9 * b + 3 * i + j, k)]
@@ -148,13 +155,13 @@ def evaluate_lanes(bufs, on, n_on, ts, xs, u, plants, plant_of, job, wout, ws, x
         for i in range(3):
             for j in range(3):
                 ws.e[lane, 0, i, j] = bufs[g, _at(R_E + 3 * i + j, k)]
-        pj = plant_of[job[lane]]
-        wrenches_into(ts[lane], borrowed(xs[lane]), borrowed(u[lane]), borrowed(plants.wheels[pj]),
-                      borrowed(plants.tyres[pj]), borrowed(plants.vehicle[pj]), borrowed(plants.road[pj]),
-                      borrowed(wout[lane]), ew, pw, v, fext, tau, borrowed(xdot[lane]))
+        wrenches_into(ts[lane], borrowed(xs[lane]), borrowed(u[lane]), wheels, borrowed(plants.tyres[pj]),
+                      borrowed(plants.vehicle[pj]), borrowed(plants.road[pj]), borrowed(wout[lane]), ew, pw, v, fext,
+                      tau, borrowed(xdot[lane]))
         for i in range(n):
             bufs[g, _at(R_TAU + i, k)] = tau[i]
-        for b in range(nb):
+        for c in range(nw + 1):
+            b = 0 if c == nw else wheels[c].wheel_body
             for i in range(6):
                 bufs[g, _at(R_FEXT + 6 * b + i, k)] = fext[b, i]
     for g in range(bufs.shape[0]):
