@@ -24,7 +24,7 @@ tree structure (:class:`~trikedyn.model.codegen.TreeStructure`) this module writ
   profile of the loop (``perf``, the 10 s lane change); written out, 6 %, and the loop 6.14-6.20 ms against
   6.59-6.69 (best of 25, alternated, identical to the last bit). The arrays taken out of the tuples and the
   slices of the state are views that count no references (:func:`~trikedyn._borrow.borrowed`; so are the
-  views :func:`~trikedyn.model.rhs.wrenches_into` takes): 2.6 % of the profile left;
+  views :func:`~trikedyn.model.rhs.wrenches_into` takes): 2.4 % of the profile left;
 * ``spin_slip_blocks`` bound to :func:`~trikedyn.simulate.exponential.spin_slip_blocks_ltdl` (the
   exponential integrator's ``(H^-1)_ss`` from that factor; the batch's generated module imports it);
 * the source of :func:`~trikedyn.simulate.integrator.rk4_loop` copied verbatim, its other globals imported from
