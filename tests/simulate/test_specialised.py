@@ -138,6 +138,28 @@ def test_inverse_mass_diagonal_from_the_generated_factor(model):
         assert np.max(np.abs(got - expected) / expected) < 1e-10
 
 
+def test_the_generated_step_is_the_integrators_with_its_calls_written_out():
+    """The generated ``etd_step`` is :func:`trikedyn.simulate.integrator.etd_step`'s own text, compiled on its own,
+    with its spin-slip blocks and its three inner right-hand sides written out: every other line of the
+    integrator's step is in it, in order, and no call of the inlined helpers is left."""
+    import inspect
+    import re
+
+    from trikedyn.simulate import integrator, specialised
+
+    step = specialised._step_source()
+    assert step.lstrip().startswith("@jit\ndef etd_step(")
+    assert "evaluate_stage_into(" not in step and "spin_slip_blocks(" not in step
+    assert step.count("forward_dynamics_into(") == 3 and step.count("wrenches_into(") == 3
+    source = inspect.getsource(integrator.etd_step.py_func)
+    code = source[source.index('"""', source.index('"""') + 3) + 4:]
+    replaced = re.compile(r"evaluate_stage_into|spin_slip_blocks")
+    kept = [line for line in code.splitlines() if line.strip() and not replaced.search(line)]
+    at = 0
+    for line in kept:
+        at = step.index(line + "\n", at) + len(line)
+
+
 def test_the_stage_right_hand_side_equals_the_full_one(model):
     """``evaluate_stage_into`` (inner RK stages, no factor kept) gives ``evaluate_into``'s derivative and wheel
     outputs bit for bit on random states; it leaves the workspace's factor as it found it."""

@@ -14,9 +14,10 @@ tree structure (:class:`~trikedyn.model.codegen.TreeStructure`) this module writ
   dynamics' 0.52 us, three times a step). The loop's first stage inlines ``evaluate_into`` (numba passes a
   tuple argument's every array member by member, and ``p`` and ``ws`` are tuples of arrays: calling it cost
   the loop 9-11 %);
-* ``etd_step``: :func:`~trikedyn.simulate.integrator.etd_step` on these kernels, the same arithmetic in the same
-  order, compiled on its own (one call a step), with the plant's and the workspace's arrays taken out of their
-  tuples once (:data:`_HOIST`) and its three inner right-hand sides written out in place (:func:`_stage`), not
+* ``etd_step``: the source of :func:`~trikedyn.simulate.integrator.etd_step` with four edits
+  (:func:`_step_source`; the step's arithmetic stays the integrator's text): compiled on its own (one call a
+  step), the plant's and the workspace's arrays taken out of their tuples once (:data:`_HOIST`), the spin-slip
+  blocks (:data:`_BLOCKS`) and the three inner right-hand sides (:func:`_stage`) written out in place, not
   inlined. numba counts references to arrays: an inlined function binds each array argument, every member of
   a tuple argument included, to a new variable and so increments and later decrements its count (two atomic
   instructions), and LLVM's reference-count pruning removes few of these pairs in a function as branchy as a
@@ -45,6 +46,7 @@ from __future__ import annotations
 import hashlib
 import inspect
 import os
+import re
 import threading
 
 from ..errors import InputError
@@ -106,66 +108,52 @@ def evaluate_stage_into(t, x, u, p, wout, ws, xdot):
 {_HOIST}{_stage("t", "x", "xdot", False)}
 
 spin_slip_blocks = spin_slip_blocks_ltdl
+'''
 
-
-@jit
-def etd_step(x, t, h, k1, u, p, closed, inputs, wout, ws, xs, k2, k3, k4, scratch, idx, mat, fn, exponential):
-    """:func:`trikedyn.simulate.integrator.etd_step` on these kernels, the same arithmetic in the same order,
-    with the plant's and the workspace's arrays taken out of their tuples once and the three inner stages'
-    right-hand sides written out in place (see :mod:`trikedyn.simulate.specialised`)."""
-{_HOIST}    nx = x.shape[0]
-    half = 0.5 * h
+_BLOCKS = """\
     m = 0
     if exponential:
         for k in range(wheels.shape[0]):
             spin_slip_block(wheels, tyres, vehicle, parent.shape[0] + 5, k, wout[k],
                             ltdl_inverse_diagonal(low, parent, 5 + wheels[k].wheel_body, scratch), idx, mat)
         m = wheels.shape[0]
-    block_functions(mat, m, h, fn)
-    for i in range(nx):  # a = x + h/2 phi1(hL/2) N_n
-        xs[i] = x[i] + half * k1[i]
-    stage_pairs(fn, idx, m, x, k1, half, xs)
-    if not closed:
-        u[0], u[1], u[2] = interpolate_inputs(t + half, inputs)
-{_stage("t + half", "xs", "k2", False)}\
-    subtract_blocks(mat, idx, m, xs, x, k2)
-    for i in range(nx):  # b = x + h/2 phi1(hL/2) N_a
-        xs[i] = x[i] + half * k2[i]
-    stage_pairs(fn, idx, m, x, k2, half, xs)
-{_stage("t + half", "xs", "k3", False)}\
-    subtract_blocks(mat, idx, m, xs, x, k3)
-    for i in range(nx):  # c = x + exp(hL/2) (a - x) + h/2 phi1(hL/2) (2 N_b - N_n)
-        xs[i] = x[i] + h * k3[i]
-    third_stage_pairs(fn, idx, m, x, k1, k3, half, xs)
-    if not closed:
-        u[0], u[1], u[2] = interpolate_inputs(t + h, inputs)
-{_stage("t + h", "xs", "k4", False)}\
-    subtract_blocks(mat, idx, m, xs, x, k4)
-    # x + h (W1 N_n + W2 (N_a + N_b) + W3 N_c), the weights 1/6, 1/3, 1/6 outside the blocks
-    for i in range(nx):
-        xs[i] = x[i] + h * (k1[i] / 6.0 + (k2[i] + k3[i]) / 3.0 + k4[i] / 6.0)
-    update_pairs(fn, idx, m, x, k1, k2, k3, k4, h, xs)
-    finite = True
-    for i in range(nx):
-        x[i] = xs[i]
-        if not np.isfinite(x[i]):
-            finite = False
-    return finite
-'''
+"""
+"""``spin_slip_blocks`` written out on the arrays taken out of the plant (its tuple argument, inlined, would count a
+reference to each of the plant's arrays every step)."""
+
+_STAGE_CALL = re.compile(r"^    evaluate_stage_into\((?P<t>[^,]+), xs, u, p, wout, ws, (?P<k>k[234])\)\n", re.M)
+
+
+def _step_source() -> str:
+    """:func:`~trikedyn.simulate.integrator.etd_step`'s source made this module's ``etd_step`` (see the module
+    docstring): compiled on its own instead of inlined, the arrays taken out of the tuples first
+    (:data:`_HOIST`), the spin-slip blocks (:data:`_BLOCKS`) and the three inner right-hand sides (:func:`_stage`)
+    written out in place; the rest, the step's arithmetic, is the integrator's own text.
+
+    Raises
+    ------
+    RuntimeError
+        When the integrator's step no longer has the lines this replaces.
+    """
+    source = inspect.getsource(integrator.etd_step.py_func)
+    start = source.index('"""')
+    end = source.index('"""', start + 3) + 4  # decorator, signature and docstring, then the code
+    header, code = source[:end], source[end:]
+    blocks = "    m = spin_slip_blocks(p, wout, ws.low, scratch, idx, mat) if exponential else 0\n"
+    inlined = '@jit(inline="always")\n'
+    if not header.startswith(inlined) or code.count(blocks) != 1 or len(_STAGE_CALL.findall(code)) != 3:
+        raise RuntimeError("trikedyn.simulate.integrator.etd_step changed: update specialised._step_source")
+    code = _STAGE_CALL.sub(lambda m: _stage(m["t"], "xs", m["k"], False), code.replace(blocks, _BLOCKS))
+    return "\n\n" + header.replace(inlined, "@jit\n", 1) + _HOIST + code
+
 
 _GLUE_IMPORTS = {
     "borrowed": "trikedyn._borrow",
     "wrenches_into": "trikedyn.model.rhs",
     "euler_rates_into": "trikedyn.model.rhs",
-    "interpolate_inputs": "trikedyn.model.rhs",
     "ltdl_inverse_diagonal": "trikedyn.model.inverse_mass",
     "spin_slip_blocks_ltdl": "trikedyn.simulate.exponential",
     "spin_slip_block": "trikedyn.simulate.exponential",
-    "block_functions": "trikedyn.simulate.exponential",
-    "stage_pairs": "trikedyn.simulate.exponential",
-    "subtract_blocks": "trikedyn.simulate.exponential",
-    "third_stage_pairs": "trikedyn.simulate.exponential",
-    "update_pairs": "trikedyn.simulate.exponential",
 }
 
 _LOCK = threading.Lock()
@@ -177,7 +165,7 @@ def _imports(defined: set) -> list[str]:
     wanted: dict[str, set] = {}
     for name, module in _GLUE_IMPORTS.items():
         wanted.setdefault(module, set()).add(name)
-    for func in _COPIED:
+    for func in (integrator.etd_step, *_COPIED):
         py = func.py_func
         for name in py.__code__.co_names:
             if name in py.__globals__ and name not in _REBOUND and name not in _GLUE_IMPORTS and name != "np":
@@ -203,7 +191,7 @@ def loop_source(structure: TreeStructure) -> str:
     kernels = generate_source(structure)
     defined = {line.split("(")[0][4:] for line in kernels.splitlines() if line.startswith("def ")}
     defined |= {"N_DOF", "jit"}
-    parts = [kernels, "\n", "\n".join(_imports(defined)), _GLUE]
+    parts = [kernels, "\n", "\n".join(_imports(defined)), _GLUE, _step_source()]
     for func in _COPIED:
         parts.append("\n\n" + inspect.getsource(func.py_func))
     return "".join(parts)
