@@ -99,3 +99,18 @@ def test_a_killed_main_process_takes_its_fork_server_and_workers_with_it(tmp_pat
             os.killpg(proc.pid, 9)
         except ProcessLookupError:
             pass
+
+
+def test_the_main_process_reads_a_spec_without_loading_the_simulation():
+    """The study's main process hands the searches to its workers: reading and checking the paper's spec (its
+    search settings, its overrides) loads neither numba nor the model, whose imports (about 0.7 s of CPU) would
+    compete with the fork server's on a two-core machine."""
+    import subprocess
+    import sys
+
+    code = ("import sys\nfrom trikedyn.study.spec import load_spec\nspec = load_spec('paper')\n"
+            "from trikedyn.analysis.search_settings import SearchSettings\nSearchSettings(low_kmh=10, high_kmh=60)\n"
+            "print(sorted(m for m in ('numba', 'trikedyn.model.rhs', 'trikedyn.tyre', 'scipy.optimize')"
+            " if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"

@@ -59,7 +59,7 @@ def search_options() -> tuple[Option, ...]:
         [0.001, 10] (all km/h), ``method``, ``criterion``, ``speed_control`` (words) and
         ``speed_band_percent`` [0, 100] %, ``speed_band_kmh`` [0, 100] km/h.
     """
-    from ..simulate.closed_loop import SPEED_CONTROLS
+    from ..simulate.defaults import SPEED_CONTROLS
 
     d = _DEFAULTS
     return (

@@ -301,7 +301,7 @@ def threshold_velocity(vehicle: ParameterSet | VehicleModel, manoeuvre="dlc", *,
     ThresholdResult
         ``threshold_speed_kmh`` is None when even ``low_kmh`` fails; ``runs`` in the order they were made.
     """
-    from ..simulate.closed_loop import SPEED_CONTROLS
+    from ..simulate.defaults import SPEED_CONTROLS
 
     model = vehicle if isinstance(vehicle, VehicleModel) else build_model(vehicle)
     build = manoeuvre_builder(manoeuvre, options)

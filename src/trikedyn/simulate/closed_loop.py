@@ -20,15 +20,11 @@ from ..manoeuvres.base import Manoeuvre
 from ..model.statics import rolling_state, static_equilibrium
 from ..model.vehicle import VehicleModel, build_model
 from ..params.io import ParameterSet
+from .defaults import SPEED_CONTROLS  # noqa: F401  (re-exported: where the callers find it)
 from .result import Result
 from .run import run_model, time_step
 
 __all__ = ["SPEED_CONTROLS", "run", "drive", "footprint", "prepare_run"]
-
-SPEED_CONTROLS = ("driver", "ideal")
-"""How the speed is held: ``driver`` (the PI controller on the vehicle's own drive and brakes, within their
-torque and power limits) or ``ideal`` (the same controller on a drive and brakes without limits: the speed a
-multibody package's kinematic drive would impose, whatever the vehicle's motor can give)."""
 
 
 def footprint(params) -> tuple[float, float, float]:
@@ -54,7 +50,8 @@ def footprint(params) -> tuple[float, float, float]:
 def cg_track(params, x, y, yaw) -> tuple[np.ndarray, np.ndarray]:
     """Plan-view position of the vehicle's CG from the chassis origin's position and heading [m]."""
     cx, cy = params.mass.cg_x_m, params.mass.cg_y_m
-    return x + cx * np.cos(yaw) - cy * np.sin(yaw), y + cx * np.sin(yaw) + cy * np.cos(yaw)
+    cos, sin = np.cos(yaw), np.sin(yaw)
+    return x + cx * cos - cy * sin, y + cx * sin + cy * cos
 
 
 def _judging_channels(params, manoeuvre: Manoeuvre):

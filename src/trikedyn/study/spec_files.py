@@ -67,13 +67,14 @@ def tyre_files(group: str, overrides: dict, base_dir: Path, place: str, origin: 
         The overrides, tyre files as absolute paths.
     """
     from .._reading import named_file
-    from ..tyre.tir import read_tir
 
     out = dict(overrides)
     for dotted, values in overrides.items():
         keys = dotted.split(".")
         if not (len(keys) == 3 and keys[0] == "wheels" and keys[2] == "tyre_file"):
             continue
+        from ..tyre.tir import read_tir  # here: the tyre package loads numba, which a spec without .tir files skips
+
         key = f"groups[{group}].overrides.{dotted}"
         paths = []
         for value in values:
