@@ -155,7 +155,8 @@ def sensitivity_cmd(
                      reads=[vehicle, manoeuvre, options.get("file")], writes=[JSON_FILE, SAMPLES_FILE, FIGURE_FILE])
         log = sa.SampleLog(out / SAMPLES_FILE, factors, sa.group_size(method, len(factors)), search.metric)
     result = sa.run_sensitivity(pset, search, factors, method=method, samples=n, seed=seed, fraction=fraction,
-                                excluded=excluded, workers=workers, dask_local=dask_local, scheduler=scheduler, log=log, resume=resume, progress=ProgressLine("sensitivity"))
+                                excluded=excluded, workers=workers, dask_local=dask_local, scheduler=scheduler, log=log, resume=resume, progress=ProgressLine("sensitivity"),
+                                figures=out is not None)
     data = result.to_dict()
     if out is not None:
         write_results(out, data, result.plot(), FIGURE_FILE, JSON_FILE, samples=str(out / SAMPLES_FILE))

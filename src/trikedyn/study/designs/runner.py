@@ -49,7 +49,6 @@ from __future__ import annotations
 import contextlib
 import os
 import socket
-import threading
 import time
 import traceback
 import uuid
@@ -58,6 +57,7 @@ from collections import deque
 from pathlib import Path
 
 from ...errors import InputError
+from ..engine.background import import_in_background
 from ..engine.executors import InlineExecutor, check_executor, make_executor, start_pool_server
 from ..engine.executors import one_line as _one_line
 from ..engine.loop import StopSignal, drive
@@ -136,17 +136,6 @@ def run_scenario(scenario: dict, vehicle=None, run_token: str | None = None) -> 
     return row
 
 
-def _warm_imports(figures: bool) -> None:
-    """Import what the table's export (pandas, pyarrow) and the figures (matplotlib) need, in a thread of the
-    main process while it waits for the workers: about a second off the study's wall time."""
-    with contextlib.suppress(Exception):
-        import pandas  # noqa: F401
-        import pyarrow.parquet  # noqa: F401
-
-        if figures:
-            from matplotlib.figure import Figure  # noqa: F401
-
-
 def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers: int | None = None,
                   dask_local: int | None = None, scheduler: str | None = None, progress=True,
                   max_scenarios: int | None = MAX_SCENARIOS, figures: bool = True, force: bool = False) -> StudyRun:
@@ -204,8 +193,8 @@ def execute_study(spec: str | Path | StudySpec, out_dir: str | Path, *, workers:
         lost: list[tuple[str, str]] = []
         outcome = "completed"
         executor = make_executor(workers, dask_local, scheduler, len(todo))
-        if workers != 0 and todo:  # the export and figures' libraries load while the workers compute
-            threading.Thread(target=_warm_imports, args=(figures,), daemon=True).start()
+        if workers != 0 and todo:  # the export's and figures' libraries load while the workers compute
+            import_in_background("pandas", "pyarrow.parquet", *(("matplotlib.figure",) if figures else ()))
         store.begin_run(token, len(todo), executor.label)
         stop = StopSignal(getattr(report, "note", None), inline=isinstance(executor, InlineExecutor))
         abandoned = False

@@ -244,7 +244,7 @@ def run_sensitivity(pset: ParameterSet, search: Search, factors: list[Factor], *
                     samples: int | None = None, seed: int = 1, fraction: float = DEFAULT_FRACTION,
                     excluded: dict | None = None, workers: int | None = 2, dask_local: int | None = None,
                     scheduler: str | None = None, log: SampleLog | None = None,
-                    resume: bool = False, progress: Callable | None = None) -> SensitivityResult:
+                    resume: bool = False, progress: Callable | None = None, figures: bool = False) -> SensitivityResult:
     """Sample, evaluate (in parallel) and analyse: the sensitivity of the threshold velocity to ``factors``.
 
     Parameters
@@ -277,6 +277,9 @@ def run_sensitivity(pset: ParameterSet, search: Search, factors: list[Factor], *
         Go on from ``log`` (a run killed part way): the samples it holds are kept.
     progress : callable, optional
         ``progress(done, total)`` (see :func:`run_samples`).
+    figures : bool
+        The caller will plot the result (:meth:`SensitivityResult.plot`): with workers, matplotlib loads while
+        they compute, with the analysis' libraries.
 
     Returns
     -------
@@ -296,6 +299,10 @@ def run_sensitivity(pset: ParameterSet, search: Search, factors: list[Factor], *
         reference, why, _ = search.outcome(pset)
         if reference is None:
             raise InputError(f"the vehicle as given has no {search.metric} ({why})", where="--metric")
+    if workers != 0:  # the analysis' libraries (SALib, scipy.stats: 0.7 s) load while the workers compute
+        from ..engine.background import import_in_background
+
+        import_in_background(f"SALib.analyze.{method}", *(("matplotlib.figure",) if figures else ()))
     Y, errors, limits = run_logged_samples(pset, factors, X, search, workers=workers, dask_local=dask_local,
                                            scheduler=scheduler, log=log, resume=resume,
                                            progress=progress)
