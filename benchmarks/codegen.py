@@ -168,7 +168,7 @@ def measure_dlc(preset: str = "reference-etrike", speed_kmh: float = 30.0, durat
         state difference scaled by each state's largest magnitude (at least 1).
     """
     from trikedyn.manoeuvres.paths import double_lane_change
-    from trikedyn.simulate import run as run_module
+    from trikedyn.simulate import specialised as run_module  # model_time_loop looks the loop up there
     from trikedyn.simulate.closed_loop import drive
 
     pset = load_vehicle(preset)
