@@ -212,7 +212,8 @@ class ThresholdResult:
 
 
 class _Runs:
-    """The runs of one search (or of both criteria's searches): simulated once per target speed."""
+    """The runs of one search (or of both criteria's searches): simulated once per target speed, each ending
+    at its exit gate where the judging ends (``end_at_exit``, :func:`~trikedyn.simulate.closed_loop.exit_gate`)."""
 
     def __init__(self, model, build, driver, dt, speed_control, judging):
         self.model, self.build, self.driver, self.dt = model, build, driver, dt
@@ -229,7 +230,7 @@ class _Runs:
 
         todo = [v for v in dict.fromkeys(round(v, 6) for v in speeds_kmh) if v not in self.done and v not in self.ready]
         specs = [prepare_run(self.model, self.build(self.model.params, v), driver=self.driver, dt=self.dt,
-                             speed_control=self.speed_control) for v in todo]
+                             speed_control=self.speed_control, end_at_exit=True) for v in todo]
         self.ready.update(zip(todo, run_prepared(specs, lanes=max(1, len(specs))), strict=True))
 
     def measure(self, speed_kmh: float, criterion: str) -> tuple[RunVerdict, Probe]:
@@ -244,7 +245,7 @@ class _Runs:
             result = self.ready.pop(speed_kmh, None)
             if result is None:
                 result = run(self.model, self.build(self.model.params, speed_kmh), driver=self.driver, dt=self.dt,
-                             speed_control=self.speed_control)
+                             speed_control=self.speed_control, end_at_exit=True)
             self.done[speed_kmh] = (result, judge(result, self.judging), *strikes_and_load(result), {})
         result, verdict, strikes, min_load, probes = self.done[speed_kmh]
         if criterion not in probes:

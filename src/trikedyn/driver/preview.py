@@ -35,7 +35,7 @@ from .._jit import jit
 from ..model.rhs import interpolate_inputs
 
 __all__ = ["DRIVER", "DRIVER_STATE", "PATH_COLUMNS", "DriverSettings", "driver_array", "driver_step", "open_loop_driver",
-           "with_steering"]
+           "past_end_gate", "with_end_gate", "with_steering"]
 
 DRIVER = np.dtype(
     [
@@ -51,6 +51,13 @@ DRIVER = np.dtype(
         ("predict", "f8"),  # T_pred [s]
         ("steer_open", "f8"),  # 1: the steer comes from the input table
         ("hold_after", "f8"),  # hold the steering from this time on [s]; < 0: never
+        ("end_at_gate", "f8"),  # 1: the run ends at the first record with the CG beyond the end gate (past_end_gate)
+        ("gate_x", "f8"),  # a point of the end gate's line [m]
+        ("gate_y", "f8"),
+        ("gate_cos", "f8"),  # the direction the gate is passed in (unit vector)
+        ("gate_sin", "f8"),
+        ("cg_x", "f8"),  # the CG in chassis axes from the chassis origin, plan view [m]
+        ("cg_y", "f8"),
     ],
     align=True,
 )
@@ -184,6 +191,58 @@ def with_steering(drv: np.ndarray, *, open_loop: bool = False, hold_after_s: flo
     out[0]["steer_open"] = 1.0 if open_loop else 0.0
     out[0]["hold_after"] = -1.0 if hold_after_s is None else float(hold_after_s)
     return out
+
+
+def with_end_gate(drv: np.ndarray, gate: tuple[float, float, float, float], cg: tuple[float, float]) -> np.ndarray:
+    """The driver array of a run that ends at the first record with its CG beyond a gate line
+    (:func:`past_end_gate`): a threshold search's runs end past their exit gate, where the judging ends.
+
+    Parameters
+    ----------
+    drv : numpy.ndarray, shape (1,), dtype DRIVER
+        The driver record (not changed).
+    gate : tuple of float
+        ``(x, y, cos, sin)``: a point of the gate's line [m] and the unit direction it is passed in.
+    cg : tuple of float
+        The CG from the chassis origin in chassis axes, plan view ``(x, y)`` [m].
+
+    Returns
+    -------
+    numpy.ndarray, shape (1,), dtype DRIVER
+        The copy.
+    """
+    out = drv.copy()
+    d = out[0]
+    d["end_at_gate"] = 1.0
+    d["gate_x"], d["gate_y"], d["gate_cos"], d["gate_sin"] = (float(v) for v in gate)
+    d["cg_x"], d["cg_y"] = (float(v) for v in cg)
+    return out
+
+
+@jit(inline="always")
+def past_end_gate(px, py, yaw, d):
+    """Whether a run that ends at a gate (``d.end_at_gate``, :func:`with_end_gate`) has its CG beyond it.
+
+    Parameters
+    ----------
+    px, py : float
+        The chassis origin's plan-view position [m].
+    yaw : float
+        The chassis heading [rad].
+    d : record
+        The run's :data:`DRIVER` record (its gate and the CG's place in the chassis).
+
+    Returns
+    -------
+    bool
+        True when the CG lies on the far side of the gate's line; False for a run without a gate.
+    """
+    if d.end_at_gate <= 0.0:
+        return False
+    c, s = math.cos(yaw), math.sin(yaw)
+    gx = px + d.cg_x * c - d.cg_y * s
+    gy = py + d.cg_x * s + d.cg_y * c
+    return (gx - d.gate_x) * d.gate_cos + (gy - d.gate_y) * d.gate_sin > 0.0
 
 
 @jit

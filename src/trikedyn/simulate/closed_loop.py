@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..driver.preview import DriverSettings, driver_array, with_steering
+from ..driver.preview import DriverSettings, driver_array, with_end_gate, with_steering
 from ..errors import InputError
 from ..manoeuvres.base import Manoeuvre
 from ..model.statics import rolling_state, static_equilibrium
@@ -24,7 +24,10 @@ from .defaults import SPEED_CONTROLS  # noqa: F401  (re-exported: where the call
 from .result import Result
 from .run import run_model, time_step
 
-__all__ = ["SPEED_CONTROLS", "run", "drive", "footprint", "prepare_run"]
+__all__ = ["GATE_MARGIN_M", "SPEED_CONTROLS", "run", "drive", "exit_gate", "footprint", "prepare_run"]
+
+GATE_MARGIN_M = 0.5
+"""How far past its exit gate (along the path) a run that ends there has its CG at its last record [m]."""
 
 
 def footprint(params) -> tuple[float, float, float]:
@@ -45,6 +48,36 @@ def footprint(params) -> tuple[float, float, float]:
     """
     overhang = max(params.body.overall_length_m - params.wheelbase_m, 0.0) / 2
     return -overhang, params.wheelbase_m + overhang, params.body.overall_width_m / 2
+
+
+def exit_gate(manoeuvre: Manoeuvre) -> tuple[float, float, float, float] | None:
+    """The line a run that ends at its exit gate ends beyond (``prepare_run(end_at_exit=True)``): square to the
+    path ``GATE_MARGIN_M`` past the exit gate, as ``(x, y, cos, sin)`` (a point [m] and the path's direction).
+
+    Past it the CG's arc length along the path (``path_s_m``, its nearest point) is beyond the exit gate, so
+    the run's judged samples (up to the exit gate: the window, the run-in, the margins) are all recorded, and
+    are those of the whole run. That holds where the path is straight around the gate (``path_s_m`` is then
+    the distance along it); elsewhere, and for a window by time, None: the run lasts its whole duration.
+
+    Parameters
+    ----------
+    manoeuvre : Manoeuvre
+        The manoeuvre.
+
+    Returns
+    -------
+    tuple of float or None
+        The gate's line, or None.
+    """
+    path, window = manoeuvre.path, manoeuvre.window
+    if path is None or window.kind != "distance" or not manoeuvre.closed_loop:
+        return None
+    s, at = path.s_m, window.end + GATE_MARGIN_M
+    near = (s >= window.end - 1.0) & (s <= at + 1.0)
+    if at + 1.0 > s[-1] or not near.any() or np.any(np.abs(path.curvature_per_m[near]) > 1e-9):
+        return None
+    heading = float(np.interp(at, s, path.heading_rad))
+    return float(np.interp(at, s, path.x_m)), float(np.interp(at, s, path.y_m)), np.cos(heading), np.sin(heading)
 
 
 def cg_track(params, x, y, yaw) -> tuple[np.ndarray, np.ndarray]:
@@ -80,7 +113,7 @@ def _judging_channels(params, manoeuvre: Manoeuvre):
 def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc", *, speed_kmh: float | None = None,
         driver: DriverSettings | None = None, dt: float | None = None, output_rate_hz: float = 100.0,
         raise_on_failure: bool = False, duration_s: float | None = None, integrator: str = "etdrk4",
-        speed_control: str = "driver", **options) -> Result:
+        speed_control: str = "driver", end_at_exit: bool = False, **options) -> Result:
     """Drive a manoeuvre and return the recorded run.
 
     Parameters
@@ -110,6 +143,9 @@ def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc"
         early; by default the result says so (``success``, ``message``).
     duration_s : float, optional
         Simulated time [s]; the manoeuvre's own by default.
+    end_at_exit : bool
+        End the run at the first record with the CG beyond its exit gate (:func:`exit_gate`), where the judging
+        ends, instead of ``AFTER_EXIT_S`` later (a threshold search's runs; the records before are the same).
     **options
         The manoeuvre's options (see its entry in ``trikedyn manoeuvres``) when it is given by name.
 
@@ -119,14 +155,14 @@ def run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc"
         With ``manoeuvre`` set, ``path_s_m``/``path_error_m`` when it has a path, and ``judged``.
     """
     spec = prepare_run(vehicle, manoeuvre, speed_kmh=speed_kmh, driver=driver, dt=dt, duration_s=duration_s,
-                       integrator=integrator, speed_control=speed_control, **options)
+                       integrator=integrator, speed_control=speed_control, end_at_exit=end_at_exit, **options)
     return run_model(**spec, output_rate_hz=output_rate_hz, raise_on_failure=raise_on_failure)
 
 
 def prepare_run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str = "dlc", *,
                 speed_kmh: float | None = None, driver: DriverSettings | None = None, dt: float | None = None,
                 duration_s: float | None = None, integrator: str = "etdrk4", speed_control: str = "driver",
-                **options) -> dict:
+                end_at_exit: bool = False, **options) -> dict:
     """Everything :func:`run` hands the compiled loop, without running it (the batch integrator,
     :mod:`trikedyn.simulate.batch`, runs several of these in lockstep).
 
@@ -140,6 +176,8 @@ def prepare_run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str
         Time step [s]; automatic by default.
     duration_s : float, optional
         Simulated time [s]; the manoeuvre's own by default.
+    end_at_exit : bool
+        End the run once its CG is past the exit gate (as for :func:`run`).
 
     Returns
     -------
@@ -177,6 +215,9 @@ def prepare_run(vehicle: ParameterSet | VehicleModel, manoeuvre: Manoeuvre | str
         x0[0], x0[1] = float(path.x_m[0]), float(path.y_m[0])
     drv = with_steering(driver_array(settings, params, dt), open_loop=not manoeuvre.closed_loop,
                         hold_after_s=manoeuvre.steer_hold_s)
+    gate = exit_gate(manoeuvre) if end_at_exit else None
+    if gate is not None:
+        drv = with_end_gate(drv, gate, (params.mass.cg_x_m, params.mass.cg_y_m))
     path_rows = path.as_array() if path is not None else np.zeros((2, 5))
     inputs = np.zeros((1, 4))
     if manoeuvre.steer is not None:

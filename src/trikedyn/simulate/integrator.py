@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
-from ..driver.preview import DRIVER_STATE, driver_step, open_loop_driver
+from ..driver.preview import DRIVER_STATE, driver_step, open_loop_driver, past_end_gate
 from ..model.packing import WHEEL_OUT
 from ..model.rhs import evaluate_into, evaluate_stage_into, interpolate_inputs, workspace
 from .defaults import DEFAULT_DT_S
@@ -216,6 +216,8 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
             rec += 1
         if status != STATUS_OK or step == n_steps:
             break
+        if step % record_every == 0 and past_end_gate(x[0], x[1], x[5], d):
+            break  # a run that ends at its gate: recorded above, on the record grid
         for k in range(nw):
             if wout[k].deflection > veh.penetration_limit * plant_wheels[k].radius:
                 return times, states, derivs, wheels, commands, STATUS_PENETRATION, rec, t
