@@ -300,3 +300,28 @@ def test_places_whose_intervals_overlap_are_reported_as_unsettled():
     sobol = [{"parameter": "a", "ST": 0.6, "ST_conf": 0.1, "S1": 0.5, "S1_conf": 0.1},
              {"parameter": "b", "ST": 0.55, "ST_conf": 0.1, "S1": 0.4, "S1_conf": 0.1}]
     assert sa.unsettled_places(sobol) == [(1, 2)]
+
+
+@pytest.mark.parametrize("command, design", [("sensitivity", "trikedyn.study.designs.sensitivity.run_sensitivity"),
+                                             ("uncertainty", "trikedyn.study.designs.uncertainty.run_uncertainty")])
+def test_the_pool_starts_before_the_reference_search(capsys, monkeypatch, command, design):
+    """The pool's fork server (its imports, about a second) starts with the command, so that it overlaps the
+    main process's set-up and reference search instead of following them; not without workers."""
+    import importlib
+
+    import trikedyn.study.engine.executors as executors
+
+    calls = []
+    monkeypatch.setattr(executors, "pool_context", lambda: calls.append("pool"))
+
+    def design_run(*args, **kwargs):
+        calls.append("design")
+        raise RuntimeError("stop here")
+
+    module, name = design.rsplit(".", 1)
+    monkeypatch.setattr(importlib.import_module(module), name, design_run)
+    for workers, expected in (("2", ["pool", "design"]), ("0", ["design"])):
+        calls.clear()
+        with pytest.raises(RuntimeError, match="stop here"):
+            main([command, "reference-etrike", "--workers", workers, "-p", "track_m"])
+        assert calls == expected

@@ -11,7 +11,10 @@ from typing import Annotated
 import typer
 
 from ..errors import InputError
-from ..study.engine.executors import check_executor  # noqa: F401  (--workers, --dask-local, --scheduler: one)
+from ..study.engine.executors import (
+    check_executor,  # noqa: F401  (--workers, --dask-local, --scheduler: one)
+    start_pool_server,  # noqa: F401  (its imports overlap the reference search)
+)
 from ..study.engine.progress import ProgressLine  # noqa: F401  (the sampled commands' progress line)
 
 MetricOpt = Annotated[str, typer.Option("--metric", help="What each evaluation measures: a registered study metric (threshold, tilt_angle, understeer_gradient, peak_ri, min_wheel_load ...; see the study spec reference). Default: the threshold velocity. Another metric's value is named by it: value, reference_value, median ... in the JSON (with metric and unit), a column named by the metric in the CSV files.")]

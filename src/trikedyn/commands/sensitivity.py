@@ -33,6 +33,7 @@ from ._sampled import (
     check_resume,
     metric_options,
     start_output,
+    start_pool_server,
     write_results,
 )
 
@@ -137,6 +138,7 @@ def sensitivity_cmd(
 
     sa.check_method(method)
     check_executor(workers, dask_local, scheduler)
+    start_pool_server(workers, dask_local, scheduler)  # the workers' imports overlap the reference search's
     check_resume(out, resume, force)
     options = manoeuvre_options(manoeuvre, option)
     pset = load_vehicle(vehicle)

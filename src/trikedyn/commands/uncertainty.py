@@ -34,6 +34,7 @@ from ._sampled import (
     check_resume,
     metric_options,
     start_output,
+    start_pool_server,
     write_results,
 )
 
@@ -157,6 +158,7 @@ def uncertainty_cmd(
 
     stds = ua.parse_std(std)
     check_executor(workers, dask_local, scheduler)
+    start_pool_server(workers, dask_local, scheduler)  # the workers' imports overlap the reference search's
     check_resume(out, resume, force)
     options = manoeuvre_options(manoeuvre, option)
     pset = load_vehicle(vehicle)
