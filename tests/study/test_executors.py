@@ -57,6 +57,17 @@ def test_workers_inherit_numbas_contexts_from_the_server():
         pool.shutdown()
 
 
+@pytest.mark.skipif(not HAS_FORK_SERVER, reason="this platform has no fork server: the workers are spawned")
+def test_the_servers_heap_is_frozen_before_it_forks_the_workers():
+    """The simulation's objects are in the collector's permanent generation: a worker's collections do not
+    traverse (and copy) them."""
+    pool = ProcessPool(1)
+    try:
+        assert _run(pool, eval, "__import__('gc').get_freeze_count()") > 10_000
+    finally:
+        pool.shutdown()
+
+
 def test_workers_are_spawned_when_the_fork_server_cannot_start(monkeypatch):
     from multiprocessing import forkserver
 

@@ -6,9 +6,17 @@ contexts (their registries of types and functions): about 0.27 s on the referenc
 used to pay at its first run. Calling one small cached function here builds them in the server, and a forked
 worker inherits them. The call compiles nothing new after the first time (``cache=True``), and the server
 still starts no thread.
+
+Then the server's heap (the simulation's modules and numba's contexts: about 145 000 objects the garbage
+collector tracks) goes to the collector's permanent generation (:func:`gc.freeze`), as Python's documentation
+advises before forking: a worker's collections never traverse it, nor touch (and copy) its pages. In one
+process, the 50 searches of the paper's study with the heap frozen after their set-up took 2.42-2.73 ms of
+Python a run against 2.59-2.89 (three rounds, alternated).
 """
 
 from __future__ import annotations
+
+import gc
 
 from ..._jit import jit
 
@@ -33,3 +41,4 @@ def numba_ready() -> bool:
 
 
 numba_ready()
+gc.freeze()
