@@ -63,6 +63,15 @@ def near_a_stop(x, wheels, n, dt):
 
 
 @jit(inline="always")
+def run_ends(status, step, n_steps, record_every, px, py, yaw, d):
+    """Whether a run ends at ``step`` (once that step is recorded): it stopped (``status``), it made its
+    ``n_steps``, or it ends at a gate (:func:`~trikedyn.driver.preview.past_end_gate`, from the chassis origin
+    ``(px, py)`` [m] and heading ``yaw`` [rad]) and the CG is past it at a record step. The scalar loop and
+    both batch loops end their runs here."""
+    return status != STATUS_OK or step == n_steps or step % record_every == 0 and past_end_gate(px, py, yaw, d)
+
+
+@jit(inline="always")
 def etd_step(x, t, h, k1, u, p, closed, inputs, wout, ws, xs, k2, k3, k4, scratch, idx, mat, fn, exponential):
     """One step of ``h`` [s] from ``x`` at ``t`` (``k1 = f(t, x)`` evaluated, ``wout`` and the factor of the
     mass matrix in ``ws.low`` from it), in place; False when the new state is not finite. The other three
@@ -214,10 +223,8 @@ def rk4_loop(x0, t0, dt, n_steps, record_every, inputs, path, speed_profile, drv
                 wheels[rec, k] = wout[k]
             commands[rec, 0], commands[rec, 1], commands[rec, 2] = u[0], u[1], u[2]
             rec += 1
-        if status != STATUS_OK or step == n_steps:
+        if run_ends(status, step, n_steps, record_every, x[0], x[1], x[5], d):
             break
-        if step % record_every == 0 and past_end_gate(x[0], x[1], x[5], d):
-            break  # a run that ends at its gate: recorded above, on the record grid
         for k in range(nw):
             if wout[k].deflection > veh.penetration_limit * plant_wheels[k].radius:
                 return times, states, derivs, wheels, commands, STATUS_PENETRATION, rec, t

@@ -29,7 +29,7 @@ import numpy as np
 
 from .._borrow import borrowed
 from .._jit import jit
-from ..driver.preview import driver_step, past_end_gate
+from ..driver.preview import driver_step
 from ..model.inverse_mass import dof_parent
 from ..model.lane_workspace import stacked_workspace
 from ..model.packing import WHEEL_OUT
@@ -42,7 +42,7 @@ from .exponential import (
     third_stage_pairs,
     update_pairs,
 )
-from .integrator import STATUS_NAN, STATUS_OK, STATUS_PENETRATION, STATUS_ROLLOVER, near_a_stop
+from .integrator import STATUS_NAN, STATUS_OK, STATUS_PENETRATION, STATUS_ROLLOVER, near_a_stop, run_ends
 from .lockstep import batch_records, lane_memory, lane_plant, start_job
 
 __all__ = ["LANE_GLOBALS", "etd_lanes", "evaluate_lanes", "lane_batch_loop", "set_lane_plant"]
@@ -385,8 +385,7 @@ def lane_batch_loop(x0s, n_steps, plants, plant_of, inputs, n_inputs, paths, n_p
                     wheels[j, rec, k] = wout[b, k]
                 commands[j, rec, 0], commands[j, rec, 1], commands[j, rec, 2] = u[b, 0], u[b, 1], u[b, 2]
                 recorded[j] = rec + 1
-            ended = status[j] != STATUS_OK or step[b] == n_steps[j] or \
-                step[b] % record_every == 0 and past_end_gate(x[b, 0], x[b, 1], x[b, 5], drivers[j])
+            ended = run_ends(status[j], step[b], n_steps[j], record_every, x[b, 0], x[b, 1], x[b, 5], drivers[j])
             if not ended:
                 for k in range(nw):
                     if wout[b, k].deflection > plants.vehicle[pj, 0].penetration_limit * plants.wheels[pj, k].radius:

@@ -15,11 +15,11 @@ import numpy as np
 
 from .._borrow import borrowed
 from .._jit import jit
-from ..driver.preview import DRIVER_STATE, driver_step, past_end_gate
+from ..driver.preview import DRIVER_STATE, driver_step
 from ..model.packing import WHEEL_OUT, Plant
 from ..model.rhs import evaluate_into, interpolate_inputs, workspace
 from .exponential import BLOCK_WIDTH
-from .integrator import STATUS_NAN, STATUS_OK, STATUS_PENETRATION, STATUS_ROLLOVER, etd_step, near_a_stop
+from .integrator import STATUS_NAN, STATUS_OK, STATUS_PENETRATION, STATUS_ROLLOVER, etd_step, near_a_stop, run_ends
 
 __all__ = ["advance_lane", "batch_loop", "batch_records", "lane_memory", "lane_plant", "stack_plants", "start_job"]
 
@@ -132,7 +132,7 @@ def advance_lane(j, x, p, dt, record_every, n_steps, rec, status, inputs, path, 
             wheels[j, rec, k] = wout[k]
         commands[j, rec, 0], commands[j, rec, 1], commands[j, rec, 2] = u[0], u[1], u[2]
         rec += 1
-    if status != STATUS_OK or step == n_steps or step % record_every == 0 and past_end_gate(x[0], x[1], x[5], d):
+    if run_ends(status, step, n_steps, record_every, x[0], x[1], x[5], d):
         return rec, status, True, t
     for k in range(nw):
         if wout[k].deflection > veh.penetration_limit * p.wheels[k].radius:
