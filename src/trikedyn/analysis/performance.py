@@ -156,10 +156,11 @@ def _limit_word(limit: str) -> str:
 def top_speed(vehicle, grade_percent: float = 0.0) -> TopSpeed:
     """The vehicle's top speed at full drive on the flat or on a grade, and what limits it.
 
-    Quasi-static, no simulation: about 5 ms for a parameter set (the model built and its static equilibrium
-    solved), 3 ms for a :class:`~trikedyn.model.vehicle.VehicleModel` whose equilibrium is known (kept in
-    ``model.cache``, with this function's setup and results); the first call in a process also loads the
-    compiled tyre function and right-hand side from numba's cache (about 0.3 s). The model is
+    Quasi-static, no simulation: about 2.5 ms for a parameter set (the model built and its static equilibrium
+    solved), 1.2 ms for a :class:`~trikedyn.model.vehicle.VehicleModel` whose equilibrium is known (kept in
+    ``model.cache``, with this function's setup and results; each wheel's spin balance and its secant steps are
+    compiled, :mod:`~trikedyn.analysis.wheel_balance`); the first call in a process also loads the compiled
+    tyre function and right-hand side from numba's cache (about 0.3 s). The model is
     :mod:`trikedyn.analysis.straight_line`'s; see the module docstring for its verification (a simulated
     full-drive run settles within 0.001 % of it).
 

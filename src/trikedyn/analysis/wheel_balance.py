@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
+from .._jit import jit
 from ..tyre.interface import tyre_forces
 
 __all__ = ["Wheel", "drive_capacity", "solve_slip", "spin_balance"]
@@ -80,20 +81,29 @@ def spin_balance(w: Wheel, kappa, v, v_ref, fz, a, tau_drive, tau_brake):
     spin : float
         Spin rate [rad/s].
     """
-    r_eff = w.radius - fz / w.kz / 3.0
+    return _balance(w.model, w.coeffs, w.radius, w.kz, w.inertia, w.v_low, w.w_low, float(kappa), float(v),
+                    float(v_ref), float(fz), float(a), float(tau_drive), float(tau_brake))
+
+
+@jit
+def _balance(model, coeffs, radius, kz, inertia, v_low, w_low, kappa, v, v_ref, fz, a, tau_drive, tau_brake):
+    """:func:`spin_balance` of a wheel given by its packed values (compiled: the Python arithmetic and the
+    tyre function's dispatch around each evaluation were most of a top speed's time)."""
+    r_eff = radius - fz / kz / 3.0
     spin = (v + kappa * v_ref) / r_eff
+    fx, my = 0.0, 0.0
     if fz > 0.0:
-        fx, _, _, _, my, _ = tyre_forces(w.model, w.coeffs, kappa, 0.0, 0.0, fz, v, v_ref, spin, r_eff,
-                                         w.v_low, w.w_low)
-    else:
-        fx, my = 0.0, 0.0
-    spin_rate = a * (1.0 + kappa * (v / v_ref) ** 3) / r_eff
-    g = tau_drive - tau_brake * math.tanh(spin / w.w_low) - fx * w.radius + my - w.inertia * spin_rate
+        fx, _, _, _, my, _ = tyre_forces(model, coeffs, kappa, 0.0, 0.0, fz, v, v_ref, spin, r_eff, v_low, w_low)
+    spin_rate = a * (1.0 + kappa * math.pow(v / v_ref, 3.0)) / r_eff
+    g = tau_drive - tau_brake * math.tanh(spin / w_low) - fx * radius + my - inertia * spin_rate
     return g, fx, my, spin
 
 
 def _root(w, lo, hi, args):
-    return brentq(lambda k: spin_balance(w, k, *args)[0], lo, hi, xtol=1e-13, rtol=1e-12)
+    """The root of the wheel's spin balance between the slips ``lo`` and ``hi`` (Brent's method)."""
+    wheel = (w.model, w.coeffs, w.radius, w.kz, w.inertia, w.v_low, w.w_low)
+    rest = tuple(float(x) for x in args)
+    return brentq(lambda k: _balance(*wheel, k, *rest)[0], lo, hi, xtol=1e-13, rtol=1e-12)
 
 
 def solve_slip(w: Wheel, v, v_ref, fz, a, tau_drive, tau_brake, locked, guess):
@@ -169,22 +179,32 @@ def solve_slip(w: Wheel, v, v_ref, fz, a, tau_drive, tau_brake, locked, guess):
 def _secant(w, guess, args):
     """The root of the spin balance near ``guess`` by secant steps, or None (not settled, too far, or an
     unstable root: the balance must fall with the slip there)."""
+    root = _secant_root(w.model, w.coeffs, w.radius, w.kz, w.inertia, w.v_low, w.w_low, float(guess),
+                        *(float(x) for x in args))
+    return None if math.isnan(root) else root
+
+
+@jit
+def _secant_root(model, coeffs, radius, kz, inertia, v_low, w_low, guess, v, v_ref, fz, a, tau_drive, tau_brake):
+    """:func:`_secant` compiled; NaN for None."""
     k0, k1 = guess, guess * (1.0 + 1e-4)
-    g0, g1 = spin_balance(w, k0, *args)[0], spin_balance(w, k1, *args)[0]
+    g0 = _balance(model, coeffs, radius, kz, inertia, v_low, w_low, k0, v, v_ref, fz, a, tau_drive, tau_brake)[0]
+    g1 = _balance(model, coeffs, radius, kz, inertia, v_low, w_low, k1, v, v_ref, fz, a, tau_drive, tau_brake)[0]
     reach = 0.2 * abs(guess) + 1e-6
     for _ in range(10):
         if g1 == g0:
-            return None
+            return np.nan
         slope = (g1 - g0) / (k1 - k0)
         if not slope < 0.0:
-            return None
+            return np.nan
         k2 = k1 - g1 / slope
         if abs(k2 - guess) > reach or k2 * guess <= 0.0:
-            return None
+            return np.nan
         if abs(k2 - k1) <= 1e-13 + 1e-10 * abs(k2):
             return k2
-        k0, g0, k1, g1 = k1, g1, k2, spin_balance(w, k2, *args)[0]
-    return None
+        k0, g0, k1 = k1, g1, k2
+        g1 = _balance(model, coeffs, radius, kz, inertia, v_low, w_low, k2, v, v_ref, fz, a, tau_drive, tau_brake)[0]
+    return np.nan
 
 
 def _beyond_peak(w, kappa, args):

@@ -125,6 +125,10 @@ def run_study_cmd(spec, out, *, workers=None, dask_local=None, scheduler=None, m
     dict
         The run's summary.
     """
+    from ..study.engine.executors import check_executor, start_pool_server
+
+    check_executor(workers, dask_local, scheduler)
+    start_pool_server(workers, dask_local, scheduler)  # first: its imports overlap this process's of the study
     from ..study.designs.runner import StudyIncomplete, StudyInterrupted, execute_study
     from ._common import on_interrupt
 
