@@ -58,3 +58,19 @@ def test_the_generated_kernels_benchmark_times_the_loop_it_runs(monkeypatch):
     for kernels in ("generic", "generated"):
         assert 0.0 < out[kernels]["loop_wall_s"] <= out[kernels]["wall_s"]
     assert out["state_diff_scaled"] < 1e-9
+
+
+def test_the_study_benchmark_splits_a_run_by_its_stored_timestamps(bench_run, tmp_path):
+    """The study's phases (until the first scenario, first to last, after) from the store's rows, as the workers
+    stamp them."""
+    from trikedyn.study.engine.store import StudyStore
+
+    with StudyStore(tmp_path, "paper") as store:
+        for k, (done, took) in enumerate([(101.5, 0.4), (103.0, 0.05), (102.0, 0.07)]):
+            store.put({"scenario_id": f"s{k}", "status": "ok", "finished_at": done, "wall_time_s": took})
+    phases = bench_run.study_phases(store.path, 100.0, 103.75)
+    assert phases["until_first_result_s"] == pytest.approx(1.5)
+    assert phases["first_to_last_result_s"] == pytest.approx(1.5)
+    assert phases["after_last_result_s"] == pytest.approx(0.75)
+    assert phases["scenarios"] == 3
+    assert phases["search_sum_s"] == pytest.approx(0.52) and phases["search_median_s"] == pytest.approx(0.07)
