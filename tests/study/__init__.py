@@ -21,7 +21,7 @@ SMALL = textwrap.dedent(
 
 
 def write_spec(folder: Path, name: str = "small", freight=(0, 100), stiffness=(0.9, 1.1), extra: str = "") -> Path:
-    """A small study: slc at 1 km/h resolution (each threshold search about 0.3-0.5 s)."""
+    """A small study: slc at 1 km/h resolution (each threshold search 20-50 ms, the first of a process more)."""
     path = Path(folder) / f"{name}.toml"
     text = SMALL.format(name=name, freight=list(freight), stiffness=list(stiffness)) + textwrap.dedent(extra)
     path.write_text(text, encoding="utf-8")

@@ -125,3 +125,48 @@ def test_the_main_process_reads_a_spec_without_loading_the_simulation():
             " if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+def test_the_fork_server_and_its_workers_stay_quiet_when_the_main_process_vanishes(capsys):
+    """An interrupted command can vanish in the middle of asking the fork server for a worker: the server's
+    EOFError is not printed as a traceback (tests/test_interrupts.py met it); any other error still is."""
+    from trikedyn.study.engine import warm
+
+    assert not warm.in_the_fork_server()  # this process: Python's own hook, untouched
+    pool = ProcessPool(1)
+    try:
+        assert _run(pool, eval, "__import__('trikedyn.study.engine.warm', fromlist=['x']).in_the_fork_server()")
+        assert _run(pool, eval, "type(__import__('sys').excepthook).__name__") == "QuietWhenTheClientVanishes"
+    finally:
+        pool.shutdown()
+    hook = warm.QuietWhenTheClientVanishes()
+    for gone in (EOFError(), BrokenPipeError(), ConnectionResetError()):
+        hook(type(gone), gone, None)
+    assert capsys.readouterr().err == ""
+    try:
+        raise ValueError("a real bug")
+    except ValueError as exc:
+        hook(ValueError, exc, exc.__traceback__)
+    err = capsys.readouterr().err
+    assert "Traceback" in err and "ValueError: a real bug" in err
+
+
+VANISHING_CLIENT = """
+import socket, sys, time
+from multiprocessing import forkserver
+from trikedyn.study.engine.executors import pool_context
+if __name__ == "__main__":
+    pool_context()  # the fork server, started
+    with socket.socket(socket.AF_UNIX) as s:  # a client that connects and vanishes before it sends anything
+        s.connect(forkserver._forkserver._forkserver_address)
+    time.sleep(1.5)
+    print("done", file=sys.stderr)
+"""
+
+
+def test_a_client_vanishing_in_its_request_leaves_no_traceback(tmp_path):
+    script = tmp_path / "vanish.py"
+    script.write_text(VANISHING_CLIENT)
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0 and "done" in done.stderr
+    assert "Traceback" not in done.stderr and "EOFError" not in done.stderr, done.stderr

@@ -19,7 +19,7 @@ from trikedyn.study import StudyStore, expand, load_spec
 
 from . import warm_numba_cache, write_spec
 
-TOTAL = 8
+TOTAL = 32  # enough that a kill after the first few lands before the last (a search takes 20-50 ms)
 
 
 @pytest.fixture(scope="module")
@@ -28,7 +28,8 @@ def warm():
 
 
 def _spec(folder: Path) -> Path:
-    return write_spec(folder, name="eight", freight=(0, 50, 100, 150), stiffness=(0.9, 1.1))  # 8 scenarios
+    return write_spec(folder, name="thirty-two", freight=(0, 50, 100, 150),
+                      stiffness=(0.8, 0.85, 0.9, 0.95, 1.05, 1.1, 1.15, 1.2))  # 32 scenarios
 
 
 def _launch(spec: Path, out: Path) -> subprocess.Popen:
