@@ -139,16 +139,20 @@ def test_the_fork_server_and_its_workers_stay_quiet_when_the_main_process_vanish
         assert _run(pool, eval, "type(__import__('sys').excepthook).__name__") == "QuietWhenTheClientVanishes"
     finally:
         pool.shutdown()
-    hook = warm.QuietWhenTheClientVanishes()
-    for gone in (EOFError(), BrokenPipeError(), ConnectionResetError()):
-        hook(type(gone), gone, None)
-    assert capsys.readouterr().err == ""
+    ended = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    gone_client = int(ended.stdout)  # a process that has ended (and been reaped)
     try:
         raise ValueError("a real bug")
     except ValueError as exc:
-        hook(ValueError, exc, exc.__traceback__)
-    err = capsys.readouterr().err
-    assert "Traceback" in err and "ValueError: a real bug" in err
+        bug = exc
+    for client, quiet in ((None, False), (os.getpid(), False), (gone_client, True)):
+        hook = warm.QuietWhenTheClientVanishes(client=client, wait_s=0.05)
+        for gone in (EOFError(), BrokenPipeError(), ConnectionResetError()):  # the other end closed: quiet
+            hook(type(gone), gone, None)
+        assert capsys.readouterr().err == ""
+        hook(ValueError, bug, bug.__traceback__)  # anything else: printed while the client runs
+        err = capsys.readouterr().err
+        assert (err == "") if quiet else ("Traceback" in err and "ValueError: a real bug" in err), (client, err)
 
 
 VANISHING_CLIENT = """

@@ -13,16 +13,19 @@ advises before forking: a worker's collections never traverse it, nor touch (and
 process, the 50 searches of the paper's study with the heap frozen after their set-up took 2.42-2.73 ms of
 Python a run against 2.59-2.89 (three rounds, alternated).
 
-And the server stays quiet when its client vanishes (:class:`QuietWhenTheClientVanishes`): a main process
-interrupted (Ctrl-C, SIGTERM) while it asks the server for a worker leaves the server reading an empty socket,
-and :mod:`multiprocessing.forkserver` lets that ``EOFError`` end the server with a traceback on the terminal
-the command shares with it, after the command's own one line.
+And the server and its workers stay quiet when their client vanishes (:class:`QuietWhenTheClientVanishes`): a
+main process interrupted (Ctrl-C, SIGTERM) while it asks the server for a worker leaves the server reading an
+empty socket, or a worker starting up without the semaphores the main process unlinked as it exited, and
+:mod:`multiprocessing.forkserver` lets that ``EOFError`` end the server (or that ``FileNotFoundError`` the
+worker) with a traceback on the terminal the command shares with them, after the command's own one line.
 """
 
 from __future__ import annotations
 
 import gc
+import os
 import sys
+import time
 import traceback
 
 from ..._jit import jit
@@ -48,26 +51,68 @@ def numba_ready() -> bool:
 
 
 class QuietWhenTheClientVanishes:
-    """A :data:`sys.excepthook` that prints nothing for an exception that says the other end of a connection
-    is gone (``EOFError``, ``ConnectionError``), and a traceback for any other, as Python's own hook.
+    """A :data:`sys.excepthook` that prints nothing for an exception that comes of the client (the main process)
+    vanishing, and a traceback for any other, as Python's own hook.
+
+    The client's end gone shows as ``EOFError`` or a ``ConnectionError``, or, in a worker still starting, as
+    whatever its start-up met of the client's resources (a semaphore it unlinked as it exited: a
+    ``FileNotFoundError``): any exception while the client is gone, or is gone within ``wait_s``, is quiet.
 
     Parameters
     ----------
     previous : callable
         The hook it stands in front of.
+    client : int, optional
+        The client's process id (None: only the exception's type says).
+    wait_s : float
+        How long an exception waits for the client to end before it is printed [s].
     """
 
-    def __init__(self, previous=sys.__excepthook__):
+    def __init__(self, previous=sys.__excepthook__, client: int | None = None, wait_s: float = 0.5):
         self.previous = previous
+        self.client = client
+        self.wait_s = wait_s
 
     def __call__(self, kind, value, tb):
         """Handle an uncaught exception: quiet for a vanished client, else ``previous``'s traceback."""
-        if isinstance(kind, type) and issubclass(kind, (EOFError, ConnectionError)):
+        if isinstance(kind, type) and issubclass(kind, (EOFError, ConnectionError)) or self.client_gone():
             return
         try:
             self.previous(kind, value, tb)
         except Exception:  # noqa: BLE001 - a hook must not raise
             traceback.print_exception(kind, value, tb)
+
+    def client_gone(self) -> bool:
+        """Whether the client has ended, or ends within ``wait_s``.
+
+        Returns
+        -------
+        bool
+            False for no client, or one still running after ``wait_s``.
+        """
+        if self.client is None:
+            return False
+        deadline = time.monotonic() + self.wait_s
+        while _running(self.client):
+            if time.monotonic() >= deadline:
+                return False
+            time.sleep(0.02)
+        return True
+
+
+def _running(pid: int) -> bool:
+    """Whether process ``pid`` runs (a zombie does not, where ``/proc`` tells)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:
+        return True
+    try:
+        with open(f"/proc/{pid}/stat", "rb") as fh:
+            return fh.read().rsplit(b")", 1)[1].split()[0] != b"Z"
+    except (OSError, IndexError):
+        return True
 
 
 def in_the_fork_server() -> bool:
@@ -90,5 +135,5 @@ def in_the_fork_server() -> bool:
 
 numba_ready()
 if in_the_fork_server():
-    sys.excepthook = QuietWhenTheClientVanishes(sys.excepthook)
+    sys.excepthook = QuietWhenTheClientVanishes(sys.excepthook, client=os.getppid())  # the main process
 gc.freeze()
