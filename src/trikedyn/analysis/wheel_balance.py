@@ -81,8 +81,17 @@ def spin_balance(w: Wheel, kappa, v, v_ref, fz, a, tau_drive, tau_brake):
     spin : float
         Spin rate [rad/s].
     """
-    return _balance(w.model, w.coeffs, w.radius, w.kz, w.inertia, w.v_low, w.w_low, float(kappa), float(v),
-                    float(v_ref), float(fz), float(a), float(tau_drive), float(tau_brake))
+    return _balance(*_packed(w), float(kappa), *_floats((v, v_ref, fz, a, tau_drive, tau_brake)))
+
+
+def _packed(w: Wheel) -> tuple:
+    """The wheel's values the compiled balance takes, in its order."""
+    return w.model, w.coeffs, w.radius, w.kz, w.inertia, w.v_low, w.w_low
+
+
+def _floats(args) -> tuple:
+    """``(v, v_ref, fz, a, tau_drive, tau_brake)`` as Python floats (one compiled signature)."""
+    return tuple(float(x) for x in args)
 
 
 @jit
@@ -101,8 +110,7 @@ def _balance(model, coeffs, radius, kz, inertia, v_low, w_low, kappa, v, v_ref, 
 
 def _root(w, lo, hi, args):
     """The root of the wheel's spin balance between the slips ``lo`` and ``hi`` (Brent's method)."""
-    wheel = (w.model, w.coeffs, w.radius, w.kz, w.inertia, w.v_low, w.w_low)
-    rest = tuple(float(x) for x in args)
+    wheel, rest = _packed(w), _floats(args)
     return brentq(lambda k: _balance(*wheel, k, *rest)[0], lo, hi, xtol=1e-13, rtol=1e-12)
 
 
@@ -179,8 +187,7 @@ def solve_slip(w: Wheel, v, v_ref, fz, a, tau_drive, tau_brake, locked, guess):
 def _secant(w, guess, args):
     """The root of the spin balance near ``guess`` by secant steps, or None (not settled, too far, or an
     unstable root: the balance must fall with the slip there)."""
-    root = _secant_root(w.model, w.coeffs, w.radius, w.kz, w.inertia, w.v_low, w.w_low, float(guess),
-                        *(float(x) for x in args))
+    root = _secant_root(*_packed(w), float(guess), *_floats(args))
     return None if math.isnan(root) else root
 
 

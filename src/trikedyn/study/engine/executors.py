@@ -35,7 +35,7 @@ from ...errors import InputError
 from .loop import one_line  # noqa: F401  (re-exported: where the callers find it)
 
 __all__ = ["PRELOAD", "InlineExecutor", "ProcessPool", "check_executor",
-           "make_executor", "one_line", "start_pool_server", "worker_count"]
+           "make_executor", "one_line", "start_pool_server", "wait_for_exit", "worker_count"]
 
 PRELOAD = ("trikedyn.analysis.threshold", "trikedyn.study.designs.runner", "trikedyn.study.metrics",
            "trikedyn.study.engine.warm")
@@ -43,38 +43,66 @@ PRELOAD = ("trikedyn.analysis.threshold", "trikedyn.study.designs.runner", "trik
 the study's worker functions, and numba's compiler contexts set up (:mod:`trikedyn.study.engine.warm`)."""
 
 
-def _wait_for_exit(pid: int) -> None:
-    """Return when process ``pid`` has ended.
+def wait_for_exit(pid: int, timeout_s: float | None = None) -> bool:
+    """Return when process ``pid`` has ended, or after ``timeout_s``.
 
     A spawned worker's parent is the main process: orphaned, it is adopted by another. A worker from the
     fork server is the server's child, and the server outlives the main process while a worker does (each
     worker holds the server's "alive" pipe): it waits on a pidfd of the main process (Linux), else polls its
-    pid every 0.5 s.
+    pid (every 0.5 s, or 0.02 s with a timeout).
+
+    Parameters
+    ----------
+    pid : int
+        The process.
+    timeout_s : float, optional
+        The longest wait [s]; None: until it ends.
+
+    Returns
+    -------
+    bool
+        True once it has ended; False when it still runs after ``timeout_s``.
     """
+    deadline = None if timeout_s is None else time.monotonic() + timeout_s
+    poll = 0.5 if timeout_s is None else 0.02
+
+    def another_poll() -> bool:
+        """Sleep one poll; False when the deadline has passed instead."""
+        if deadline is not None and time.monotonic() >= deadline:
+            return False
+        time.sleep(poll)
+        return True
+
     if os.getppid() == pid:
         while os.getppid() == pid:
-            time.sleep(0.5)
-        return
+            if not another_poll():
+                return False
+        return True
     try:
         handle = os.pidfd_open(pid)
     except ProcessLookupError:
-        return
+        return True
     except (AttributeError, OSError):  # no pidfd (macOS, an old kernel)
         while True:
-            time.sleep(0.5)
             try:
                 os.kill(pid, 0)
             except ProcessLookupError:
-                return
+                return True
             except PermissionError:  # alive, or its pid taken by another user's process
                 pass
+            if not another_poll():
+                return False
     import select
 
-    select.select([handle], [], [])  # readable once the process has ended
+    try:
+        ready, _, _ = select.select([handle], [], [], timeout_s)  # readable once the process has ended
+    finally:
+        os.close(handle)
+    return bool(ready)
 
 
 def _watch_main(main_pid: int) -> None:
-    _wait_for_exit(main_pid)
+    wait_for_exit(main_pid)
     os._exit(1)  # the main process died (SIGKILL): nobody will collect our work
 
 

@@ -25,7 +25,6 @@ from __future__ import annotations
 import gc
 import os
 import sys
-import time
 import traceback
 
 from ..._jit import jit
@@ -83,36 +82,17 @@ class QuietWhenTheClientVanishes:
             traceback.print_exception(kind, value, tb)
 
     def client_gone(self) -> bool:
-        """Whether the client has ended, or ends within ``wait_s``.
+        """Whether the client has ended, or ends within ``wait_s``
+        (:func:`~trikedyn.study.engine.executors.wait_for_exit`).
 
         Returns
         -------
         bool
             False for no client, or one still running after ``wait_s``.
         """
-        if self.client is None:
-            return False
-        deadline = time.monotonic() + self.wait_s
-        while _running(self.client):
-            if time.monotonic() >= deadline:
-                return False
-            time.sleep(0.02)
-        return True
+        from .executors import wait_for_exit
 
-
-def _running(pid: int) -> bool:
-    """Whether process ``pid`` runs (a zombie does not, where ``/proc`` tells)."""
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    try:
-        with open(f"/proc/{pid}/stat", "rb") as fh:
-            return fh.read().rsplit(b")", 1)[1].split()[0] != b"Z"
-    except (OSError, IndexError):
-        return True
+        return self.client is not None and wait_for_exit(self.client, self.wait_s)
 
 
 def in_the_fork_server() -> bool:
@@ -130,7 +110,7 @@ def in_the_fork_server() -> bool:
         if frame.f_code is forkserver.main.__code__:
             return True
         frame = frame.f_back
-    return isinstance(sys.excepthook, QuietWhenTheClientVanishes)
+    return False
 
 
 numba_ready()
