@@ -178,7 +178,7 @@ def bench_study_and_reproduce(repeats: int = 3) -> dict:
                            capture_output=True)
             walls.append(time.perf_counter() - start)
             if args[0] == "study":
-                parts.append(study_phases(folder / "out" / "study.sqlite", started_at, started_at + walls[-1]))
+                parts.append(study_phases(folder / "out", started_at, started_at + walls[-1]))
             shutil.rmtree(folder, ignore_errors=True)
         out[name] = {"wall_s": float(np.median(walls)), "min_s": min(walls), "max_s": max(walls), "runs": repeats,
                      "target_s": target}
@@ -187,17 +187,18 @@ def bench_study_and_reproduce(repeats: int = 3) -> dict:
     return out
 
 
-def study_phases(database: Path, started_at: float, ended_at: float) -> dict:
-    """Where a study's wall time went, from its store's rows (each scenario's ``finished_at`` [s since the
-    epoch] and ``wall_time_s``, stamped by the worker): until its first scenario was done (the command's start,
-    the pool's fork server's imports, a worker's first search, which also loads the compiled code), from the
-    first to the last, and after it (the export and the figures); with the scenarios' summed and mean time."""
-    import sqlite3
+def study_phases(folder: Path, started_at: float, ended_at: float) -> dict:
+    """Where a study's wall time went, from the rows of its store in ``folder`` (each scenario's ``finished_at``
+    [s since the epoch] and ``wall_time_s``, stamped by the worker): until its first scenario was done (the
+    command's start, the pool's fork server's imports, a worker's first search, which also loads the compiled
+    code), from the first to the last, and after it (the export and the figures); with the scenarios' summed
+    and median time."""
+    from trikedyn.study.engine.store import StudyStore
 
-    with sqlite3.connect(database) as db:
-        rows = db.execute("SELECT finished_at, wall_time_s FROM results").fetchall()
-    done = sorted(r[0] for r in rows)
-    search = [r[1] for r in rows]
+    with StudyStore(folder) as store:
+        rows = store.rows()
+    done = sorted(r["finished_at"] for r in rows)
+    search = [r["wall_time_s"] for r in rows]
     return {"until_first_result_s": done[0] - started_at, "first_to_last_result_s": done[-1] - done[0],
             "after_last_result_s": ended_at - done[-1], "scenarios": len(rows), "search_sum_s": float(np.sum(search)),
             "search_median_s": float(np.median(search))}

@@ -68,7 +68,7 @@ def test_the_study_benchmark_splits_a_run_by_its_stored_timestamps(bench_run, tm
     with StudyStore(tmp_path, "paper") as store:
         for k, (done, took) in enumerate([(101.5, 0.4), (103.0, 0.05), (102.0, 0.07)]):
             store.put({"scenario_id": f"s{k}", "status": "ok", "finished_at": done, "wall_time_s": took})
-    phases = bench_run.study_phases(store.path, 100.0, 103.75)
+    phases = bench_run.study_phases(tmp_path, 100.0, 103.75)
     assert phases["until_first_result_s"] == pytest.approx(1.5)
     assert phases["first_to_last_result_s"] == pytest.approx(1.5)
     assert phases["after_last_result_s"] == pytest.approx(0.75)
