@@ -30,9 +30,10 @@ SPEC = textwrap.dedent("""
     resolution_kmh = 1.0
     [[groups]]
     name = "layout"
-    overrides = { "track_m" = [1.0, 1.2], "component.battery.x_m" = [0.4, 1.0] }
+    overrides = { "track_m" = [1.0, 1.1, 1.2, 1.3], "component.battery.x_m" = [0.4, 0.6, 0.8, 1.0] }
 """)
-TOTAL = 8  # 2 tracks x 2 battery places x 2 manoeuvres
+TOTAL = 32  # 4 tracks x 4 battery places x 2 manoeuvres: enough that a kill after the first two lands before the
+# last (with 8, a search of 20-50 ms, the kill sometimes came after all were stored; tests/study/test_resume.py)
 
 
 @pytest.fixture(scope="module")
