@@ -20,6 +20,7 @@ from batch import bench_batch  # noqa: E402  (benchmarks/batch.py, issue 25)
 from cluster import bench_cluster  # noqa: E402  (benchmarks/cluster.py, issue 23)
 from cluster import report as report_cluster  # noqa: E402
 from codegen import bench_generated_kernels  # noqa: E402  (benchmarks/codegen.py, issue 25)
+from lane_math import bench_lane_math  # noqa: E402  (benchmarks/lane_math.py, issue 25)
 from lanes import bench_lane_kernels  # noqa: E402  (benchmarks/lanes.py, issue 25)
 from step_parts import parts as step_parts  # noqa: E402  (benchmarks/step_parts.py, issue 25)
 
@@ -242,6 +243,7 @@ def main() -> int:
     results.update(bench_sine_steer())
     results.update(bench_generated_kernels())
     results.update(bench_lane_kernels())
+    results.update(bench_lane_math())
     results.update(bench_double_lane_change())
     results["step_parts_reference_etrike_us"] = step_parts("reference-etrike")
     results.update(bench_peer(results))
@@ -266,6 +268,8 @@ def main() -> int:
               f"B={b} {v['dynamics_us']:.3f}/{v['kinematics_us']:.3f}/{v['factor_us']:.3f} us "
               f"({v['dynamics_speedup']:.1f}x/{v['kinematics_speedup']:.1f}x/{v['factor_speedup']:.1f}x)"
               for b, v in lk["lanes"].items()))
+    print("branch-free functions over lanes (trikedyn.model.lane_math) against the C library, ns a value: " + ", ".join(
+        f"{k} {v['lanes_ns']:.2f}/{v['library_ns']:.2f}" for k, v in results["lane_math_ns_per_value"].items()))
     d = results["double_lane_change_10s_30kmh"]
     print("closed-loop ISO 3888-1 double lane change, 10 s at 30 km/h:")
     print(f"  end to end  {d['wall_s'] * 1e3:7.1f} ms   real-time factor {d['real_time_factor']:6.0f} (target 1500)")
