@@ -1,9 +1,12 @@
-"""Issue 25: the branch-free functions of trikedyn.model.lane_math over lanes against the C library's, one process.
+"""Issue 25: the branch-free functions of trikedyn.model.lane_math over lanes against the C library's, and the
+similarity tyre over 8 lanes (trikedyn.tyre.lanes) against the scalar tyre function, one process.
 
-Each timing fills an array of 64 arguments' values in a loop compiled as the lane kernels are (no fast-math,
+Each timing of a function fills an array of 64 arguments' values in a loop compiled as the lane kernels are (no fast-math,
 ``error_model="numpy"``): with the branch-free functions LLVM vectorises that loop, with the C library's it
 cannot (a call per value). The arguments move by 1e-12 a pass, so the work can be neither dropped nor hoisted.
-Figures: the best of ``REPEATS`` timings, nanoseconds per value.
+Figures: the best of ``REPEATS`` timings, nanoseconds per value. The tyre: 8 lanes of the reference trike's
+tyres at spread slips and loads, each pass moving a slip by 1e-15; nanoseconds per lane (per call for the scalar
+function, as the lockstep batch calls it today).
 
 usage: python benchmarks/lane_math.py
 """
@@ -21,6 +24,9 @@ import numpy as np  # noqa: E402
 from numba import njit  # noqa: E402
 
 from trikedyn.model import lane_math  # noqa: E402
+from trikedyn.tyre.interface import tyre_forces  # noqa: E402
+from trikedyn.tyre.lanes import similarity_forces_lanes  # noqa: E402
+from trikedyn.tyre.models import SIMILARITY  # noqa: E402
 
 
 @njit(inline="always", error_model="numpy")
@@ -68,20 +74,72 @@ def _ns_per_value(func, xs) -> float:
     return best / (PASSES * xs.size) * 1e9
 
 
+@njit(error_model="numpy")
+def _tyre_lanes(coeffs, kappa, alpha, fz, spin, r_eff, passes):
+    """``passes`` calls of the tyre over the lanes, a slip nudged each time; a sum of the outputs."""
+    fx, fy, my = np.empty(kappa.size), np.empty(kappa.size), np.empty(kappa.size)
+    acc = 0.0
+    for _ in range(passes):
+        kappa[0] += 1e-15
+        similarity_forces_lanes(coeffs, kappa, alpha, fz, spin, r_eff, 1.0, fx, fy, my)
+        acc += fx[0] + fy[-1] + my[1]
+    return acc
+
+
+@njit(error_model="numpy")
+def _tyre_scalar(rows, kappa, alpha, fz, spin, r_eff, passes):
+    """The same with the scalar tyre function, lane by lane."""
+    acc = 0.0
+    for _ in range(passes):
+        kappa[0] += 1e-15
+        for j in range(kappa.size):
+            f = tyre_forces(SIMILARITY, rows[j], kappa[j], alpha[j], 0.0, fz[j], 10.0, 10.0, spin[j], r_eff[j], 1.0,
+                            1.0)
+            acc += f[0] + f[1] + f[4]
+    return acc
+
+
+def _tyre_ns_per_lane() -> dict:
+    """Nanoseconds per lane of the similarity tyre over 8 lanes and of the scalar tyre function."""
+    from trikedyn.model.vehicle import build_model
+    from trikedyn.params import load_vehicle
+
+    rng = np.random.default_rng(1)
+    tyres = build_model(load_vehicle("reference-etrike")).plant.tyres
+    rows = np.ascontiguousarray(tyres[np.arange(8) % tyres.shape[0]])
+    lanes = (rng.normal(0, 0.05, 8), rng.normal(0, 0.05, 8), rng.uniform(500, 1500, 8), rng.uniform(20, 40, 8),
+             rng.uniform(0.25, 0.3, 8))
+    out = {}
+    for name, func, coeffs in (("lanes_ns", _tyre_lanes, np.ascontiguousarray(rows.T)), ("scalar_ns", _tyre_scalar, rows)):
+        func(coeffs, *(a.copy() for a in lanes), 1)
+        best = math.inf
+        for _ in range(REPEATS):
+            args = [a.copy() for a in lanes]
+            start = time.perf_counter()
+            func(coeffs, *args, PASSES)
+            best = min(best, time.perf_counter() - start)
+        out[name] = best / (PASSES * 8) * 1e9
+    return out
+
+
 def bench_lane_math() -> dict:
-    """``make bench``'s entry: nanoseconds per value of each function, branch-free and the C library's."""
+    """``make bench``'s entry: nanoseconds per value of each function, branch-free and the C library's, and per lane
+    of the similarity tyre over lanes and of the scalar tyre function."""
     rng = np.random.default_rng(0)
     out = {}
     for name, (lane, library, half) in FUNCTIONS.items():
         xs = rng.uniform(-half, half, 64)
         out[name] = {"lanes_ns": _ns_per_value(lane, xs), "library_ns": _ns_per_value(library, xs)}
-    return {"lane_math_ns_per_value": out}
+    return {"lane_math_ns_per_value": out, "similarity_tyre_ns_per_lane": _tyre_ns_per_lane()}
 
 
 def main() -> int:
     """Print the figures."""
-    for name, v in bench_lane_math()["lane_math_ns_per_value"].items():
+    results = bench_lane_math()
+    for name, v in results["lane_math_ns_per_value"].items():
         print(f"{name}: branch-free over lanes {v['lanes_ns']:.2f} ns a value, the C library {v['library_ns']:.2f} ns")
+    tyre = results["similarity_tyre_ns_per_lane"]
+    print(f"similarity tyre: over 8 lanes {tyre['lanes_ns']:.2f} ns a lane, the scalar function {tyre['scalar_ns']:.2f} ns")
     return 0
 
 
