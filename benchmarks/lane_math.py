@@ -78,10 +78,11 @@ def _ns_per_value(func, xs) -> float:
 def _tyre_lanes(coeffs, kappa, alpha, fz, spin, r_eff, passes):
     """``passes`` calls of the tyre over the lanes, a slip nudged each time; a sum of the outputs."""
     fx, fy, my = np.empty(kappa.size), np.empty(kappa.size), np.empty(kappa.size)
+    w_low = np.ones(kappa.size)
     acc = 0.0
     for _ in range(passes):
         kappa[0] += 1e-15
-        similarity_forces_lanes(coeffs, kappa, alpha, fz, spin, r_eff, 1.0, fx, fy, my)
+        similarity_forces_lanes(coeffs, kappa, alpha, fz, spin, r_eff, w_low, fx, fy, my)
         acc += fx[0] + fy[-1] + my[1]
     return acc
 

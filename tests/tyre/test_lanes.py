@@ -48,7 +48,7 @@ def _lanes(preset: str, n: int, seed: int):
 def test_every_lane_equals_the_scalar_tyre(preset):
     coeffs, kappa, alpha, fz, spin, r_eff = _lanes(preset, 20_000, 5)
     fx, fy, my = (np.full(kappa.size, np.nan) for _ in range(3))
-    similarity_forces_lanes(coeffs, kappa, alpha, fz, spin, r_eff, W_LOW, fx, fy, my)
+    similarity_forces_lanes(coeffs, kappa, alpha, fz, spin, r_eff, np.full(kappa.size, W_LOW), fx, fy, my)
     expected = _scalar(coeffs, kappa, alpha, fz, spin, r_eff, W_LOW)
     peak = np.maximum(coeffs[MU_X], coeffs[MU_Y]) * np.maximum(fz, 0.0) * 1.3 + 1.0  # above any force [N]
     for got, want in zip((fx, fy, my), expected, strict=True):

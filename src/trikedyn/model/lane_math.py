@@ -21,9 +21,9 @@ approximations on reduced ranges) with every branch computed and the result sele
 power of two built from exact products (no ``ldexp``). Measured against the C library over 10^6 random
 arguments each (``tests/model/test_lane_math.py``, which asserts these figures): :func:`arctan` and :func:`arcsin`
 within 1 unit in the last place (ulp), :func:`tanh` within 2, :func:`tan` within 3 (|x| <= 1.5; it is
-``sin / cos``). A closed-loop run moves by far less than the lanes' 1e-9 for such differences: a bias of
-3e-14 (about 130 ulp) on every tyre force moved the states of 10 s lane changes of both presets by at most
-1e-12 of their size and the wheel loads by at most 1.8e-9 N (``docs/physics.md``, *Speed*).
+``sin / cos``). A run that does not roll over hardly feels such differences (a bias of 3e-14 on every tyre force
+moved 10 s lane changes of both presets by at most 1e-12 of their states); one that rolls over grows them past
+1e-9 (``docs/physics.md``, *Speed*, *Lanes that round differently*).
 """
 
 from __future__ import annotations

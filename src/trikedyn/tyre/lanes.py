@@ -8,8 +8,10 @@ same model), the branches computed both ways and selected, and the arctangents, 
 tangent those of :mod:`trikedyn.model.lane_math` (within 1-2 ulp of the C library's, which a loop that calls
 them cannot vectorise). It gives the scalar function's forces to about 1e-15 of the peak force
 (``tests/tyre/test_lanes.py``) and takes a few nanoseconds a lane against 40-60 for the scalar call
-(``python benchmarks/lane_math.py``). It is the first piece of the tyres and springs over lanes, which the lockstep
-batch still evaluates lane by lane (``docs/physics.md``, *Speed*).
+(``python benchmarks/lane_math.py``). It is a piece of the tyres and springs over lanes, which the lockstep batch
+still evaluates lane by lane: wired in alone, between passes over the lanes that store and reload each wheel's
+contact, it gained nothing, and its 1-2 ulp left a lane that rolls over 3e-9 from its scalar run
+(``docs/physics.md``, *Speed*, *Lanes that round differently*).
 """
 
 from __future__ import annotations
@@ -62,8 +64,8 @@ def similarity_forces_lanes(coeffs, kappa, alpha, fz, spin, r_eff, w_low, fx, fy
         Wheel spin rate [rad/s].
     r_eff : numpy.ndarray, shape (B,)
         Effective rolling radius [m] (the moment's arm).
-    w_low : float
-        Spin rate smoothing the rolling resistance's sign [rad/s].
+    w_low : numpy.ndarray, shape (B,)
+        Spin rate smoothing the rolling resistance's sign [rad/s], each lane's.
     fx, fy, my : numpy.ndarray, shape (B,)
         Written with the forces [N] and the moment about the spin axis [N m].
     """
@@ -86,7 +88,7 @@ def similarity_forces_lanes(coeffs, kappa, alpha, fz, spin, r_eff, w_low, fx, fy
         r = 1.0 if linear else rho  # the curves at a harmless argument where the zero-slip limit is taken
         gx = cx * ux if linear else _curve(r * ux, cx, coeffs[CURVATURE_X, j]) / r
         gy = cy * uy if linear else _curve(r * uy, cy, coeffs[CURVATURE_Y, j]) / r
-        moment = -coeffs[ROLLING_RESISTANCE, j] * load * r_eff[j] * tanh(spin[j] / w_low)
+        moment = -coeffs[ROLLING_RESISTANCE, j] * load * r_eff[j] * tanh(spin[j] / w_low[j])
         fx[j] = mu_x * load * (kn * gx) if contact else 0.0
         fy[j] = mu_y * load * (an * gy) if contact else 0.0
         my[j] = moment if contact else 0.0
