@@ -1,6 +1,8 @@
-"""trikedyn.tyre.lanes: the similarity tyre over lanes against the scalar tyre function, lane by lane."""
+"""trikedyn.tyre.lanes: the similarity tyre over lanes against the scalar tyre function, lane by lane, and vectorised."""
 
 from __future__ import annotations
+
+import re
 
 import numpy as np
 import pytest
@@ -57,3 +59,17 @@ def test_every_lane_equals_the_scalar_tyre(preset):
     off = fz <= 0.0
     assert off.any() and not (fx[off].any() or fy[off].any() or my[off].any())
     assert np.count_nonzero((kappa == 0) & (alpha == 0) & ~off) > 0  # the zero-slip limit was taken
+
+
+def test_the_lanes_loop_is_vectorised():
+    """Its reason to be: LLVM does the lanes' arithmetic on vectors (compiled afresh: numba does not show the IR of
+    cached code)."""
+    compiled = njit(cache=False, error_model="numpy")(similarity_forces_lanes.py_func)
+    coeffs, kappa, alpha, fz, spin, r_eff = _lanes("reference-etrike", 8, 1)
+    outputs = [np.empty(8) for _ in range(3)]
+    compiled(coeffs, kappa, alpha, fz, spin, r_eff, np.ones(8), *outputs)
+    ir = next(iter(compiled.inspect_llvm().values()))
+    assert re.search(r"\b(fadd|fsub|fmul|fdiv) <\d+ x double>", ir)
+    # no call into the C library's functions left (with them, LLVM still pairs some arithmetic, but the loop
+    # over the lanes stays scalar)
+    assert not re.search(r"call [^\n]*@(atan|sin|cos|tanh|exp)\(", ir)
