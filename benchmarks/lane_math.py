@@ -25,20 +25,22 @@ from numba import njit  # noqa: E402
 
 from trikedyn.model import lane_math  # noqa: E402
 from trikedyn.tyre.interface import tyre_forces  # noqa: E402
+from trikedyn.tyre.lanes import _curve as lanes_curve  # noqa: E402
 from trikedyn.tyre.lanes import similarity_forces_lanes  # noqa: E402
+from trikedyn.tyre.magic_formula import magic_formula_curve  # noqa: E402
 from trikedyn.tyre.models import SIMILARITY  # noqa: E402
 
 
 @njit(inline="always", error_model="numpy")
 def _curve_lanes(u):
     """The Magic Formula's normalised curve ``sin(C atan(u - E (u - atan u)))`` (C = 1.6, E = 0.3), branch-free."""
-    return lane_math.sincos(1.6 * lane_math.arctan(u - 0.3 * (u - lane_math.arctan(u))))[0]
+    return lanes_curve(u, 1.6, 0.3)
 
 
 @njit(inline="always", error_model="numpy")
 def _curve_library(u):
-    """The same curve from the C library (``trikedyn.tyre.magic_formula.magic_formula_curve``)."""
-    return math.sin(1.6 * math.atan(u - 0.3 * (u - math.atan(u))))
+    """The same curve from the C library (the scalar tyre's ``magic_formula_curve``)."""
+    return magic_formula_curve(u, 1.6, 0.3)
 
 
 REPEATS = 5
