@@ -8,33 +8,25 @@ stiff) twice: at the speed, and at the next float above it (one ulp, 7e-15 km/h 
 times it. It prints, per run, the largest difference of the states (of their size, or of 1 where smaller) and of the
 wheel loads [N] between the two.
 
-Run: ``python benchmarks/conditioning.py`` (2 s once the loop is compiled). Not part of ``make bench``: it measures the problem, not
-the code's speed.
+The runs are the tests' own (:func:`tests.simulate.test_batch.eight_lanes`), so the two cannot drift apart. Run:
+``python benchmarks/conditioning.py`` (2 s once the loop is compiled). Not part of ``make bench``: it measures the
+problem, not the code's speed.
 """
 
 from __future__ import annotations
 
 import os
+import sys
+from pathlib import Path
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # the repository, for the tests' lanes
 
 import numpy as np  # noqa: E402
+from tests.simulate.test_batch import LOADS, eight_lanes  # noqa: E402
 
-from trikedyn.model.vehicle import build_model  # noqa: E402
-from trikedyn.params import load_vehicle, scale_suspension, with_freight  # noqa: E402
+from trikedyn.params import load_vehicle  # noqa: E402
 from trikedyn.simulate.closed_loop import run  # noqa: E402
-
-LOADS = ("front_fz_N", "rear_left_fz_N", "rear_right_fz_N")
-
-
-def eight_lanes():
-    """The batch tests' eight runs, as (label, model, speed [km/h])."""
-    ref = load_vehicle("reference-etrike")
-    base = build_model(ref)
-    lanes = [("reference", base, v) for v in (20.0, 35.0, 45.0, 50.0, 58.0, 70.0)]
-    lanes.append(("100 kg freight", build_model(with_freight(ref, 100.0)), 40.0))
-    lanes.append(("springs x1.5", build_model(scale_suspension(ref, stiffness=1.5)), 48.0))
-    return lanes
 
 
 def difference(a, b) -> tuple[float, float]:
@@ -50,14 +42,15 @@ def difference(a, b) -> tuple[float, float]:
 def main() -> int:
     print("closed-loop ISO 3888-1 double lane changes: each run against the same run at a speed one ulp higher, "
           "then 1e-14 higher")
-    print(f"{'run':>16} {'km/h':>5} {'status':>10} {'records':>7}  {'1 ulp: states':>14} {'loads [N]':>10}  "
+    print(f"{'lane':>4} {'km/h':>5} {'status':>10} {'records':>7}  {'1 ulp: states':>14} {'loads [N]':>10}  "
           f"{'1e-14: states':>14} {'loads [N]':>10}")
-    for label, model, speed in eight_lanes():
+    models, speeds = eight_lanes(load_vehicle("reference-etrike"))
+    for lane, (model, speed) in enumerate(zip(models, speeds, strict=True)):
         a = run(model, "dlc", speed_kmh=speed)
         ulp = difference(a, run(model, "dlc", speed_kmh=float(np.nextafter(speed, 2.0 * speed))))
         rel = difference(a, run(model, "dlc", speed_kmh=speed * (1.0 + 1e-14)))
         status = "ok" if a.status == "ok" else "stopped"
-        print(f"{label:>16} {speed:5.1f} {status:>10} {len(a.time_s):7d}  {ulp[0]:14.2e} {ulp[1]:10.2e}  "
+        print(f"{lane:>4} {speed:5.1f} {status:>10} {len(a.time_s):7d}  {ulp[0]:14.2e} {ulp[1]:10.2e}  "
               f"{rel[0]:14.2e} {rel[1]:10.2e}")
     return 0
 

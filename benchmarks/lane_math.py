@@ -1,8 +1,8 @@
 """Issue 25: the branch-free functions of trikedyn.model.lane_math over lanes against the C library's, and the
 similarity tyre over 8 lanes (trikedyn.tyre.lanes) against the scalar tyre function, one process.
 
-Each timing of a function fills an array of 64 arguments' values in a loop compiled as the lane kernels are (no fast-math,
-``error_model="numpy"``): with the branch-free functions LLVM vectorises that loop, with the C library's it
+Each timing of a function fills an array of 64 arguments' values in a loop compiled as the lane kernels are (no
+fast-math, ``error_model="numpy"``): with the branch-free functions LLVM vectorises that loop, with the C library's it
 cannot (a call per value). The arguments move by 1e-12 a pass, so the work can be neither dropped nor hoisted.
 Figures: the best of ``REPEATS`` timings, nanoseconds per value. The tyre: 8 lanes of the reference trike's
 tyres at spread slips and loads, each pass moving a slip by 1e-15; nanoseconds per lane (per call for the scalar

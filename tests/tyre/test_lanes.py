@@ -1,4 +1,5 @@
-"""trikedyn.tyre.lanes: the similarity tyre over lanes against the scalar tyre function, lane by lane, and vectorised."""
+"""trikedyn.tyre.lanes: the similarity tyre over lanes against the scalar tyre function, lane by lane; its loop
+vectorised."""
 
 from __future__ import annotations
 

@@ -6,9 +6,9 @@
 and output a row of ``B`` numbers, each coefficient a row over the lanes (lanes may carry different tyres of the
 same model; the peak frictions and stiffness factors are written out on the coefficient rows, because calling
 :func:`~trikedyn.tyre.magic_formula.peak_friction` and its neighbours on a lane's strided coefficient vector keeps
-the loop scalar: 156 against 52 ns a lane), the branches computed both ways and selected, and the arctangents, the sine and the hyperbolic
-tangent those of :mod:`trikedyn.model.lane_math` (within 1-2 ulp of the C library's, which a loop that calls
-them cannot vectorise). It gives the scalar function's forces within 3.3e-16 of the peak force
+the loop scalar: 156 against 52 ns a lane), the branches computed both ways and selected, and the arctangents,
+the sine and the hyperbolic tangent those of :mod:`trikedyn.model.lane_math` (within 1-2 ulp of the C library's,
+which a loop that calls them cannot vectorise). It gives the scalar function's forces within 3.3e-16 of the peak force
 (``tests/tyre/test_lanes.py`` asks 1e-15) and takes 52 ns a lane over 8 lanes against 120 ns a scalar call
 (``python benchmarks/lane_math.py``). It is a piece of the tyres and springs over lanes, which the lockstep batch
 still evaluates lane by lane: wired in alone, between passes over the lanes that store and reload each wheel's
